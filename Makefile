@@ -1,0 +1,93 @@
+# cloudscape - build, test, install.
+#
+#   make              library and programs: build/libcloudscape.a, build/bin/*
+#   make check        install missing Debian packages, build, run every test
+#   make check SAN=1  the same with AddressSanitizer + UBSan (in build-san/)
+#   make bench        benchmarks (not part of check)
+#   make demo         bake a noise volume and its preview into out/
+#   make install PREFIX=/usr/local DESTDIR=
+#   make deps         install the Debian packages the project needs
+#   make clean
+
+VERSION   := 0.1.0
+PREFIX    ?= /usr/local
+DESTDIR   ?=
+SAN       ?=
+B         := $(if $(SAN),build-san,build)
+PROGRAMS  := noisebake
+PKGS      := OpenEXR libpng
+
+CC        ?= cc
+CFLAGS    ?= -O2 -g
+WARN      := -Wall -Wextra -Werror -Wshadow -Wpointer-arith -Wvla \
+             -Wstrict-prototypes -Wmissing-prototypes -Wformat=2
+comma     := ,
+SANFLAGS  := $(if $(SAN),-fsanitize=address$(comma)undefined -fno-sanitize-recover=all -fno-omit-frame-pointer)
+PKG_CFLAGS = $(shell pkg-config --cflags $(PKGS))
+PKG_LIBS   = $(shell pkg-config --libs $(PKGS))
+ALL_CFLAGS = -std=c17 -D_POSIX_C_SOURCE=200809L -DCS_VERSION='"$(VERSION)"' \
+             $(WARN) $(CFLAGS) $(SANFLAGS) -pthread -Ilib -Itools $(PKG_CFLAGS) -MMD -MP
+LDLIBS     = $(PKG_LIBS) -lm -pthread
+
+LIB_SRC   := $(wildcard lib/*.c)
+LIB_OBJ   := $(LIB_SRC:lib/%.c=$(B)/lib/%.o)
+CLI_OBJ   := $(B)/tools/cli.o
+BINS      := $(PROGRAMS:%=$(B)/bin/%)
+UNIT_SRC  := $(wildcard tests/unit/test_*.c)
+UNIT_BINS := $(UNIT_SRC:tests/unit/%.c=$(B)/tests/%)
+
+.PHONY: all check check-run tests bench demo install deps clean
+all: $(B)/libcloudscape.a $(BINS)
+
+$(B)/lib/%.o: lib/%.c
+	@mkdir -p $(@D)
+	$(CC) $(ALL_CFLAGS) -c $< -o $@
+$(B)/tools/%.o: tools/%.c
+	@mkdir -p $(@D)
+	$(CC) $(ALL_CFLAGS) -c $< -o $@
+$(B)/tests/%.o: tests/unit/%.c
+	@mkdir -p $(@D)
+	$(CC) $(ALL_CFLAGS) -Itests/unit -c $< -o $@
+
+$(B)/libcloudscape.a: $(LIB_OBJ)
+	@rm -f $@
+	$(AR) rcs $@ $^
+$(B)/bin/%: $(B)/tools/%.o $(CLI_OBJ) $(B)/libcloudscape.a
+	@mkdir -p $(@D)
+	$(CC) $(CFLAGS) $(SANFLAGS) -o $@ $^ $(LDLIBS)
+$(B)/tests/test_%: $(B)/tests/test_%.o $(B)/libcloudscape.a
+	$(CC) $(CFLAGS) $(SANFLAGS) -o $@ $^ $(LDLIBS)
+
+tests: all $(UNIT_BINS)
+
+# check installs what is missing first, then re-enters make so that
+# pkg-config sees the freshly installed packages.
+check: deps
+	@$(MAKE) --no-print-directory tests
+	@tests/run $(B)
+
+deps:
+	@scripts/deps
+
+bench: deps
+	@$(MAKE) --no-print-directory all
+	@scripts/bench $(B)
+
+demo: deps
+	@$(MAKE) --no-print-directory all
+	@mkdir -p out
+	$(B)/bin/noisebake -s 128 -o out/noise.exr --preview out/noise-preview.png
+	@echo "demo: wrote out/noise.exr and out/noise-preview.png"
+
+install: all
+	install -d $(DESTDIR)$(PREFIX)/bin $(DESTDIR)$(PREFIX)/share/man/man1 \
+		$(DESTDIR)$(PREFIX)/share/man/man5
+	install -m 755 $(BINS) $(DESTDIR)$(PREFIX)/bin/
+	install -m 644 man/*.1 $(DESTDIR)$(PREFIX)/share/man/man1/
+	install -m 644 man/*.5 $(DESTDIR)$(PREFIX)/share/man/man5/
+
+clean:
+	rm -rf build build-san out
+
+-include $(LIB_OBJ:.o=.d) $(CLI_OBJ:.o=.d) $(PROGRAMS:%=$(B)/tools/%.d) \
+	$(UNIT_SRC:tests/unit/%.c=$(B)/tests/%.d)

@@ -1,0 +1,14 @@
+/* half.h - IEEE 754 binary16 ("half") conversion, as stored in OpenEXR. */
+#ifndef CS_HALF_H
+#define CS_HALF_H
+
+#include <stdint.h>
+
+/* Rounds to the nearest half (ties to even); overflow gives +-inf, NaN stays
+ * NaN, tiny values become subnormals or signed zero. */
+uint16_t cs_float_to_half(float f);
+
+/* Exact widening of a half to float. */
+float cs_half_to_float(uint16_t h);
+
+#endif

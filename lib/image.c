@@ -1,0 +1,51 @@
+#include "image.h"
+
+#include "err.h"
+#include "fileio.h"
+
+#include <png.h>
+
+#include <stdio.h>
+#include <string.h>
+#include <unistd.h>
+
+int cs_png_write(const char *path, int width, int height, int channels,
+		 const uint8_t *pixels)
+{
+	static const png_uint_32 formats[5] = {0, PNG_FORMAT_GRAY, 0,
+					       PNG_FORMAT_RGB, PNG_FORMAT_RGBA};
+	if (width < 1 || height < 1 || channels < 1 || channels > 4 ||
+	    channels == 2)
+		return cs_error(CS_EINVAL, "cannot write a %dx%d PNG with %d channels",
+				width, height, channels);
+	struct cs_outfile of;
+	int rc = cs_outfile_open(&of, path);
+	if (rc != CS_OK)
+		return rc;
+	const char *name = strcmp(path, "-") == 0 ? "standard output" : path;
+	int fd = dup(of.fd);
+	FILE *fp = fd >= 0 ? fdopen(fd, "wb") : NULL;
+	if (fp == NULL) {
+		if (fd >= 0)
+			close(fd);
+		cs_outfile_abort(&of);
+		return cs_error(CS_EIO, "%s: cannot open stream", name);
+	}
+	png_image img;
+	memset(&img, 0, sizeof img);
+	img.version = PNG_IMAGE_VERSION;
+	img.width = (png_uint_32)width;
+	img.height = (png_uint_32)height;
+	img.format = formats[channels];
+	int ok = png_image_write_to_stdio(&img, fp, 0, pixels,
+					  width * channels, NULL);
+	int closed = fclose(fp) == 0;
+	if (!ok || !closed) {
+		rc = cs_error(CS_EIO, "%s: cannot write PNG: %s", name,
+			      ok ? "write failed" : img.message);
+		png_image_free(&img);
+		cs_outfile_abort(&of);
+		return rc;
+	}
+	return cs_outfile_commit(&of);
+}

@@ -1,0 +1,61 @@
+/* noise.h - gradient and cellular noise, plain and periodic ("seamless").
+ *
+ * Coordinates are in lattice cells.  A period is given per axis in cells; a
+ * period of 0 means "not periodic" on that axis.  Periodic noise satisfies
+ * f(x + k*px, y, z) == f(x, y, z) for every integer k, negative included. */
+#ifndef CS_NOISE_H
+#define CS_NOISE_H
+
+#include <stdint.h>
+
+/* Ken Perlin's Improved Noise (SIGGRAPH 2002): quintic fade, 12 gradient
+ * directions, his permutation table.  Reproduces his Java reference
+ * ImprovedNoise.noise(x, y, z) to rounding.  Range: [-1, 1] (measured
+ * maximum |n| over 10^7 points: see tests/unit/test_noise.c). */
+double cs_perlin3(double x, double y, double z);
+
+/* Improved Perlin noise with gradients chosen by cs_hash3i() of the wrapped
+ * lattice point and seed instead of the fixed table, so it can be seeded and
+ * made periodic with any period.  Same range as cs_perlin3(). */
+double cs_perlin3p(double x, double y, double z, const int period[3],
+		   uint32_t seed);
+
+/* Worley (cellular) noise F1: the distance, in cells, from (x,y,z) to the
+ * nearest feature point, with one feature point per cell placed by
+ * cs_hash3i().  Exact: the nearest point is always found.  Range
+ * [0, sqrt(3)). */
+double cs_worley3p(double x, double y, double z, const int period[3],
+		   uint32_t seed);
+
+/* Fractal sum over octaves: octave i has frequency lacunarity^i and amplitude
+ * gain^i.  The lacunarity is an integer so that every octave stays periodic
+ * (octave i has period period*lacunarity^i).  Each octave uses its own seed
+ * (seed + i) so octaves do not correlate. */
+struct cs_fbm {
+	int octaves;    /* 1..16 */
+	int lacunarity; /* >= 2 */
+	double gain;    /* (0, 1] */
+};
+
+/* Perlin fBm divided by the sum of the amplitudes: range [-1, 1]. */
+double cs_perlin_fbm3p(double x, double y, double z, const int period[3],
+		       uint32_t seed, const struct cs_fbm *fbm);
+
+/* Inverted Worley fBm: sum of gain^i * (1 - min(F1_i, 1)) divided by the sum
+ * of the amplitudes.  Range [0, 1]; 1 at feature points ("puffs"). */
+double cs_worley_fbm3p(double x, double y, double z, const int period[3],
+		       uint32_t seed, const struct cs_fbm *fbm);
+
+/* The Perlin-Worley base shape of real-time cloud renderers (Schneider,
+ * "The real-time volumetric cloudscapes of Horizon Zero Dawn", 2015):
+ * Perlin fBm mapped to P in [0,1], dilated by the inverted Worley fBm W:
+ * remap(P, W - 1, 1, 0, 1) = (P - W + 1) / (2 - W).  Range [0, 1].
+ * Both parts share the period and seed; the Worley part uses seed ^ 0x5bd1e995. */
+double cs_perlin_worley3p(double x, double y, double z, const int period[3],
+			  uint32_t seed, const struct cs_fbm *perlin,
+			  const struct cs_fbm *worley);
+
+/* Validates an fBm description; 0 or CS_EINVAL with a message. */
+int cs_fbm_check(const struct cs_fbm *fbm);
+
+#endif

@@ -1,0 +1,83 @@
+/* volume.h - the tileable 3D noise volume (four channels, R G B A).
+ *
+ * Voxel (x, y, z) of channel c is data[((z * ny + y) * nx + x) * 4 + c].
+ * The volume is periodic: voxel nx-1 neighbours voxel 0 on every axis. */
+#ifndef CS_VOLUME_H
+#define CS_VOLUME_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#define CS_VOLUME_FORMAT 1  /* the cloudscapeFormat attribute written */
+#define CS_VOLUME_MAX_DIM 1024
+
+/* How the channels were made (see man 5 cloudscape-noise).
+ * R: Perlin-Worley base shape; G, B, A: inverted Worley fBm (detail). */
+struct cs_noise_recipe {
+	uint32_t seed;   /* 0..2147483647 */
+	int freq[4];     /* lattice cells across the volume's x extent, per channel */
+	int octaves[4];  /* fBm octaves per channel (R: Perlin; Worley part uses worley_octaves) */
+	int worley_octaves; /* octaves of the Worley fBm inside R */
+	double gain;     /* fBm amplitude ratio between octaves, (0, 1] */
+};
+
+struct cs_volume {
+	int nx, ny, nz;          /* voxels; nx == ny */
+	float *data;             /* 4 * nx * ny * nz floats, owned */
+	struct cs_noise_recipe recipe;
+};
+
+/* The default recipe: R = Perlin-Worley freq 4 (Perlin 4 octaves, Worley 3),
+ * G, B, A = Worley fBm freq 4, 8, 16 with 3 octaves; gain 0.5; seed 0. */
+void cs_noise_recipe_default(struct cs_noise_recipe *r);
+
+/* Validates a recipe; 0 or CS_EINVAL with a message naming the field. */
+int cs_noise_recipe_check(const struct cs_noise_recipe *r);
+
+/* Formats the recipe as "R=perlin-worley:4:4:3;G=worley-fbm:4:3;..." plus
+ * ";gain=0.5" (the cloudscapeRecipe attribute).  Returns the length. */
+int cs_noise_recipe_format(const struct cs_noise_recipe *r, char *buf,
+			   size_t size);
+
+/* Parses what cs_noise_recipe_format() wrote (seed is left unchanged). */
+int cs_noise_recipe_parse(const char *s, struct cs_noise_recipe *r);
+
+/* Lattice period in cells of channel c along each axis: freq along x and y,
+ * max(1, round(freq * nz / nx)) along z, so that a thin volume still tiles. */
+void cs_noise_period(const struct cs_noise_recipe *r, int c, int nx, int nz,
+		     int period[3]);
+
+/* Allocates an nx * nx * nz volume of zeros. */
+int cs_volume_new(struct cs_volume *v, int nx, int nz);
+void cs_volume_free(struct cs_volume *v);
+
+/* Called by cs_volume_bake() from the calling thread with the fraction done
+ * (0..1).  Returns nonzero to cancel. */
+typedef int (*cs_progress_fn)(void *user, double fraction);
+
+/* Fills v (already allocated) from its recipe using nthreads threads (<= 0:
+ * all online processors).  The result does not depend on nthreads. */
+int cs_volume_bake(struct cs_volume *v, int nthreads, cs_progress_fn progress,
+		   void *user);
+
+/* One channel sampled at (u, v, w) in volume periods (1.0 = one tile),
+ * trilinear, periodic on every axis.  Any finite coordinate is valid. */
+float cs_volume_sample(const struct cs_volume *v, int channel, double u,
+		       double vv, double w);
+
+/* Writes the volume as an OpenEXR atlas (see man 5 cloudscape-noise):
+ * nx wide, nx * nz high, channels A B G R, half (or 32-bit float when
+ * use_float), ZIP, with the cloudscape* attributes.  path "-" = stdout.
+ * Atomic: no partial file on failure. */
+int cs_volume_write_exr(const struct cs_volume *v, const char *path,
+			int use_float);
+
+/* Reads and validates a volume written by cs_volume_write_exr() ("-" =
+ * stdin).  On error v is left empty and the message says what is wrong. */
+int cs_volume_read_exr(const char *path, struct cs_volume *v);
+
+/* Same, from a memory buffer; name is used in messages. */
+int cs_volume_read_exr_mem(const void *data, size_t len, const char *name,
+			   struct cs_volume *v);
+
+#endif

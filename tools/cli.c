@@ -1,0 +1,117 @@
+#include "cli.h"
+
+#include <errno.h>
+#include <math.h>
+#include <stdarg.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+#include <unistd.h>
+
+const char *cli_prog = "cloudscape";
+int cli_quiet, cli_verbose;
+
+static int bar_drawn;
+static int bar_last_pct = -1;
+
+void cli_init(const char *prog)
+{
+	cli_prog = prog;
+}
+
+void cli_err(const char *fmt, ...)
+{
+	va_list ap;
+	fprintf(stderr, "%s: ", cli_prog);
+	va_start(ap, fmt);
+	vfprintf(stderr, fmt, ap);
+	va_end(ap);
+	fputc('\n', stderr);
+}
+
+void cli_usage_error(const char *fmt, ...)
+{
+	va_list ap;
+	fprintf(stderr, "%s: ", cli_prog);
+	va_start(ap, fmt);
+	vfprintf(stderr, fmt, ap);
+	va_end(ap);
+	fprintf(stderr, "\nTry '%s --help' for more information.\n", cli_prog);
+	exit(EXIT_USAGE);
+}
+
+long cli_long(const char *opt, const char *s, long lo, long hi)
+{
+	char *end;
+	errno = 0;
+	long v = strtol(s, &end, 10);
+	if (s[0] == '\0' || *end != '\0' || errno == ERANGE)
+		cli_usage_error("%s: '%s' is not an integer", opt, s);
+	if (v < lo || v > hi)
+		cli_usage_error("%s: %ld is out of range %ld..%ld", opt, v, lo, hi);
+	return v;
+}
+
+double cli_double(const char *opt, const char *s, double lo, double hi)
+{
+	char *end;
+	errno = 0;
+	double v = strtod(s, &end);
+	if (s[0] == '\0' || *end != '\0' || errno == ERANGE || !isfinite(v))
+		cli_usage_error("%s: '%s' is not a number", opt, s);
+	if (v < lo || v > hi)
+		cli_usage_error("%s: %g is out of range %g..%g", opt, v, lo, hi);
+	return v;
+}
+
+void cli_long_list(const char *opt, const char *s, long lo, long hi, int n,
+		   int *out)
+{
+	char buf[256];
+	if (strlen(s) >= sizeof buf)
+		cli_usage_error("%s: list too long", opt);
+	strcpy(buf, s);
+	int count = 0;
+	char *save = NULL;
+	for (char *tok = strtok_r(buf, ",", &save); tok;
+	     tok = strtok_r(NULL, ",", &save)) {
+		if (count == n)
+			cli_usage_error("%s: expected %d values, got more", opt, n);
+		out[count++] = (int)cli_long(opt, tok, lo, hi);
+	}
+	if (count == 1)
+		for (int i = 1; i < n; i++)
+			out[i] = out[0];
+	else if (count != n)
+		cli_usage_error("%s: expected 1 or %d comma-separated values, got %d",
+				opt, n, count);
+}
+
+int cli_progress(void *label, double fraction)
+{
+	if (cli_quiet || !isatty(STDERR_FILENO))
+		return 0;
+	int pct = (int)(fraction * 100.0 + 0.5);
+	if (pct == bar_last_pct)
+		return 0;
+	bar_last_pct = pct;
+	enum { W = 40 };
+	char bar[W + 1];
+	int fill = (int)(fraction * W + 0.5);
+	for (int i = 0; i < W; i++)
+		bar[i] = i < fill ? '#' : '.';
+	bar[W] = '\0';
+	fprintf(stderr, "\r%s: %s [%s] %3d%%", cli_prog,
+		label ? (const char *)label : "", bar, pct);
+	fflush(stderr);
+	bar_drawn = 1;
+	return 0;
+}
+
+void cli_progress_done(void)
+{
+	if (bar_drawn)
+		fputc('\n', stderr);
+	bar_drawn = 0;
+	bar_last_pct = -1;
+}

@@ -1,0 +1,41 @@
+/* cli.h - what every cloudscape program shares at its edge: the program
+ * name in messages, exit statuses, number parsing for options, and the
+ * progress bar.  (The library never prints; this is the printing side.) */
+#ifndef CS_CLI_H
+#define CS_CLI_H
+
+#include <stdio.h>
+
+enum { EXIT_OK = 0, EXIT_DATA = 1, EXIT_USAGE = 2 };
+
+extern const char *cli_prog; /* set by cli_init() */
+extern int cli_quiet, cli_verbose;
+
+void cli_init(const char *prog);
+
+/* "prog: message\n" on stderr. */
+void cli_err(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
+
+/* Prints "prog: message" and "Try 'prog --help'." and exits with status 2. */
+_Noreturn void cli_usage_error(const char *fmt, ...)
+	__attribute__((format(printf, 1, 2)));
+
+/* Parses a whole decimal integer in [lo, hi] for option opt, or exits with
+ * a usage error that names the option. */
+long cli_long(const char *opt, const char *s, long lo, long hi);
+
+/* Parses a whole number in [lo, hi] (finite), or exits with a usage error. */
+double cli_double(const char *opt, const char *s, double lo, double hi);
+
+/* Parses a comma-separated list of exactly n integers in [lo, hi]; a single
+ * value is repeated n times.  Exits with a usage error otherwise. */
+void cli_long_list(const char *opt, const char *s, long lo, long hi, int n,
+		   int *out);
+
+/* Progress bar on stderr, drawn only when stderr is a terminal and not
+ * quiet.  Callback-compatible with cs_progress_fn (user = label). */
+int cli_progress(void *label, double fraction);
+/* Ends the bar line (if one was drawn). */
+void cli_progress_done(void);
+
+#endif
