@@ -33,17 +33,25 @@ int cs_outfile_open(struct cs_outfile *of, const char *dst)
 	if (dst == NULL || dst[0] == '\0')
 		return cs_error(CS_EINVAL, "empty output file name");
 	of->to_stdout = strcmp(dst, "-") == 0;
+	/* An existing destination that is not a regular file (/dev/stdout, a
+	 * FIFO, a device) is written in place, never renamed over. */
+	struct stat st;
+	if (!of->to_stdout && stat(dst, &st) == 0 && !S_ISREG(st.st_mode)) {
+		if (S_ISDIR(st.st_mode))
+			return cs_error(CS_EIO, "cannot write %s: Is a directory", dst);
+		of->to_stream = 1;
+	}
+	if (strlen(dst) >= sizeof of->dst_path)
+		return cs_error(CS_EINVAL, "output file name too long");
+	strcpy(of->dst_path, dst);
 	int n;
-	if (of->to_stdout) {
+	if (of->to_stdout || of->to_stream) {
 		const char *tmpdir = getenv("TMPDIR");
 		if (tmpdir == NULL || tmpdir[0] == '\0')
 			tmpdir = "/tmp";
 		n = snprintf(of->tmp_path, sizeof of->tmp_path,
 			     "%s/cloudscape-stdout.XXXXXX", tmpdir);
 	} else {
-		if (strlen(dst) >= sizeof of->dst_path)
-			return cs_error(CS_EINVAL, "output file name too long");
-		strcpy(of->dst_path, dst);
 		const char *slash = strrchr(dst, '/');
 		int dirlen = slash ? (int)(slash - dst) + 1 : 0;
 		n = snprintf(of->tmp_path, sizeof of->tmp_path, "%.*s.%s.XXXXXX",
@@ -56,36 +64,45 @@ int cs_outfile_open(struct cs_outfile *of, const char *dst)
 		int e = errno;
 		of->tmp_path[0] = '\0';
 		return cs_error(CS_EIO, "cannot create %s: %s",
-				of->to_stdout ? "temporary file" : dst,
+				of->to_stdout || of->to_stream ? "temporary file" : dst,
 				strerror(e));
 	}
 	/* mkstemp makes the file 0600; give it the mode a plain open() would */
 	mode_t mask = umask(0);
 	umask(mask);
-	if (!of->to_stdout)
+	if (!of->to_stdout && !of->to_stream)
 		fchmod(of->fd, 0666 & ~mask);
 	return CS_OK;
 }
 
-static int copy_to_stdout(struct cs_outfile *of)
+/* Copies the finished temporary to standard output or to the stream
+ * destination. */
+static int copy_out(struct cs_outfile *of)
 {
+	const char *name = of->to_stdout ? "standard output" : of->dst_path;
+	int out = of->to_stdout ? STDOUT_FILENO : open(of->dst_path, O_WRONLY);
+	if (out < 0)
+		return cs_error(CS_EIO, "cannot open %s: %s", name, strerror(errno));
 	char buf[65536];
+	int rc = CS_OK;
 	if (lseek(of->fd, 0, SEEK_SET) < 0)
-		return cs_error(CS_EIO, "cannot rewind temporary: %s",
-				strerror(errno));
-	for (;;) {
+		rc = cs_error(CS_EIO, "cannot rewind temporary: %s", strerror(errno));
+	while (rc == CS_OK) {
 		ssize_t r = read(of->fd, buf, sizeof buf);
 		if (r < 0 && errno == EINTR)
 			continue;
 		if (r < 0)
-			return cs_error(CS_EIO, "cannot read temporary: %s",
-					strerror(errno));
-		if (r == 0)
-			return CS_OK;
-		if (write_full(STDOUT_FILENO, buf, (size_t)r) < 0)
-			return cs_error(CS_EIO, "cannot write standard output: %s",
-					strerror(errno));
+			rc = cs_error(CS_EIO, "cannot read temporary: %s",
+				      strerror(errno));
+		else if (r == 0)
+			break;
+		else if (write_full(out, buf, (size_t)r) < 0)
+			rc = cs_error(CS_EIO, "cannot write %s: %s", name,
+				      strerror(errno));
 	}
+	if (out != STDOUT_FILENO && close(out) < 0 && rc == CS_OK)
+		rc = cs_error(CS_EIO, "cannot write %s: %s", name, strerror(errno));
+	return rc;
 }
 
 int cs_outfile_commit(struct cs_outfile *of)
@@ -93,8 +110,9 @@ int cs_outfile_commit(struct cs_outfile *of)
 	if (of->fd < 0)
 		return cs_error(CS_EINVAL, "output is not open");
 	int rc = CS_OK;
-	if (of->to_stdout) {
-		rc = copy_to_stdout(of);
+	int streamed = of->to_stdout || of->to_stream;
+	if (streamed) {
+		rc = copy_out(of);
 	} else if (fsync(of->fd) < 0 && errno != EINVAL && errno != EROFS) {
 		rc = cs_error(CS_EIO, "cannot write %s: %s", of->dst_path,
 			      strerror(errno));
@@ -103,11 +121,10 @@ int cs_outfile_commit(struct cs_outfile *of)
 		rc = cs_error(CS_EIO, "cannot write %s: %s", of->dst_path,
 			      strerror(errno));
 	of->fd = -1;
-	if (rc == CS_OK && !of->to_stdout &&
-	    rename(of->tmp_path, of->dst_path) < 0)
+	if (rc == CS_OK && !streamed && rename(of->tmp_path, of->dst_path) < 0)
 		rc = cs_error(CS_EIO, "cannot rename temporary to %s: %s",
 			      of->dst_path, strerror(errno));
-	if (rc != CS_OK || of->to_stdout)
+	if (rc != CS_OK || streamed)
 		unlink(of->tmp_path);
 	of->tmp_path[0] = '\0';
 	return rc;

@@ -14,9 +14,12 @@ struct cs_outfile {
 	char tmp_path[4096];
 	char dst_path[4096];
 	int to_stdout;      /* destination "-": temp in $TMPDIR, copied out */
+	int to_stream;      /* existing non-regular destination: same, copied in */
 };
 
-/* Creates the temporary for dst ("-" means standard output).  The file is
+/* Creates the temporary for dst ("-" means standard output; an existing
+ * destination that is not a regular file, such as /dev/stdout or a FIFO,
+ * is written in place at commit, never renamed over).  The file is
  * created with mode 0666 & ~umask, like an ordinary output. */
 int cs_outfile_open(struct cs_outfile *of, const char *dst);
 

@@ -69,6 +69,8 @@ static double perlin_cell(double x, double y, double z, const int h[8])
 
 double cs_perlin3(double x, double y, double z)
 {
+	if (!isfinite(x) || !isfinite(y) || !isfinite(z))
+		return 0.0;
 	double fx = floor(x), fy = floor(y), fz = floor(z);
 	/* The table repeats every 256 cells, so reducing first keeps the int
 	 * conversion defined for any finite coordinate. */
@@ -88,10 +90,13 @@ double cs_perlin3(double x, double y, double z)
  * where the conversion to int is defined. */
 static inline int split(double x, int period, double *frac)
 {
-	if (period > 0)
+	if (period > 0) {
 		x -= (double)period * floor(x / (double)period);
-	else if (!(fabs(x) < 1e9))
+		if (!(x >= 0.0 && x <= (double)period)) /* was NaN or infinite */
+			x = 0.0;
+	} else if (!(fabs(x) < 1e9)) {
 		x = x > 0 ? 1e9 : -1e9; /* also maps NaN to -1e9 */
+	}
 	double f = floor(x);
 	*frac = x - f;
 	int i = (int)f;
@@ -125,18 +130,25 @@ double cs_perlin3p(double x, double y, double z, const int period[3],
 	return perlin_cell(fx, fy, fz, h);
 }
 
-/* Squared distance from the query (fx,fy,fz inside cell 0) to the feature
- * point of the neighbouring cell at offset (dx,dy,dz). */
+void cs_worley_feature(int cx, int cy, int cz, const int period[3],
+		       uint32_t seed, double out[3])
+{
+	uint32_t h = cs_hash3i(wrap(cx, period[0]), wrap(cy, period[1]),
+			       wrap(cz, period[2]), seed);
+	out[0] = cs_hash_unit(h);
+	out[1] = cs_hash_unit(cs_hash_u32(h ^ 0x68bc21ebu));
+	out[2] = cs_hash_unit(cs_hash_u32(h ^ 0x02e5be93u));
+}
+
+/* Squared distance from the query (fx,fy,fz inside cell X,Y,Z) to the
+ * feature point of the cell at offset (dx,dy,dz). */
 static inline double feature_d2(int X, int Y, int Z, int dx, int dy, int dz,
 				double fx, double fy, double fz,
 				const int period[3], uint32_t seed)
 {
-	uint32_t h = cs_hash3i(wrap(X + dx, period[0]), wrap(Y + dy, period[1]),
-			       wrap(Z + dz, period[2]), seed);
-	double px = dx + cs_hash_unit(h);
-	double py = dy + cs_hash_unit(cs_hash_u32(h ^ 0x68bc21ebu));
-	double pz = dz + cs_hash_unit(cs_hash_u32(h ^ 0x02e5be93u));
-	double ex = px - fx, ey = py - fy, ez = pz - fz;
+	double p[3];
+	cs_worley_feature(X + dx, Y + dy, Z + dz, period, seed, p);
+	double ex = dx + p[0] - fx, ey = dy + p[1] - fy, ez = dz + p[2] - fz;
 	return ex * ex + ey * ey + ez * ez;
 }
 
@@ -211,7 +223,10 @@ double cs_perlin_fbm3p(double x, double y, double z, const int period[3],
 		amp *= fbm->gain;
 		freq *= fbm->lacunarity;
 	}
-	return sum / norm;
+	/* Improved Perlin noise slightly exceeds [-1, 1] at rare points (see
+	 * noise.h); the clamp makes the documented range exact. */
+	sum /= norm;
+	return sum < -1.0 ? -1.0 : sum > 1.0 ? 1.0 : sum;
 }
 
 double cs_worley_fbm3p(double x, double y, double z, const int period[3],

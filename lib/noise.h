@@ -10,8 +10,9 @@
 
 /* Ken Perlin's Improved Noise (SIGGRAPH 2002): quintic fade, 12 gradient
  * directions, his permutation table.  Reproduces his Java reference
- * ImprovedNoise.noise(x, y, z) to rounding.  Range: [-1, 1] (measured
- * maximum |n| over 10^7 points: see tests/unit/test_noise.c). */
+ * ImprovedNoise.noise(x, y, z) to rounding.  Range: a little wider than
+ * [-1, 1]: the largest |n| measured over 2*10^7 random points is 1.0130;
+ * tests/unit/test_noise.c asserts |n| <= 1.04.  Non-finite input gives 0. */
 double cs_perlin3(double x, double y, double z);
 
 /* Improved Perlin noise with gradients chosen by cs_hash3i() of the wrapped
@@ -27,6 +28,11 @@ double cs_perlin3p(double x, double y, double z, const int period[3],
 double cs_worley3p(double x, double y, double z, const int period[3],
 		   uint32_t seed);
 
+/* The feature point of lattice cell (cx,cy,cz) (wrapped by the period), as
+ * an offset in [0,1)^3 from the cell's lower corner. */
+void cs_worley_feature(int cx, int cy, int cz, const int period[3],
+		       uint32_t seed, double out[3]);
+
 /* Fractal sum over octaves: octave i has frequency lacunarity^i and amplitude
  * gain^i.  The lacunarity is an integer so that every octave stays periodic
  * (octave i has period period*lacunarity^i).  Each octave uses its own seed
@@ -37,7 +43,8 @@ struct cs_fbm {
 	double gain;    /* (0, 1] */
 };
 
-/* Perlin fBm divided by the sum of the amplitudes: range [-1, 1]. */
+/* Perlin fBm divided by the sum of the amplitudes and clamped to [-1, 1]
+ * (the clamp acts only at the rare points where the base noise exceeds 1). */
 double cs_perlin_fbm3p(double x, double y, double z, const int period[3],
 		       uint32_t seed, const struct cs_fbm *fbm);
 

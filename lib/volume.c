@@ -52,12 +52,17 @@ int cs_noise_recipe_check(const struct cs_noise_recipe *r)
 int cs_noise_recipe_format(const struct cs_noise_recipe *r, char *buf,
 			   size_t size)
 {
+	/* the shortest of %.15g and %.17g that reads back exactly */
+	char gain[32];
+	snprintf(gain, sizeof gain, "%.15g", r->gain);
+	if (strtod(gain, NULL) != r->gain)
+		snprintf(gain, sizeof gain, "%.17g", r->gain);
 	return snprintf(buf, size,
 			"R=perlin-worley:%d:%d:%d;G=worley-fbm:%d:%d;"
-			"B=worley-fbm:%d:%d;A=worley-fbm:%d:%d;gain=%.17g",
+			"B=worley-fbm:%d:%d;A=worley-fbm:%d:%d;gain=%s",
 			r->freq[0], r->octaves[0], r->worley_octaves, r->freq[1],
 			r->octaves[1], r->freq[2], r->octaves[2], r->freq[3],
-			r->octaves[3], r->gain);
+			r->octaves[3], gain);
 }
 
 int cs_noise_recipe_parse(const char *s, struct cs_noise_recipe *r)

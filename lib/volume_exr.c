@@ -354,8 +354,10 @@ int cs_volume_read_exr_mem(const void *data, size_t len, const char *name,
 	if (rc != CS_OK)
 		goto done;
 	v->recipe.seed = (uint32_t)seed;
-	if (cs_noise_recipe_parse(recipe, &v->recipe) != CS_OK)
-		BAD("%s", cs_errmsg());
+	if (cs_noise_recipe_parse(recipe, &v->recipe) != CS_OK) {
+		rc = cs_error(CS_EDATA, "%s: %s", name, cs_errmsg());
+		goto done;
+	}
 	format_periods(v, want, sizeof want);
 	if (strcmp(period, want) != 0)
 		BAD("cloudscapePeriod \"%.150s\" disagrees with the recipe and size (\"%.150s\")",

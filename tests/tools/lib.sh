@@ -1,0 +1,25 @@
+# Helpers for tool tests: each case prints "ok NAME" or "FAIL NAME: why".
+# BIN is the folder of the built programs, TOP the source tree.
+: "${BIN:?BIN must name the folder of the built programs}"
+BIN=$(cd "$BIN" && pwd)
+T=$(mktemp -d "${TMPDIR:-/tmp}/cs-tool-test.XXXXXX")
+trap 'chmod -R u+w "$T" 2>/dev/null; rm -rf "$T"' EXIT
+case_name=""
+case_bad=""
+begin() { case_name=$1; case_bad=""; }
+bad() { case_bad="${case_bad:+$case_bad; }$1"; }
+end() {
+	if [ -z "$case_bad" ]; then echo "ok $case_name"; else echo "FAIL $case_name: $case_bad"; fi
+}
+# run CMD...: runs it, keeping stdout in $T/out, stderr in $T/err, status in $rc
+run() { "$@" >"$T/out" 2>"$T/err"; rc=$?; }
+expect_rc() { [ "$rc" -eq "$1" ] || bad "exit status $rc, expected $1 (stderr: $(head -c 300 "$T/err"))"; }
+expect_err() { grep -qF -- "$1" "$T/err" || bad "stderr lacks '$1' (got: $(head -c 300 "$T/err"))"; }
+expect_out() { grep -qF -- "$1" "$T/out" || bad "stdout lacks '$1'"; }
+expect_file() { [ -s "$1" ] || bad "no file $1"; }
+expect_no_file() { [ ! -e "$1" ] || bad "file $1 should not exist"; }
+# no temporaries left beside outputs in a folder
+expect_only_files() { # dir count
+	n=$(ls -A "$1" | wc -l)
+	[ "$n" -eq "$2" ] || bad "$1 holds $n entries, expected $2: $(ls -A "$1" | tr '\n' ' ')"
+}
