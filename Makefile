@@ -14,8 +14,8 @@ PREFIX    ?= /usr/local
 DESTDIR   ?=
 SAN       ?=
 B         := $(if $(SAN),build-san,build)
-PROGRAMS  := noisebake
-PKGS      := OpenEXR libpng
+PROGRAMS  := noisebake cloudrender
+PKGS      := OpenEXR libpng libcjson
 
 CC        ?= cc
 CFLAGS    ?= -O2 -g
@@ -26,7 +26,7 @@ SANFLAGS  := $(if $(SAN),-fsanitize=address$(comma)undefined$(comma)float-cast-o
 PKG_CFLAGS = $(shell pkg-config --cflags $(PKGS))
 PKG_LIBS   = $(shell pkg-config --libs $(PKGS))
 ALL_CFLAGS = -std=c17 -D_POSIX_C_SOURCE=200809L -DCS_VERSION='"$(VERSION)"' \
-             $(WARN) $(CFLAGS) $(SANFLAGS) -pthread -Ilib -Itools $(PKG_CFLAGS) -MMD -MP
+             $(WARN) $(CFLAGS) $(SANFLAGS) -pthread -iquote lib -iquote tools $(PKG_CFLAGS) -MMD -MP
 LDLIBS     = $(PKG_LIBS) -lm -pthread
 
 LIB_SRC   := $(wildcard lib/*.c)
@@ -48,7 +48,7 @@ $(B)/tools/%.o: tools/%.c
 	$(CC) $(ALL_CFLAGS) -c $< -o $@
 $(B)/tests/%.o: tests/unit/%.c
 	@mkdir -p $(@D)
-	$(CC) $(ALL_CFLAGS) -Itests/unit -c $< -o $@
+	$(CC) $(ALL_CFLAGS) -iquote tests/unit -c $< -o $@
 
 $(B)/libcloudscape.a: $(LIB_OBJ)
 	@rm -f $@

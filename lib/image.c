@@ -5,6 +5,7 @@
 
 #include <png.h>
 
+#include <math.h>
 #include <stdio.h>
 #include <string.h>
 #include <unistd.h>
@@ -48,4 +49,27 @@ int cs_png_write(const char *path, int width, int height, int channels,
 		return rc;
 	}
 	return cs_outfile_commit(&of);
+}
+
+static double aces(double x)
+{
+	double y = (x * (2.51 * x + 0.03)) / (x * (2.43 * x + 0.59) + 0.14);
+	return y < 0.0 ? 0.0 : y > 1.0 ? 1.0 : y;
+}
+
+static double srgb_oetf(double v)
+{
+	return v <= 0.0031308 ? 12.92 * v : 1.055 * pow(v, 1.0 / 2.4) - 0.055;
+}
+
+void cs_tonemap_srgb8(const float *px, size_t stride, size_t n,
+		      double exposure_ev, uint8_t *rgb)
+{
+	double k = pow(2.0, exposure_ev) / 16.0;
+	for (size_t i = 0; i < n; i++)
+		for (int c = 0; c < 3; c++) {
+			double x = px[i * stride + c] * k;
+			x = isfinite(x) && x > 0.0 ? x : 0.0;
+			rgb[i * 3 + c] = (uint8_t)lrint(255.0 * srgb_oetf(aces(x)));
+		}
 }

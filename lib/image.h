@@ -2,6 +2,7 @@
 #ifndef CS_IMAGE_H
 #define CS_IMAGE_H
 
+#include <stddef.h>
 #include <stdint.h>
 
 /* Writes width x height pixels of 1 (grey), 3 (RGB, sRGB) or 4 (RGBA)
@@ -9,5 +10,12 @@
  * Atomic: no partial file on failure. */
 int cs_png_write(const char *path, int width, int height, int channels,
 		 const uint8_t *pixels);
+
+/* Linear radiance (kcd/m^2, linear sRGB) to 8-bit sRGB for display: scaled
+ * by 2^exposure_ev / 16 kcd/m^2, ACES filmic curve (Narkowicz 2015 fit),
+ * sRGB transfer function.  px holds n pixels, stride floats apart, R G B
+ * first; rgb receives 3 bytes per pixel. */
+void cs_tonemap_srgb8(const float *px, size_t stride, size_t n,
+		      double exposure_ev, uint8_t *rgb);
 
 #endif

@@ -226,29 +226,48 @@ static inline int wrapi(long i, int n)
 	return (int)(m < 0 ? m + n : m);
 }
 
-float cs_volume_sample(const struct cs_volume *v, int channel, double u,
-		       double vv, double w)
+void cs_volume_sample4(const struct cs_volume *v, double u, double vv,
+		       double w, float out[4])
 {
-	if (!isfinite(u) || !isfinite(vv) || !isfinite(w))
-		return 0.0f;
+	if (!isfinite(u) || !isfinite(vv) || !isfinite(w)) {
+		out[0] = out[1] = out[2] = out[3] = 0.0f;
+		return;
+	}
 	/* voxel centres are at (i + 0.5) / n, as baked */
 	double gx = u * v->nx - 0.5, gy = vv * v->ny - 0.5, gz = w * v->nz - 0.5;
 	double fx = floor(gx), fy = floor(gy), fz = floor(gz);
-	double tx = gx - fx, ty = gy - fy, tz = gz - fz;
+	float tx = (float)(gx - fx), ty = (float)(gy - fy), tz = (float)(gz - fz);
 	/* reduce first so the conversion to long is defined for any finite input */
 	long ix = (long)(fx - v->nx * floor(fx / v->nx));
 	long iy = (long)(fy - v->ny * floor(fy / v->ny));
 	long iz = (long)(fz - v->nz * floor(fz / v->nz));
-	int x0 = wrapi(ix, v->nx), x1 = wrapi(ix + 1, v->nx);
-	int y0 = wrapi(iy, v->ny), y1 = wrapi(iy + 1, v->ny);
-	int z0 = wrapi(iz, v->nz), z1 = wrapi(iz + 1, v->nz);
-#define V(x, y, z) v->data[(((size_t)(z) * v->ny + (y)) * v->nx + (x)) * 4 + channel]
-	double c00 = V(x0, y0, z0) + tx * (V(x1, y0, z0) - V(x0, y0, z0));
-	double c10 = V(x0, y1, z0) + tx * (V(x1, y1, z0) - V(x0, y1, z0));
-	double c01 = V(x0, y0, z1) + tx * (V(x1, y0, z1) - V(x0, y0, z1));
-	double c11 = V(x0, y1, z1) + tx * (V(x1, y1, z1) - V(x0, y1, z1));
-#undef V
-	double c0 = c00 + ty * (c10 - c00);
-	double c1 = c01 + ty * (c11 - c01);
-	return (float)(c0 + tz * (c1 - c0));
+	size_t x0 = (size_t)wrapi(ix, v->nx), x1 = (size_t)wrapi(ix + 1, v->nx);
+	size_t y0 = (size_t)wrapi(iy, v->ny), y1 = (size_t)wrapi(iy + 1, v->ny);
+	size_t z0 = (size_t)wrapi(iz, v->nz), z1 = (size_t)wrapi(iz + 1, v->nz);
+	size_t sy = (size_t)v->nx, sz = (size_t)v->nx * v->ny;
+	const float *p000 = v->data + (z0 * sz + y0 * sy + x0) * 4;
+	const float *p100 = v->data + (z0 * sz + y0 * sy + x1) * 4;
+	const float *p010 = v->data + (z0 * sz + y1 * sy + x0) * 4;
+	const float *p110 = v->data + (z0 * sz + y1 * sy + x1) * 4;
+	const float *p001 = v->data + (z1 * sz + y0 * sy + x0) * 4;
+	const float *p101 = v->data + (z1 * sz + y0 * sy + x1) * 4;
+	const float *p011 = v->data + (z1 * sz + y1 * sy + x0) * 4;
+	const float *p111 = v->data + (z1 * sz + y1 * sy + x1) * 4;
+	for (int c = 0; c < 4; c++) {
+		float c00 = p000[c] + tx * (p100[c] - p000[c]);
+		float c10 = p010[c] + tx * (p110[c] - p010[c]);
+		float c01 = p001[c] + tx * (p101[c] - p001[c]);
+		float c11 = p011[c] + tx * (p111[c] - p011[c]);
+		float c0 = c00 + ty * (c10 - c00);
+		float c1 = c01 + ty * (c11 - c01);
+		out[c] = c0 + tz * (c1 - c0);
+	}
+}
+
+float cs_volume_sample(const struct cs_volume *v, int channel, double u,
+		       double vv, double w)
+{
+	float out[4];
+	cs_volume_sample4(v, u, vv, w, out);
+	return out[channel & 3];
 }

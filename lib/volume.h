@@ -65,6 +65,10 @@ int cs_volume_bake(struct cs_volume *v, int nthreads, cs_progress_fn progress,
 float cs_volume_sample(const struct cs_volume *v, int channel, double u,
 		       double vv, double w);
 
+/* All four channels at once (one set of voxel lookups). */
+void cs_volume_sample4(const struct cs_volume *v, double u, double vv,
+		       double w, float out[4]);
+
 /* Writes the volume as an OpenEXR atlas (see man 5 cloudscape-noise):
  * nx wide, nx * nz high, channels A B G R, half (or 32-bit float when
  * use_float), ZIP, with the cloudscape* attributes.  path "-" = stdout.

@@ -1,80 +1,17 @@
-/* OpenEXR reading and writing of the noise volume, through the OpenEXR C API
- * (OpenEXRCore).  All I/O goes through our own callbacks: writes into a
- * cs_outfile temporary, reads from a memory buffer, so a truncated file is
- * an ordinary short read and the core never prints. */
+/* The noise volume as OpenEXR (see man 5 cloudscape-noise): written with
+ * cs_exr_write(), read and validated here through the OpenEXR C API. */
 #include "volume.h"
 
 #include "err.h"
+#include "exr.h"
 #include "fileio.h"
 #include "half.h"
 
-#include <openexr.h>
-
-#include <errno.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <unistd.h>
 
 #define MAX_FILE_BYTES ((size_t)1 << 33) /* 8 GiB: larger is not a volume */
-
-/* The core reports errors through this callback; we keep the last message
- * of this thread to attach to our own. */
-static _Thread_local char exr_msg[512];
-
-static void on_exr_error(exr_const_context_t ctxt, exr_result_t code,
-			 const char *msg)
-{
-	(void)ctxt;
-	snprintf(exr_msg, sizeof exr_msg, "%s (%s)", msg ? msg : "",
-		 exr_get_default_error_message(code));
-}
-
-static int64_t write_cb(exr_const_context_t ctxt, void *user, const void *buf,
-			uint64_t sz, uint64_t off, exr_stream_error_func_ptr_t err)
-{
-	struct cs_outfile *of = user;
-	const char *p = buf;
-	uint64_t left = sz;
-	while (left > 0) {
-		ssize_t w = pwrite(of->fd, p, left, (off_t)off);
-		if (w < 0 && errno == EINTR)
-			continue;
-		if (w <= 0) {
-			err(ctxt, EXR_ERR_WRITE_IO, "write failed: %s",
-			    strerror(errno));
-			return -1;
-		}
-		p += w;
-		off += (uint64_t)w;
-		left -= (uint64_t)w;
-	}
-	return (int64_t)sz;
-}
-
-struct mem_src {
-	const unsigned char *data;
-	size_t len;
-};
-
-static int64_t read_cb(exr_const_context_t ctxt, void *user, void *buf,
-		       uint64_t sz, uint64_t off, exr_stream_error_func_ptr_t err)
-{
-	(void)ctxt;
-	(void)err;
-	const struct mem_src *m = user;
-	if (off >= m->len)
-		return 0;
-	uint64_t n = m->len - off < sz ? m->len - off : sz;
-	memcpy(buf, m->data + off, n);
-	return (int64_t)n;
-}
-
-static int64_t size_cb(exr_const_context_t ctxt, void *user)
-{
-	(void)ctxt;
-	return (int64_t)((const struct mem_src *)user)->len;
-}
 
 static int chan_index(const char *name)
 {
@@ -98,141 +35,37 @@ static void format_periods(const struct cs_volume *v, char *buf, size_t size)
 	}
 }
 
-#define EXR_TRY(call, what)                                                   \
-	do {                                                                  \
-		exr_result_t r_ = (call);                                     \
-		if (r_ != EXR_ERR_SUCCESS) {                                  \
-			rc = cs_error(CS_EIO, "%s: %s: %s", name, what,        \
-				      exr_msg[0] ? exr_msg                    \
-						 : exr_get_default_error_message(r_)); \
-			goto done;                                            \
-		}                                                             \
-	} while (0)
-
 int cs_volume_write_exr(const struct cs_volume *v, const char *path,
 			int use_float)
 {
-	const char *name = strcmp(path, "-") == 0 ? "standard output" : path;
-	int rc = CS_OK;
-	exr_context_t f = NULL;
-	exr_encode_pipeline_t enc = EXR_ENCODE_PIPELINE_INITIALIZER;
-	int enc_live = 0;
-	uint16_t *halves = NULL;
-	struct cs_outfile of;
-
-	exr_msg[0] = '\0';
 	if (v->data == NULL || v->nx != v->ny)
 		return cs_error(CS_EINVAL, "volume is empty or not square");
 	if ((long)v->nx * v->nz > 0x7fffffffL)
 		return cs_error(CS_EINVAL, "volume too large for one image");
-	rc = cs_outfile_open(&of, path);
-	if (rc != CS_OK)
-		return rc;
-
-	exr_context_initializer_t init = EXR_DEFAULT_CONTEXT_INITIALIZER;
-	init.error_handler_fn = on_exr_error;
-	init.user_data = &of;
-	init.write_fn = write_cb;
-	EXR_TRY(exr_start_write(&f, name, EXR_WRITE_FILE_DIRECTLY, &init),
-		"cannot start writing");
-	int part = 0;
-	EXR_TRY(exr_add_part(f, "noise", EXR_STORAGE_SCANLINE, &part), "add part");
-	int width = v->nx, height = v->nx * v->nz;
-	EXR_TRY(exr_initialize_required_attr_simple(f, part, width, height,
-						    EXR_COMPRESSION_ZIP),
-		"header");
-	exr_pixel_type_t ptype = use_float ? EXR_PIXEL_FLOAT : EXR_PIXEL_HALF;
+	char recipe[512], period[512];
+	cs_noise_recipe_format(&v->recipe, recipe, sizeof recipe);
+	format_periods(v, period, sizeof period);
+	const struct cs_exr_attr attrs[] = {
+		{"cloudscapeFormat", CS_EXR_INT, {CS_VOLUME_FORMAT, 0, 0}, NULL, 0},
+		{"cloudscapeVolumeSize", CS_EXR_V3I, {v->nx, v->ny, v->nz}, NULL, 0},
+		{"cloudscapeSeed", CS_EXR_INT, {(int)v->recipe.seed, 0, 0}, NULL, 0},
+		{"cloudscapeRecipe", CS_EXR_STRING, {0, 0, 0}, recipe, 0},
+		{"cloudscapePeriod", CS_EXR_STRING, {0, 0, 0}, period, 0},
+	};
+	struct cs_exr_channel ch[4];
 	static const char *const names[4] = {"R", "G", "B", "A"};
 	for (int c = 0; c < 4; c++)
-		EXR_TRY(exr_add_channel(f, part, names[c], ptype,
-					EXR_PERCEPTUALLY_LINEAR, 1, 1),
-			"add channel");
-
-	char buf[512];
-	exr_attr_v3i_t size = {.x = v->nx, .y = v->ny, .z = v->nz};
-	EXR_TRY(exr_attr_set_int(f, part, "cloudscapeFormat", CS_VOLUME_FORMAT),
-		"attribute");
-	EXR_TRY(exr_attr_set_v3i(f, part, "cloudscapeVolumeSize", &size),
-		"attribute");
-	EXR_TRY(exr_attr_set_int(f, part, "cloudscapeSeed",
-				 (int32_t)v->recipe.seed),
-		"attribute");
-	cs_noise_recipe_format(&v->recipe, buf, sizeof buf);
-	EXR_TRY(exr_attr_set_string(f, part, "cloudscapeRecipe", buf),
-		"attribute");
-	format_periods(v, buf, sizeof buf);
-	EXR_TRY(exr_attr_set_string(f, part, "cloudscapePeriod", buf),
-		"attribute");
-	EXR_TRY(exr_write_header(f), "cannot write header");
-
-	int32_t spc = 0;
-	EXR_TRY(exr_get_scanlines_per_chunk(f, part, &spc), "chunk size");
-	if (!use_float) {
-		halves = malloc((size_t)spc * (size_t)width * 4u * sizeof *halves);
-		if (halves == NULL) {
-			rc = cs_error(CS_ENOMEM, "out of memory");
-			goto done;
-		}
-	}
-	for (int y = 0; y < height; y += spc) {
-		exr_chunk_info_t ci;
-		EXR_TRY(exr_write_scanline_chunk_info(f, part, y, &ci), "chunk");
-		if (!enc_live)
-			EXR_TRY(exr_encoding_initialize(f, part, &ci, &enc), "encoder");
-		else
-			EXR_TRY(exr_encoding_update(f, part, &ci, &enc), "encoder");
-		const float *rows = v->data + (size_t)ci.start_y * width * 4;
-		if (!use_float)
-			for (size_t i = 0; i < (size_t)ci.height * width * 4; i++)
-				halves[i] = cs_float_to_half(rows[i]);
-		for (int k = 0; k < enc.channel_count; k++) {
-			exr_coding_channel_info_t *ch = &enc.channels[k];
-			int c = chan_index(ch->channel_name);
-			if (use_float) {
-				ch->encode_from_ptr = (const uint8_t *)(rows + c);
-				ch->user_bytes_per_element = 4;
-				ch->user_data_type = EXR_PIXEL_FLOAT;
-			} else {
-				ch->encode_from_ptr = (const uint8_t *)(halves + c);
-				ch->user_bytes_per_element = 2;
-				ch->user_data_type = EXR_PIXEL_HALF;
-			}
-			ch->user_pixel_stride = 4 * ch->user_bytes_per_element;
-			ch->user_line_stride = width * ch->user_pixel_stride;
-		}
-		if (!enc_live) {
-			EXR_TRY(exr_encoding_choose_default_routines(f, part, &enc),
-				"encoder");
-			enc_live = 1;
-		}
-		EXR_TRY(exr_encoding_run(f, part, &enc), "cannot write pixels");
-	}
-	if (enc_live) {
-		exr_encoding_destroy(f, &enc);
-		enc_live = 0;
-	}
-	EXR_TRY(exr_finish(&f), "cannot finish file");
-	rc = cs_outfile_commit(&of);
-	free(halves);
-	return rc;
-done:
-	if (enc_live)
-		exr_encoding_destroy(f, &enc);
-	if (f)
-		exr_finish(&f);
-	cs_outfile_abort(&of);
-	free(halves);
-	return rc;
+		ch[c] = (struct cs_exr_channel){names[c], use_float, v->data + c, 4};
+	return cs_exr_write(path, v->nx, v->nx * v->nz, ch, 4, attrs,
+			    (int)(sizeof attrs / sizeof attrs[0]));
 }
 
-#undef EXR_TRY
 #define EXR_TRY(call, what)                                                   \
 	do {                                                                  \
 		exr_result_t r_ = (call);                                     \
 		if (r_ != EXR_ERR_SUCCESS) {                                  \
 			rc = cs_error(CS_EDATA, "%s: %s: %s", name, what,      \
-				      exr_msg[0] ? exr_msg                    \
-						 : exr_get_default_error_message(r_)); \
+				      cs_exr_message(r_));                     \
 			goto done;                                            \
 		}                                                             \
 	} while (0)
@@ -266,16 +99,11 @@ int cs_volume_read_exr_mem(const void *data, size_t len, const char *name,
 	exr_decode_pipeline_t dec = EXR_DECODE_PIPELINE_INITIALIZER;
 	int dec_live = 0;
 	uint16_t *halves = NULL;
-	struct mem_src src = {data, len};
+	struct cs_exr_mem src = {data, len};
+	exr_context_initializer_t init;
 
 	memset(v, 0, sizeof *v);
-	exr_msg[0] = '\0';
-	exr_context_initializer_t init = EXR_DEFAULT_CONTEXT_INITIALIZER;
-	init.error_handler_fn = on_exr_error;
-	init.user_data = &src;
-	init.read_fn = read_cb;
-	init.size_fn = size_cb;
-	init.flags = EXR_CONTEXT_FLAG_SILENT_HEADER_PARSE;
+	cs_exr_reader_init(&init, &src);
 	EXR_TRY(exr_start_read(&f, name, &init), "not a readable OpenEXR file");
 
 	int parts = 0;

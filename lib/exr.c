@@ -1,0 +1,209 @@
+#include "exr.h"
+
+#include "err.h"
+#include "fileio.h"
+#include "half.h"
+
+#include <errno.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+static _Thread_local char exr_msg[512];
+
+static void on_exr_error(exr_const_context_t ctxt, exr_result_t code,
+			 const char *msg)
+{
+	(void)ctxt;
+	snprintf(exr_msg, sizeof exr_msg, "%s (%s)", msg ? msg : "",
+		 exr_get_default_error_message(code));
+}
+
+const char *cs_exr_message(exr_result_t code)
+{
+	return exr_msg[0] ? exr_msg : exr_get_default_error_message(code);
+}
+
+void cs_exr_clear_error(void)
+{
+	exr_msg[0] = '\0';
+}
+
+static int64_t write_cb(exr_const_context_t ctxt, void *user, const void *buf,
+			uint64_t sz, uint64_t off, exr_stream_error_func_ptr_t err)
+{
+	struct cs_outfile *of = user;
+	const char *p = buf;
+	uint64_t left = sz;
+	while (left > 0) {
+		ssize_t w = pwrite(of->fd, p, left, (off_t)off);
+		if (w < 0 && errno == EINTR)
+			continue;
+		if (w <= 0) {
+			err(ctxt, EXR_ERR_WRITE_IO, "write failed: %s", strerror(errno));
+			return -1;
+		}
+		p += w;
+		off += (uint64_t)w;
+		left -= (uint64_t)w;
+	}
+	return (int64_t)sz;
+}
+
+static int64_t read_cb(exr_const_context_t ctxt, void *user, void *buf,
+		       uint64_t sz, uint64_t off, exr_stream_error_func_ptr_t err)
+{
+	(void)ctxt;
+	(void)err;
+	const struct cs_exr_mem *m = user;
+	if (off >= m->len)
+		return 0;
+	uint64_t n = m->len - off < sz ? m->len - off : sz;
+	memcpy(buf, m->data + off, n);
+	return (int64_t)n;
+}
+
+static int64_t size_cb(exr_const_context_t ctxt, void *user)
+{
+	(void)ctxt;
+	return (int64_t)((const struct cs_exr_mem *)user)->len;
+}
+
+void cs_exr_reader_init(exr_context_initializer_t *init, struct cs_exr_mem *src)
+{
+	exr_context_initializer_t def = EXR_DEFAULT_CONTEXT_INITIALIZER;
+	*init = def;
+	init->error_handler_fn = on_exr_error;
+	init->user_data = src;
+	init->read_fn = read_cb;
+	init->size_fn = size_cb;
+	init->flags = EXR_CONTEXT_FLAG_SILENT_HEADER_PARSE;
+	exr_msg[0] = '\0';
+}
+
+#define TRY(call, what)                                                      \
+	do {                                                                 \
+		exr_result_t r_ = (call);                                    \
+		if (r_ != EXR_ERR_SUCCESS) {                                 \
+			rc = cs_error(CS_EIO, "%s: %s: %s", name, what,       \
+				      cs_exr_message(r_));                   \
+			goto fail;                                           \
+		}                                                            \
+	} while (0)
+
+static int set_attr(exr_context_t f, const struct cs_exr_attr *a)
+{
+	switch (a->type) {
+	case CS_EXR_INT:
+		return exr_attr_set_int(f, 0, a->name, a->i[0]);
+	case CS_EXR_STRING:
+		return exr_attr_set_string(f, 0, a->name, a->s);
+	case CS_EXR_DOUBLE:
+		return exr_attr_set_double(f, 0, a->name, a->d);
+	case CS_EXR_V3I: {
+		exr_attr_v3i_t v = {.x = a->i[0], .y = a->i[1], .z = a->i[2]};
+		return exr_attr_set_v3i(f, 0, a->name, &v);
+	}
+	}
+	return EXR_ERR_INVALID_ARGUMENT;
+}
+
+int cs_exr_write(const char *path, int width, int height,
+		 const struct cs_exr_channel *ch, int nch,
+		 const struct cs_exr_attr *attrs, int nattrs)
+{
+	const char *name = strcmp(path, "-") == 0 ? "standard output" : path;
+	int rc = CS_OK;
+	exr_context_t f = NULL;
+	exr_encode_pipeline_t enc = EXR_ENCODE_PIPELINE_INITIALIZER;
+	int enc_live = 0;
+	void *scratch = NULL;
+	struct cs_outfile of;
+
+	if (width < 1 || height < 1 || nch < 1 || nch > 16)
+		return cs_error(CS_EINVAL, "cannot write a %dx%d image of %d channels",
+				width, height, nch);
+	exr_msg[0] = '\0';
+	rc = cs_outfile_open(&of, path);
+	if (rc != CS_OK)
+		return rc;
+	exr_context_initializer_t init = EXR_DEFAULT_CONTEXT_INITIALIZER;
+	init.error_handler_fn = on_exr_error;
+	init.user_data = &of;
+	init.write_fn = write_cb;
+	TRY(exr_start_write(&f, name, EXR_WRITE_FILE_DIRECTLY, &init), "cannot start writing");
+	int part = 0;
+	TRY(exr_add_part(f, "image", EXR_STORAGE_SCANLINE, &part), "add part");
+	TRY(exr_initialize_required_attr_simple(f, part, width, height, EXR_COMPRESSION_ZIP),
+	    "header");
+	for (int c = 0; c < nch; c++)
+		TRY(exr_add_channel(f, part, ch[c].name,
+				    ch[c].is_float ? EXR_PIXEL_FLOAT : EXR_PIXEL_HALF,
+				    EXR_PERCEPTUALLY_LINEAR, 1, 1),
+		    "add channel");
+	for (int a = 0; a < nattrs; a++)
+		TRY(set_attr(f, &attrs[a]), "attribute");
+	TRY(exr_write_header(f), "cannot write header");
+
+	int32_t spc = 0;
+	TRY(exr_get_scanlines_per_chunk(f, part, &spc), "chunk size");
+	/* one planar row block per channel, converted from the caller's floats */
+	size_t block = (size_t)spc * (size_t)width;
+	scratch = malloc(block * (size_t)nch * sizeof(float));
+	if (scratch == NULL) {
+		rc = cs_error(CS_ENOMEM, "out of memory");
+		goto fail;
+	}
+	for (int y = 0; y < height; y += spc) {
+		exr_chunk_info_t ci;
+		TRY(exr_write_scanline_chunk_info(f, part, y, &ci), "chunk");
+		if (!enc_live)
+			TRY(exr_encoding_initialize(f, part, &ci, &enc), "encoder");
+		else
+			TRY(exr_encoding_update(f, part, &ci, &enc), "encoder");
+		size_t n = (size_t)ci.height * (size_t)width;
+		for (int k = 0; k < enc.channel_count; k++) {
+			exr_coding_channel_info_t *e = &enc.channels[k];
+			int c = 0;
+			while (c < nch && strcmp(ch[c].name, e->channel_name) != 0)
+				c++;
+			const float *src = ch[c].data + (size_t)ci.start_y * width * ch[c].stride;
+			unsigned char *dst = (unsigned char *)scratch + (size_t)c * block * sizeof(float);
+			if (ch[c].is_float) {
+				float *fd = (float *)dst;
+				for (size_t i = 0; i < n; i++)
+					fd[i] = src[i * ch[c].stride];
+				e->user_bytes_per_element = 4;
+				e->user_data_type = EXR_PIXEL_FLOAT;
+			} else {
+				uint16_t *hd = (uint16_t *)dst;
+				for (size_t i = 0; i < n; i++)
+					hd[i] = cs_float_to_half(src[i * ch[c].stride]);
+				e->user_bytes_per_element = 2;
+				e->user_data_type = EXR_PIXEL_HALF;
+			}
+			e->encode_from_ptr = dst;
+			e->user_pixel_stride = e->user_bytes_per_element;
+			e->user_line_stride = width * e->user_bytes_per_element;
+		}
+		if (!enc_live) {
+			TRY(exr_encoding_choose_default_routines(f, part, &enc), "encoder");
+			enc_live = 1;
+		}
+		TRY(exr_encoding_run(f, part, &enc), "cannot write pixels");
+	}
+	exr_encoding_destroy(f, &enc);
+	enc_live = 0;
+	TRY(exr_finish(&f), "cannot finish file");
+	free(scratch);
+	return cs_outfile_commit(&of);
+fail:
+	if (enc_live)
+		exr_encoding_destroy(f, &enc);
+	if (f)
+		exr_finish(&f);
+	cs_outfile_abort(&of);
+	free(scratch);
+	return rc;
+}

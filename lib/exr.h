@@ -1,0 +1,49 @@
+/* exr.h - OpenEXR output through the OpenEXR C API (OpenEXRCore), and the
+ * pieces the readers share.  All I/O goes through our callbacks: writes into
+ * a cs_outfile temporary (atomic), reads from memory (a truncated file is a
+ * short read), and the core's messages are kept, never printed. */
+#ifndef CS_EXR_H
+#define CS_EXR_H
+
+#include <openexr.h>
+
+#include <stddef.h>
+
+struct cs_exr_channel {
+	const char *name;
+	int is_float;       /* 1: 32-bit float; 0: half */
+	const float *data;  /* pixel (x, y) is data[(y * width + x) * stride] */
+	size_t stride;      /* floats from one pixel to the next */
+};
+
+enum cs_exr_attr_type { CS_EXR_INT, CS_EXR_STRING, CS_EXR_V3I, CS_EXR_DOUBLE };
+
+struct cs_exr_attr {
+	const char *name;
+	enum cs_exr_attr_type type;
+	int i[3];           /* CS_EXR_INT: i[0]; CS_EXR_V3I: all three */
+	const char *s;      /* CS_EXR_STRING */
+	double d;           /* CS_EXR_DOUBLE */
+};
+
+/* Writes a single-part scanline image, ZIP-compressed, with the given
+ * channels (any order; the file sorts them) and extra attributes, to path
+ * ("-" = stdout).  Atomic: no partial file on failure. */
+int cs_exr_write(const char *path, int width, int height,
+		 const struct cs_exr_channel *ch, int nch,
+		 const struct cs_exr_attr *attrs, int nattrs);
+
+/* A memory source for exr_start_read(). */
+struct cs_exr_mem {
+	const unsigned char *data;
+	size_t len;
+};
+
+/* Fills init to read from src and to keep error messages (no printing). */
+void cs_exr_reader_init(exr_context_initializer_t *init, struct cs_exr_mem *src);
+
+/* The core's last message on this thread ("" after cs_exr_clear_error()). */
+const char *cs_exr_message(exr_result_t code);
+void cs_exr_clear_error(void);
+
+#endif

@@ -1,0 +1,95 @@
+/* wx.h - the weather state: what the sky is like at one minute.
+ *
+ * Written by wxinterp, read by cloudrender; JSON schema "cloudwx/1",
+ * documented in man 5 cloudwx.  Altitudes are metres above mean sea level,
+ * times UTC. */
+#ifndef CS_WX_H
+#define CS_WX_H
+
+#include <stddef.h>
+
+#define CS_WX_SCHEMA "cloudwx/1"
+#define CS_WX_MAX_LAYERS 8
+#define CS_WX_MAX_FAR 4
+
+/* The ten WMO cloud genera. */
+enum cs_genus {
+	CS_CIRRUS,
+	CS_CIRROCUMULUS,
+	CS_CIRROSTRATUS,
+	CS_ALTOCUMULUS,
+	CS_ALTOSTRATUS,
+	CS_NIMBOSTRATUS,
+	CS_STRATOCUMULUS,
+	CS_STRATUS,
+	CS_CUMULUS,
+	CS_CUMULONIMBUS,
+	CS_GENUS_COUNT
+};
+
+/* "cirrus", "cirrocumulus", ... (lower case, as in the JSON). */
+const char *cs_genus_name(enum cs_genus g);
+/* The genus of a name (case-insensitive), or -1. */
+int cs_genus_from_name(const char *name);
+
+struct cs_wx_layer {
+	enum cs_genus genus;
+	double coverage;  /* fraction of the sky, 0..1 */
+	double base_m;    /* cloud base, m above sea level */
+	double top_m;     /* cloud top, m above sea level, > base_m */
+};
+
+struct cs_wx_site {
+	char name[64];
+	double lat_deg, lon_deg; /* WGS84 */
+	double alt_m;            /* ground height, m above sea level */
+};
+
+/* Weather at a distant site, blended in by distance along the view. */
+struct cs_wx_far {
+	struct cs_wx_site site;
+	int nlayers;
+	struct cs_wx_layer layers[CS_WX_MAX_LAYERS];
+	double precipitation_mm_h;
+	double visibility_m;
+};
+
+struct cs_wx {
+	double time_utc;               /* seconds since 1970-01-01T00:00Z */
+	struct cs_wx_site site;
+	int nlayers;
+	struct cs_wx_layer layers[CS_WX_MAX_LAYERS];
+	double precipitation_mm_h;     /* total, >= 0 */
+	double convective_mm_h;        /* convective part, 0..total */
+	double wind_speed_m_s;         /* >= 0 */
+	double wind_from_deg;          /* direction the wind blows from, 0..360 */
+	double visibility_m;           /* > 0 */
+	double fog_probability;        /* 0..1 */
+	int nfar;
+	struct cs_wx_far far[CS_WX_MAX_FAR];
+};
+
+/* The built-in fair-weather state: Bern (46.95N 7.44E, 540 m),
+ * 2021-06-14T14:00Z, cumulus 0.35 from 1500 to 2700 m, cirrus 0.2 from
+ * 9000 to 9600 m, wind 4 m/s from 250 deg, visibility 30 km, no rain. */
+void cs_wx_default(struct cs_wx *wx);
+
+/* Parses and validates one JSON object of schema cloudwx/1.  Errors name
+ * the field, e.g. "layers[1].coverage: 1.5 is outside 0..1".  Unknown keys
+ * are ignored; *wx is left untouched on error. */
+int cs_wx_parse(const char *json, size_t len, struct cs_wx *wx);
+
+/* Reads a state from a file ("-" = stdin) of at most 16 MiB.  A JSON Lines
+ * file gives its first non-empty line; the lines after it are not read.
+ * Error messages start with the file name ("standard input" for "-"). */
+int cs_wx_read(const char *path, struct cs_wx *wx);
+
+/* Checks ranges and consistency (what cs_wx_parse() checks after parsing). */
+int cs_wx_validate(const struct cs_wx *wx);
+
+/* The state as one line of JSON (no newline); malloc'ed for the caller.
+ * Numbers read back exactly; time_utc is written in whole seconds.  A state
+ * that cs_wx_validate() rejects is not written (*json = NULL). */
+int cs_wx_to_json(const struct cs_wx *wx, char **json);
+
+#endif

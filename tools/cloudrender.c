@@ -1,0 +1,287 @@
+/* cloudrender - render a weather state as a physically based cloudscape. */
+#include "cli.h"
+
+#include "cloudrender.h"
+#include "err.h"
+#include "scene.h"
+#include "time.h"
+
+#include <getopt.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#ifndef CS_VERSION
+#define CS_VERSION "unknown"
+#endif
+
+static void usage(void)
+{
+	printf("Usage: cloudrender [options] -o FILE.png|FILE.exr [-o FILE...]\n"
+	       "Render the sky of a weather state: sun and sky for the date and place,\n"
+	       "volumetric clouds of every genus, flat ground, haze and rain.\n"
+	       "\n"
+	       "  -o, --output FILE      .png: 8-bit sRGB, tone mapped; .exr: linear half RGBA\n"
+	       "                         (A = 1 - cloud transmittance) + float Z (metres);\n"
+	       "                         '-' = PNG on standard output; repeat for several\n"
+	       "      --wx FILE          weather state, cloudwx JSON ('-' = standard input;\n"
+	       "                         default: built-in fair weather over Bern)\n"
+	       "      --noise FILE       noise volume from noisebake (default: baked in memory)\n"
+	       "      --noise-size N     size of the in-memory noise, 16..256 (default 64)\n"
+	       "      --time TIME        UTC time, ISO 8601 (default: the weather state's)\n"
+	       "      --view NAME        named viewpoint: gurten, bantiger\n"
+	       "      --list-views       list the viewpoints and exit\n"
+	       "      --camera LAT,LON,ALT_M  camera position (degrees, metres above sea level)\n"
+	       "      --look AZ,EL       view azimuth (from north, clockwise) and elevation, degrees\n"
+	       "      --fov DEG          horizontal field of view, 1..179 (default 70, views 60)\n"
+	       "      --size WxH         image size in pixels (default 640x360)\n"
+	       "      --quality NAME     low, medium (default), high or reference\n"
+	       "      --steps N          view samples across a layer's thickness, 1..100000\n"
+	       "      --light-steps N    samples toward the sun, 1..10000\n"
+	       "      --ms-octaves N     multiple-scattering octaves, 1 (single scattering)..4\n"
+	       "      --no-ambient       no sky light on the clouds\n"
+	       "      --no-jitter        sample at step midpoints (banding instead of noise)\n"
+	       "      --seed N           seed of the per-pixel jitter, 0..4294967295 (default 0)\n"
+	       "      --exposure EV      PNG exposure in stops (default 0)\n"
+	       "  -t, --threads N        worker threads, 1..256 (default: all processors)\n"
+	       "      --stats            print a JSON summary on standard error\n"
+	       "  -q, --quiet            no progress bar\n"
+	       "  -v, --verbose          say what is being done\n"
+	       "  -h, --help             this help\n"
+	       "      --version          print the version\n"
+	       "\n"
+	       "Exit status: 0 success, 1 data or runtime error, 2 usage error.\n"
+	       "See cloudrender(1) and cloudwx(5).\n");
+}
+
+static void list_views(void)
+{
+	int n;
+	const struct cs_view *v = cs_views(&n);
+	for (int i = 0; i < n; i++)
+		printf("%-10s %9.5f %9.5f %6.0f m  look %5.1f,%4.1f deg  fov %2.0f  %s\n",
+		       v[i].name, v[i].lat_deg, v[i].lon_deg, v[i].alt_m,
+		       v[i].azimuth_deg, v[i].elevation_deg, v[i].fov_deg,
+		       v[i].description);
+}
+
+static void print_stats(const struct cs_cloudrender_opts *o)
+{
+	const struct cs_render_stats *s = &o->stats;
+	double px = s->pixels ? (double)s->pixels : 1.0;
+	double total = o->t_noise_s + o->t_scene_s + o->t_render_s + o->t_write_s;
+	char when[32];
+	cs_time_format(o->wx.time_utc, when, sizeof when);
+	fprintf(stderr,
+		"{\"program\":\"cloudrender\",\"time_utc\":\"%s\",\"size\":[%d,%d],"
+		"\"quality\":\"%s\",\"steps\":%d,\"light_steps\":%d,\"ms_octaves\":%d,"
+		"\"wall_s\":{\"noise\":%.3f,\"scene\":%.3f,\"render\":%.3f,\"write\":%.3f,"
+		"\"total\":%.3f},"
+		"\"pixels\":%llu,\"density_samples\":%llu,\"light_samples\":%llu,"
+		"\"rays_terminated_early\":%llu,\"layer_crossings\":%llu,"
+		"\"density_samples_per_pixel\":%.2f,\"density_samples_per_s\":%.0f,",
+		when, o->width, o->height, o->quality, o->settings.steps,
+		o->settings.light_steps, o->settings.ms_octaves, o->t_noise_s,
+		o->t_scene_s, o->t_render_s, o->t_write_s, total,
+		(unsigned long long)s->pixels, (unsigned long long)s->density_samples,
+		(unsigned long long)s->light_samples,
+		(unsigned long long)s->rays_terminated_early,
+		(unsigned long long)s->layer_crossings, (double)s->density_samples / px,
+		o->t_render_s > 0 ? (double)s->density_samples / o->t_render_s : 0.0);
+	fprintf(stderr, "\"sun\":{\"azimuth_deg\":%.3f,\"elevation_deg\":%.3f},\"layers\":[",
+		o->sun_azimuth_deg, o->sun_elevation_deg);
+	const struct cs_scene *sc = o->scene;
+	for (int i = 0; sc && i < sc->nlayers; i++)
+		fprintf(stderr, "%s{\"genus\":\"%s\",\"coverage\":%.3f,\"base_m\":%.0f,\"top_m\":%.0f}",
+			i ? "," : "", cs_genus_name(sc->layers[i].genus),
+			sc->layers[i].coverage, sc->layers[i].base_m, sc->layers[i].top_m);
+	fprintf(stderr, "],\"effects\":[");
+	static const char *const names[] = {"sun", "sky", "clouds", "ground",
+					    "haze", "rain", "cloud_shadows"};
+	int first = 1;
+	for (int b = 0; sc && b < 7; b++)
+		if (sc->effects & (1u << b)) {
+			fprintf(stderr, "%s\"%s\"", first ? "" : ",", names[b]);
+			first = 0;
+		}
+	fprintf(stderr, "]}\n");
+}
+
+static void parse_pair(const char *opt, const char *s, double *a, double *b,
+		       double alo, double ahi, double blo, double bhi)
+{
+	char buf[128];
+	const char *comma = strchr(s, ',');
+	if (comma == NULL || (size_t)(comma - s) >= sizeof buf)
+		cli_usage_error("%s: expected two comma-separated numbers, not '%s'", opt, s);
+	memcpy(buf, s, (size_t)(comma - s));
+	buf[comma - s] = '\0';
+	*a = cli_double(opt, buf, alo, ahi);
+	*b = cli_double(opt, comma + 1, blo, bhi);
+}
+
+enum {
+	OPT_WX = 256, OPT_NOISE, OPT_NOISE_SIZE, OPT_TIME, OPT_VIEW, OPT_LIST_VIEWS,
+	OPT_CAMERA, OPT_LOOK, OPT_FOV, OPT_SIZE, OPT_QUALITY, OPT_STEPS,
+	OPT_LIGHT_STEPS, OPT_MS, OPT_NO_AMBIENT, OPT_NO_JITTER, OPT_SEED,
+	OPT_EXPOSURE, OPT_STATS, OPT_VERSION,
+};
+
+int main(int argc, char **argv)
+{
+	static const struct option longopts[] = {
+		{"output", required_argument, NULL, 'o'},
+		{"wx", required_argument, NULL, OPT_WX},
+		{"noise", required_argument, NULL, OPT_NOISE},
+		{"noise-size", required_argument, NULL, OPT_NOISE_SIZE},
+		{"time", required_argument, NULL, OPT_TIME},
+		{"view", required_argument, NULL, OPT_VIEW},
+		{"list-views", no_argument, NULL, OPT_LIST_VIEWS},
+		{"camera", required_argument, NULL, OPT_CAMERA},
+		{"look", required_argument, NULL, OPT_LOOK},
+		{"fov", required_argument, NULL, OPT_FOV},
+		{"size", required_argument, NULL, OPT_SIZE},
+		{"quality", required_argument, NULL, OPT_QUALITY},
+		{"steps", required_argument, NULL, OPT_STEPS},
+		{"light-steps", required_argument, NULL, OPT_LIGHT_STEPS},
+		{"ms-octaves", required_argument, NULL, OPT_MS},
+		{"no-ambient", no_argument, NULL, OPT_NO_AMBIENT},
+		{"no-jitter", no_argument, NULL, OPT_NO_JITTER},
+		{"seed", required_argument, NULL, OPT_SEED},
+		{"exposure", required_argument, NULL, OPT_EXPOSURE},
+		{"threads", required_argument, NULL, 't'},
+		{"stats", no_argument, NULL, OPT_STATS},
+		{"quiet", no_argument, NULL, 'q'},
+		{"verbose", no_argument, NULL, 'v'},
+		{"help", no_argument, NULL, 'h'},
+		{"version", no_argument, NULL, OPT_VERSION},
+		{NULL, 0, NULL, 0},
+	};
+	struct cs_cloudrender_opts o;
+	int stats = 0, steps = 0, light_steps = 0, ms = 0, no_ambient = 0, no_jitter = 0;
+	long long seed = -1;
+	int opt;
+
+	cli_init("cloudrender");
+	cs_cloudrender_defaults(&o);
+	while ((opt = getopt_long(argc, argv, "o:t:qvh", longopts, NULL)) != -1) {
+		switch (opt) {
+		case 'o':
+			if (o.noutputs == CS_RENDER_MAX_OUTPUTS)
+				cli_usage_error("at most %d outputs", CS_RENDER_MAX_OUTPUTS);
+			if (cs_output_kind(optarg) == 0)
+				cli_usage_error("-o %s: the name must end in .png or .exr", optarg);
+			o.outputs[o.noutputs++] = optarg;
+			break;
+		case OPT_WX: o.wx_path = optarg; break;
+		case OPT_NOISE: o.noise_path = optarg; break;
+		case OPT_NOISE_SIZE: o.noise_size = (int)cli_long("--noise-size", optarg, 16, 256); break;
+		case OPT_TIME:
+			if (cs_time_parse(optarg, &o.time_utc) != CS_OK)
+				cli_usage_error("--time: %s", cs_errmsg());
+			o.have_time = 1;
+			break;
+		case OPT_VIEW:
+			if (cs_view_find(optarg) == NULL)
+				cli_usage_error("--view: unknown view '%s' (see --list-views)", optarg);
+			o.view = optarg;
+			break;
+		case OPT_LIST_VIEWS: list_views(); return EXIT_OK;
+		case OPT_CAMERA: {
+			char buf[256];
+			const char *c2 = strrchr(optarg, ',');
+			if (c2 == NULL || (size_t)(c2 - optarg) >= sizeof buf)
+				cli_usage_error("--camera: expected LAT,LON,ALT_M, not '%s'", optarg);
+			memcpy(buf, optarg, (size_t)(c2 - optarg));
+			buf[c2 - optarg] = '\0';
+			parse_pair("--camera", buf, &o.cam_lat_deg, &o.cam_lon_deg, -89.9, 89.9,
+				   -180.0, 180.0);
+			o.cam_alt_m = cli_double("--camera", c2 + 1, -500.0, 100000.0);
+			o.have_camera = 1;
+			break;
+		}
+		case OPT_LOOK:
+			parse_pair("--look", optarg, &o.look_az_deg, &o.look_el_deg, -360.0, 360.0,
+				   -90.0, 90.0);
+			o.have_look = 1;
+			break;
+		case OPT_FOV: o.fov_deg = cli_double("--fov", optarg, 1.0, 179.0); break;
+		case OPT_SIZE: {
+			char *x = strchr(optarg, 'x');
+			if (x == NULL)
+				cli_usage_error("--size: expected WxH, not '%s'", optarg);
+			*x = '\0';
+			o.width = (int)cli_long("--size", optarg, 1, 16384);
+			o.height = (int)cli_long("--size", x + 1, 1, 16384);
+			*x = 'x';
+			break;
+		}
+		case OPT_QUALITY:
+			if (cs_render_quality(optarg, &o.settings) != CS_OK)
+				cli_usage_error("--quality: %s", cs_errmsg());
+			o.quality = optarg;
+			break;
+		case OPT_STEPS: steps = (int)cli_long("--steps", optarg, 1, 100000); break;
+		case OPT_LIGHT_STEPS: light_steps = (int)cli_long("--light-steps", optarg, 1, 10000); break;
+		case OPT_MS: ms = (int)cli_long("--ms-octaves", optarg, 1, 4); break;
+		case OPT_NO_AMBIENT: no_ambient = 1; break;
+		case OPT_NO_JITTER: no_jitter = 1; break;
+		case OPT_SEED: seed = cli_long("--seed", optarg, 0, 4294967295L); break;
+		case OPT_EXPOSURE: o.exposure_ev = cli_double("--exposure", optarg, -20.0, 20.0); break;
+		case 't': o.threads = (int)cli_long("--threads", optarg, 1, 256); break;
+		case OPT_STATS: stats = 1; break;
+		case 'q': cli_quiet = 1; break;
+		case 'v': cli_verbose = 1; break;
+		case 'h': usage(); return EXIT_OK;
+		case OPT_VERSION: printf("cloudrender (cloudscape) %s\n", CS_VERSION); return EXIT_OK;
+		default:
+			fprintf(stderr, "Try 'cloudrender --help' for more information.\n");
+			return EXIT_USAGE;
+		}
+	}
+	if (optind < argc)
+		cli_usage_error("unexpected argument '%s'", argv[optind]);
+	if (o.noutputs == 0)
+		cli_usage_error("no output: give -o FILE.png and/or -o FILE.exr");
+	int to_stdout = 0;
+	for (int i = 0; i < o.noutputs; i++)
+		to_stdout += strcmp(o.outputs[i], "-") == 0;
+	if (to_stdout > 1)
+		cli_usage_error("only one output can go to standard output");
+	if (o.wx_path && o.noise_path && strcmp(o.wx_path, "-") == 0 &&
+	    strcmp(o.noise_path, "-") == 0)
+		cli_usage_error("--wx - and --noise - cannot both read standard input");
+	/* explicit settings refine the preset */
+	if (steps) {
+		o.settings.steps = steps;
+		if (o.settings.max_steps < 4 * steps)
+			o.settings.max_steps = 4 * steps;
+	}
+	if (light_steps)
+		o.settings.light_steps = light_steps;
+	if (ms)
+		o.settings.ms_octaves = ms;
+	if (no_ambient)
+		o.settings.ambient = 0;
+	if (no_jitter)
+		o.settings.jitter = 0.0;
+	if (seed >= 0)
+		o.settings.seed = (uint32_t)seed;
+
+	o.progress = cli_progress;
+	o.progress_user = "rendering";
+	if (cli_verbose)
+		fprintf(stderr, "cloudrender: %dx%d, quality %s (%d steps, %d light steps)\n",
+			o.width, o.height, o.quality, o.settings.steps, o.settings.light_steps);
+	int rc = cs_cloudrender_run(&o);
+	cli_progress_done();
+	if (rc != CS_OK) {
+		cli_err("%s", cs_errmsg());
+		cs_cloudrender_free(&o);
+		return rc == CS_EINVAL ? EXIT_USAGE : EXIT_DATA;
+	}
+	if (stats)
+		print_stats(&o);
+	cs_cloudrender_free(&o);
+	return EXIT_OK;
+}
