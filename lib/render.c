@@ -505,10 +505,10 @@ int cs_render_image(const struct cs_scene *sc, const struct cs_camera *cam,
 		args[0] = (struct worker_arg){job, 0};
 		render_worker(&args[0]);
 	}
-	while (started > 0 && atomic_load(&job->rows_done) < cam->height) {
+	while (progress && started > 0 && atomic_load(&job->rows_done) < cam->height) {
 		if (progress)
 			progress(user, (double)atomic_load(&job->rows_done) / cam->height);
-		struct timespec ts = {0, 50 * 1000 * 1000};
+		struct timespec ts = {0, 20 * 1000 * 1000};
 		nanosleep(&ts, NULL);
 	}
 	for (int i = 0; i < started; i++)

@@ -197,18 +197,13 @@ int cs_volume_bake(struct cs_volume *v, int nthreads, cs_progress_fn progress,
 			break;
 	if (started == 0) {
 		bake_worker(&job); /* no thread could start: work here */
-	} else {
+	} else if (progress) {
 		/* The calling thread reports progress while the workers run. */
-		while (atomic_load(&job.slices_done) < v->nz &&
-		       !atomic_load(&job.cancel)) {
-			if (progress &&
-			    progress(user, (double)atomic_load(&job.slices_done) / v->nz))
+		while (atomic_load(&job.slices_done) < v->nz && !atomic_load(&job.cancel)) {
+			if (progress(user, (double)atomic_load(&job.slices_done) / v->nz))
 				atomic_store(&job.cancel, 1);
-			struct timespec ts = {0, 50 * 1000 * 1000};
+			struct timespec ts = {0, 20 * 1000 * 1000};
 			nanosleep(&ts, NULL);
-			if (atomic_load(&job.next_slice) >= v->nz &&
-			    atomic_load(&job.slices_done) >= v->nz)
-				break;
 		}
 	}
 	for (int i = 0; i < started; i++)

@@ -67,6 +67,14 @@ static struct num num(double v)
 	return n;
 }
 
+/* Returns from the calling function on an error. */
+#define TRY(call)                                                             \
+	do {                                                                  \
+		int try_rc_ = (call);                                         \
+		if (try_rc_ != CS_OK)                                         \
+			return try_rc_;                                       \
+	} while (0)
+
 /* A number member of a struct: its JSON key, default and range. */
 struct field {
 	const char *key;
@@ -75,36 +83,35 @@ struct field {
 	double def, lo, hi;
 };
 
-#define FIELD(type, key, member, req, def, lo, hi) \
-	{key, offsetof(type, member), req, def, lo, hi}
+#define F(type, member, req, def, lo, hi) \
+	{#member, offsetof(type, member), req, def, lo, hi}
 #define COUNT(a) (sizeof (a) / sizeof *(a))
 
 static const struct field site_fields[] = {
-	FIELD(struct cs_wx_site, "lat_deg", lat_deg, 1, 0, -90, 90),
-	FIELD(struct cs_wx_site, "lon_deg", lon_deg, 1, 0, -180, 180),
-	FIELD(struct cs_wx_site, "alt_m", alt_m, 0, 0, -500, 9000),
+	F(struct cs_wx_site, lat_deg, 1, 0, -90, 90),
+	F(struct cs_wx_site, lon_deg, 1, 0, -180, 180),
+	F(struct cs_wx_site, alt_m, 0, 0, -500, 9000),
 };
 static const struct field layer_fields[] = {
-	FIELD(struct cs_wx_layer, "coverage", coverage, 1, 0, 0, 1),
-	FIELD(struct cs_wx_layer, "base_m", base_m, 1, 0, -500, 20000),
-	FIELD(struct cs_wx_layer, "top_m", top_m, 1, 0, -500, 20000),
+	F(struct cs_wx_layer, coverage, 1, 0, 0, 1),
+	F(struct cs_wx_layer, base_m, 1, 0, -500, 20000),
+	F(struct cs_wx_layer, top_m, 1, 0, -500, 20000),
 };
 static const struct field wx_fields[] = {
-	FIELD(struct cs_wx, "precipitation_mm_h", precipitation_mm_h, 0, 0, 0, 500),
-	FIELD(struct cs_wx, "convective_mm_h", convective_mm_h, 0, 0, 0, 500),
-	FIELD(struct cs_wx, "visibility_m", visibility_m, 0, 30000, 1, 1e6),
-	FIELD(struct cs_wx, "fog_probability", fog_probability, 0, 0, 0, 1),
+	F(struct cs_wx, precipitation_mm_h, 0, 0, 0, 500),
+	F(struct cs_wx, convective_mm_h, 0, 0, 0, 500),
+	F(struct cs_wx, visibility_m, 0, 30000, 1, 1e6),
+	F(struct cs_wx, fog_probability, 0, 0, 0, 1),
 };
-/* required only when a "wind" object is there: a speed without a direction
- * is no wind; no object at all is calm */
+/* Required only inside a "wind" object (a speed without a direction is no
+ * wind); no object at all is calm. */
 static const struct field wind_fields[] = {
-	FIELD(struct cs_wx, "speed_m_s", wind_speed_m_s, 1, 0, 0, 100),
-	FIELD(struct cs_wx, "from_deg", wind_from_deg, 1, 0, 0, 360),
+	{"speed_m_s", offsetof(struct cs_wx, wind_speed_m_s), 1, 0, 0, 100},
+	{"from_deg", offsetof(struct cs_wx, wind_from_deg), 1, 0, 0, 360},
 };
 static const struct field far_fields[] = {
-	FIELD(struct cs_wx_far, "precipitation_mm_h", precipitation_mm_h, 0, 0, 0,
-	      500),
-	FIELD(struct cs_wx_far, "visibility_m", visibility_m, 0, 30000, 1, 1e6),
+	F(struct cs_wx_far, precipitation_mm_h, 0, 0, 0, 500),
+	F(struct cs_wx_far, visibility_m, 0, 30000, 1, 1e6),
 };
 
 /* ---- validation: ranges of the struct ---------------------------------- */
@@ -122,12 +129,11 @@ static int check(const char *pre, const char *key, double v, double lo,
 static int check_fields(const char *pre, const struct field *f, size_t n,
 			const void *base)
 {
-	int rc = CS_OK;
-	for (size_t i = 0; i < n && rc == CS_OK; i++)
-		rc = check(pre, f[i].key,
-			   *(const double *)((const char *)base + f[i].off),
-			   f[i].lo, f[i].hi);
-	return rc;
+	for (size_t i = 0; i < n; i++)
+		TRY(check(pre, f[i].key,
+			  *(const double *)((const char *)base + f[i].off),
+			  f[i].lo, f[i].hi));
+	return CS_OK;
 }
 
 static int check_site(const char *pre, const struct cs_wx_site *s)
@@ -142,21 +148,20 @@ static int check_layers(const char *pre, int n, const struct cs_wx_layer *l)
 	if (n < 0 || n > CS_WX_MAX_LAYERS)
 		return cs_error(CS_EDATA, "%slayers: %d layers, at most %d",
 				pre, n, CS_WX_MAX_LAYERS);
-	int rc = CS_OK;
-	for (int i = 0; i < n && rc == CS_OK; i++) {
+	for (int i = 0; i < n; i++) {
 		char p[48];
 		snprintf(p, sizeof p, "%slayers[%d].", pre, i);
 		if ((unsigned)l[i].genus >= CS_GENUS_COUNT)
 			return cs_error(CS_EDATA, "%sgenus: %d is not a genus", p,
 					(int)l[i].genus);
-		rc = check_fields(p, layer_fields, COUNT(layer_fields), &l[i]);
+		TRY(check_fields(p, layer_fields, COUNT(layer_fields), &l[i]));
 		/* thinner than 10 m is no cloud a renderer can march */
-		if (rc == CS_OK && !(l[i].top_m >= l[i].base_m + 10))
-			rc = cs_error(CS_EDATA, "%stop_m: %s is not at least 10 m "
-				      "above base_m %s", p, num(l[i].top_m).s,
-				      num(l[i].base_m).s);
+		if (!(l[i].top_m >= l[i].base_m + 10))
+			return cs_error(CS_EDATA, "%stop_m: %s is not at least "
+					"10 m above base_m %s", p,
+					num(l[i].top_m).s, num(l[i].base_m).s);
 	}
-	return rc;
+	return CS_OK;
 }
 
 int cs_wx_validate(const struct cs_wx *wx)
@@ -168,31 +173,24 @@ int cs_wx_validate(const struct cs_wx *wx)
 	      wx->time_utc < cs_days_from_civil(10000, 1, 1) * 86400.0))
 		return cs_error(CS_EDATA, "time_utc: %s s is outside years "
 				"0000..9999", num(wx->time_utc).s);
-	int rc = check_site("site.", &wx->site);
-	if (rc == CS_OK)
-		rc = check_layers("", wx->nlayers, wx->layers);
-	if (rc == CS_OK)
-		rc = check_fields("", wx_fields, COUNT(wx_fields), wx);
-	if (rc == CS_OK)
-		rc = check("", "convective_mm_h", wx->convective_mm_h, 0,
-			   wx->precipitation_mm_h);
-	if (rc == CS_OK)
-		rc = check_fields("wind.", wind_fields, COUNT(wind_fields), wx);
-	if (rc == CS_OK && (wx->nfar < 0 || wx->nfar > CS_WX_MAX_FAR))
+	TRY(check_site("site.", &wx->site));
+	TRY(check_layers("", wx->nlayers, wx->layers));
+	TRY(check_fields("", wx_fields, COUNT(wx_fields), wx));
+	TRY(check("", "convective_mm_h", wx->convective_mm_h, 0,
+		  wx->precipitation_mm_h));
+	TRY(check_fields("wind.", wind_fields, COUNT(wind_fields), wx));
+	if (wx->nfar < 0 || wx->nfar > CS_WX_MAX_FAR)
 		return cs_error(CS_EDATA, "far: %d sites, at most %d", wx->nfar,
 				CS_WX_MAX_FAR);
-	for (int i = 0; i < wx->nfar && rc == CS_OK; i++) {
+	for (int i = 0; i < wx->nfar; i++) {
 		char p[32], ps[40];
 		snprintf(p, sizeof p, "far[%d].", i);
 		snprintf(ps, sizeof ps, "far[%d].site.", i);
-		rc = check_site(ps, &wx->far[i].site);
-		if (rc == CS_OK)
-			rc = check_layers(p, wx->far[i].nlayers, wx->far[i].layers);
-		if (rc == CS_OK)
-			rc = check_fields(p, far_fields, COUNT(far_fields),
-					  &wx->far[i]);
+		TRY(check_site(ps, &wx->far[i].site));
+		TRY(check_layers(p, wx->far[i].nlayers, wx->far[i].layers));
+		TRY(check_fields(p, far_fields, COUNT(far_fields), &wx->far[i]));
 	}
-	return rc;
+	return CS_OK;
 }
 
 /* ---- parsing: types and presence --------------------------------------- */
@@ -222,16 +220,14 @@ static int parse_fields(const cJSON *obj, const char *pre,
 			const struct field *f, size_t n, void *base)
 {
 	for (size_t i = 0; i < n; i++) {
-		double *v = (double *)((char *)base + f[i].off);
 		const cJSON *it;
-		int rc = get(obj, pre, f[i].key, cJSON_Number,
-			     f[i].required && obj != NULL, &it);
-		if (rc != CS_OK)
-			return rc;
+		TRY(get(obj, pre, f[i].key, cJSON_Number,
+			f[i].required && obj != NULL, &it));
 		if (it != NULL && !isfinite(it->valuedouble))
 			return cs_error(CS_EDATA, "%s%s: expected a finite "
 					"number", pre, f[i].key);
-		*v = it != NULL ? it->valuedouble : f[i].def;
+		*(double *)((char *)base + f[i].off) =
+			it != NULL ? it->valuedouble : f[i].def;
 	}
 	return CS_OK;
 }
@@ -242,11 +238,8 @@ static int parse_site(const cJSON *obj, const char *pre, struct cs_wx_site *s)
 	const cJSON *site, *name;
 	char p[40];
 	snprintf(p, sizeof p, "%ssite.", pre);
-	int rc = get(obj, pre, "site", cJSON_Object, 1, &site);
-	if (rc == CS_OK)
-		rc = get(site, p, "name", cJSON_String, 0, &name);
-	if (rc != CS_OK)
-		return rc;
+	TRY(get(obj, pre, "site", cJSON_Object, 1, &site));
+	TRY(get(site, p, "name", cJSON_String, 0, &name));
 	if (name != NULL && strlen(name->valuestring) >= sizeof s->name)
 		return cs_error(CS_EDATA, "%sname: longer than %zu bytes", p,
 				sizeof s->name - 1);
@@ -269,9 +262,7 @@ static int parse_layers(const cJSON *obj, const char *pre, int *n,
 			struct cs_wx_layer *layers)
 {
 	const cJSON *arr, *el, *genus;
-	int rc = get(obj, pre, "layers", cJSON_Array, 1, &arr);
-	if (rc != CS_OK)
-		return rc;
+	TRY(get(obj, pre, "layers", cJSON_Array, 1, &arr));
 	if (cJSON_GetArraySize(arr) > CS_WX_MAX_LAYERS)
 		return cs_error(CS_EDATA, "%slayers: %d layers, at most %d", pre,
 				cJSON_GetArraySize(arr), CS_WX_MAX_LAYERS);
@@ -282,18 +273,13 @@ static int parse_layers(const cJSON *obj, const char *pre, int *n,
 		if (!cJSON_IsObject(el))
 			return cs_error(CS_EDATA, "%s: expected an object", p);
 		strcat(p, ".");
-		rc = get(el, p, "genus", cJSON_String, 1, &genus);
-		if (rc != CS_OK)
-			return rc;
+		TRY(get(el, p, "genus", cJSON_String, 1, &genus));
 		int g = cs_genus_from_name(genus->valuestring);
 		if (g < 0)
 			return unknown_genus(p, genus->valuestring);
 		layers[*n].genus = (enum cs_genus)g;
-		rc = parse_fields(el, p, layer_fields, COUNT(layer_fields),
-				  &layers[*n]);
-		if (rc != CS_OK)
-			return rc;
-		++*n;
+		TRY(parse_fields(el, p, layer_fields, COUNT(layer_fields),
+				 &layers[(*n)++]));
 	}
 	return CS_OK;
 }
@@ -301,60 +287,45 @@ static int parse_layers(const cJSON *obj, const char *pre, int *n,
 static int parse_far(const cJSON *root, struct cs_wx *wx)
 {
 	const cJSON *arr, *el;
-	int rc = get(root, "", "far", cJSON_Array, 0, &arr);
-	if (rc != CS_OK || arr == NULL)
-		return rc;
+	TRY(get(root, "", "far", cJSON_Array, 0, &arr));
 	if (cJSON_GetArraySize(arr) > CS_WX_MAX_FAR)
 		return cs_error(CS_EDATA, "far: %d sites, at most %d",
 				cJSON_GetArraySize(arr), CS_WX_MAX_FAR);
 	cJSON_ArrayForEach(el, arr) {
 		struct cs_wx_far *f = &wx->far[wx->nfar];
 		char p[32];
-		snprintf(p, sizeof p, "far[%d]", wx->nfar);
+		snprintf(p, sizeof p, "far[%d]", wx->nfar++);
 		if (!cJSON_IsObject(el))
 			return cs_error(CS_EDATA, "%s: expected an object", p);
 		strcat(p, ".");
-		rc = parse_site(el, p, &f->site);
-		if (rc == CS_OK)
-			rc = parse_layers(el, p, &f->nlayers, f->layers);
-		if (rc == CS_OK)
-			rc = parse_fields(el, p, far_fields, COUNT(far_fields), f);
-		if (rc != CS_OK)
-			return rc;
-		wx->nfar++;
+		TRY(parse_site(el, p, &f->site));
+		TRY(parse_layers(el, p, &f->nlayers, f->layers));
+		TRY(parse_fields(el, p, far_fields, COUNT(far_fields), f));
 	}
 	return CS_OK;
 }
 
-/* Fills a zeroed *wx from the parsed document; no range checks. */
+/* Fills *wx from the parsed document; the ranges are checked after. */
 static int parse_root(const cJSON *root, struct cs_wx *wx)
 {
 	const cJSON *it;
 	if (!cJSON_IsObject(root))
 		return cs_error(CS_EDATA, "expected a JSON object");
-	int rc = get(root, "", "schema", cJSON_String, 1, &it);
-	if (rc != CS_OK)
-		return rc;
+	TRY(get(root, "", "schema", cJSON_String, 1, &it));
 	if (strcmp(it->valuestring, CS_WX_SCHEMA) != 0)
 		return cs_error(CS_EDATA, "schema: unsupported version \"%.40s\" "
 				"(this program reads \"%s\")", it->valuestring,
 				CS_WX_SCHEMA);
-	rc = get(root, "", "time_utc", cJSON_String, 1, &it);
-	if (rc == CS_OK && cs_time_parse(it->valuestring, &wx->time_utc) != CS_OK)
+	TRY(get(root, "", "time_utc", cJSON_String, 1, &it));
+	if (cs_time_parse(it->valuestring, &wx->time_utc) != CS_OK)
 		return cs_error(CS_EDATA, "time_utc: %s", cs_errmsg());
-	if (rc == CS_OK)
-		rc = parse_site(root, "", &wx->site);
-	if (rc == CS_OK)
-		rc = parse_layers(root, "", &wx->nlayers, wx->layers);
-	if (rc == CS_OK)
-		rc = parse_fields(root, "", wx_fields, COUNT(wx_fields), wx);
-	if (rc == CS_OK)
-		rc = get(root, "", "wind", cJSON_Object, 0, &it);
-	if (rc == CS_OK)
-		rc = parse_fields(it, "wind.", wind_fields, COUNT(wind_fields), wx);
-	if (rc == CS_OK)
-		rc = parse_far(root, wx);
-	return rc;
+	TRY(parse_site(root, "", &wx->site));
+	TRY(parse_layers(root, "", &wx->nlayers, wx->layers));
+	TRY(parse_fields(root, "", wx_fields, COUNT(wx_fields), wx));
+	TRY(get(root, "", "wind", cJSON_Object, 0, &it));
+	TRY(parse_fields(it, "wind.", wind_fields, COUNT(wind_fields), wx));
+	wx->nfar = 0;
+	return parse_far(root, wx);
 }
 
 /* "what at byte offset N near "excerpt"": the excerpt starts a little

@@ -1,0 +1,424 @@
+#include "cloud.h"
+#include "err.h"
+#include "render.h"
+#include "scene.h"
+#include "sky.h"
+#include "test.h"
+#include "volume.h"
+#include "wx.h"
+
+#include <stdlib.h>
+
+static struct cs_volume noise;
+static struct cs_noise_stats nstats;
+
+/* A scene with one homogeneous spherical shell (extinction a + b * relative
+ * height) between base and top and nothing else: no ground, sky or haze. */
+static void slab_scene(struct cs_scene *sc, double a, double b, double base,
+		       double top)
+{
+	memset(sc, 0, sizeof *sc);
+	sc->earth_radius_m = CS_EARTH_RADIUS_M;
+	sc->nlayers = 1;
+	sc->layers[0].kind = CS_LAYER_HOMOGENEOUS;
+	sc->layers[0].base_m = base;
+	sc->layers[0].top_m = top;
+	sc->layers[0].homog_a = a;
+	sc->layers[0].homog_b = b;
+	sc->layers[0].coverage = 1.0;
+	sc->albedo = 1.0;
+	sc->g_forward = 0.8, sc->g_back = -0.3, sc->w_forward = 0.75;
+	sc->sun_dir = v3(0.0, 0.0, 1.0);
+	sc->effects = CS_FX_CLOUDS;
+}
+
+static struct cs_render_settings plain(int steps, int light_steps)
+{
+	struct cs_render_settings s = {steps, steps, light_steps, 1, 0, 0.0, 0, 0.0};
+	return s;
+}
+
+static void trace(const struct cs_scene *sc, const struct cs_render_settings *s,
+		  cs_v3 o, cs_v3 d, struct cs_ray_result *r)
+{
+	struct cs_render_stats st = {0};
+	cs_render_ray(sc, s, o, d, 0.5, &st, r);
+}
+
+/* Chord length of a ray from o (inside radius r... or outside) through the
+ * sphere of radius r about the Earth's centre, from t >= 0 on: independent
+ * of the renderer's own intersection code. */
+static double chord(cs_v3 o, cs_v3 d, double r)
+{
+	double R = CS_EARTH_RADIUS_M;
+	double ox = o.x, oy = o.y, oz = o.z + R;
+	double b = ox * d.x + oy * d.y + oz * d.z;
+	double c = ox * ox + oy * oy + oz * oz - r * r;
+	double disc = b * b - c;
+	if (disc <= 0)
+		return 0;
+	double t0 = -b - sqrt(disc), t1 = -b + sqrt(disc);
+	t0 = t0 > 0 ? t0 : 0;
+	return t1 > t0 ? t1 - t0 : 0;
+}
+
+static void slab_transmittance_is_beer_lambert(void)
+{
+	static const double sigmas[] = {1e-4, 1e-3, 5e-3, 2e-2};
+	static const double thick[] = {100, 1000, 3000};
+	static const int steps[] = {1, 3, 16, 256};
+	for (size_t i = 0; i < 4; i++)
+		for (size_t j = 0; j < 3; j++)
+			for (size_t k = 0; k < 4; k++) {
+				struct cs_scene sc;
+				slab_scene(&sc, sigmas[i], 0, 1000, 1000 + thick[j]);
+				struct cs_render_settings s = plain(steps[k], 1);
+				struct cs_ray_result r;
+				/* straight up */
+				trace(&sc, &s, v3(0, 0, 0), v3(0, 0, 1), &r);
+				CHECK_NEAR(r.transmittance, exp(-sigmas[i] * thick[j]), 1e-4);
+				/* slanted, 20 degrees above the horizon: the path
+				 * through the shell from an independent formula */
+				cs_v3 d = v3(0, cos(0.349), sin(0.349));
+				double L = chord(v3(0, 0, 0), d, CS_EARTH_RADIUS_M + 1000 + thick[j]) -
+					   chord(v3(0, 0, 0), d, CS_EARTH_RADIUS_M + 1000);
+				trace(&sc, &s, v3(0, 0, 0), d, &r);
+				CHECK_NEAR(r.transmittance, exp(-sigmas[i] * L), 1e-4);
+			}
+}
+
+static double phase2(const struct cs_scene *sc, double mu)
+{
+	return sc->w_forward * cs_phase_hg(mu, sc->g_forward) +
+	       (1 - sc->w_forward) * cs_phase_hg(mu, sc->g_back);
+}
+
+/* Single scattering in a homogeneous slab lit by a sun of illuminance 1,
+ * seen from below looking up, against the closed form of the integral
+ * L = int_0^d sigma p T_view(t) T_sun(t) dt (flat-slab form; the shell's
+ * curvature changes it by less than 1e-4 here). */
+static void slab_single_scattering_matches_closed_form(void)
+{
+	static const double sigmas[] = {1e-3, 4e-3};
+	static const double zenith_deg[] = {0.0, 30.0, 60.0};
+	double d = 1000.0;
+	for (size_t i = 0; i < 2; i++)
+		for (size_t z = 0; z < 3; z++) {
+			struct cs_scene sc;
+			slab_scene(&sc, sigmas[i], 0, 2000, 2000 + d);
+			double th = zenith_deg[z] * CS_PI / 180.0, mu = cos(th);
+			sc.sun_dir = v3(0, sin(th), mu);
+			sc.sun_illuminance[0] = sc.sun_illuminance[1] = sc.sun_illuminance[2] = 1.0;
+			sc.effects |= CS_FX_SUN;
+			struct cs_render_settings s = plain(64, 8);
+			struct cs_ray_result r;
+			trace(&sc, &s, v3(0, 0, 0), v3(0, 0, 1), &r);
+			double sg = sigmas[i], p = phase2(&sc, mu), want;
+			if (fabs(1 - 1 / mu) < 1e-12)
+				want = sg * p * d * exp(-sg * d);
+			else
+				want = sg * p * exp(-sg * d / mu) *
+				       (1 - exp(-sg * d * (1 - 1 / mu))) / (sg * (1 - 1 / mu));
+			CHECK_NEAR(r.rgb[1] / want, 1.0, 0.01);
+		}
+}
+
+/* Midpoint samples with analytic step integration converge at second order:
+ * each doubling of the steps at least halves the error. */
+static void doubling_steps_halves_the_error(void)
+{
+	struct cs_scene sc;
+	double a = 0.0002, b = 0.002, d = 1500.0; /* rising 11x upward, depth 1.8 */
+	slab_scene(&sc, a, b, 1000, 1000 + d);
+	sc.sun_illuminance[0] = sc.sun_illuminance[1] = sc.sun_illuminance[2] = 1.0;
+	sc.effects |= CS_FX_SUN;
+	/* reference: Simpson's rule on the exact integrand, 2*10^5 intervals */
+	double p = phase2(&sc, 1.0), ref = 0.0;
+	int N = 200000;
+	for (int i = 0; i <= N; i++) {
+		double t = d * i / N, h = t / d;
+		double sig = a + b * h;
+		double tv = a * t + b * t * t / (2 * d);                 /* view depth */
+		double tsun = (a * d + b * d / 2) - tv;                  /* to the top */
+		double f = sig * p * exp(-tv - tsun);
+		ref += f * (i == 0 || i == N ? 1 : i % 2 ? 4 : 2);
+	}
+	ref *= d / N / 3;
+	double prev = -1;
+	for (int n = 4; n <= 64; n *= 2) {
+		struct cs_render_settings s = plain(n, 4);
+		struct cs_ray_result r;
+		trace(&sc, &s, v3(0, 0, 0), v3(0, 0, 1), &r);
+		double err = fabs(r.rgb[0] - ref) / ref;
+		printf("  steps %2d: relative error %.3g\n", n, err);
+		if (prev > 0) {
+			if (!(err <= prev / 2))
+				printf("  steps %d: error %.3g, previous %.3g\n", n, err, prev);
+			CHECK(err <= prev / 2);
+		}
+		prev = err;
+	}
+	CHECK(prev < 1e-3);
+}
+
+static void phase_hg_is_normalised(void)
+{
+	static const double gs[] = {-0.5, 0.0, 0.3, 0.8, 0.95};
+	for (size_t i = 0; i < 5; i++) {
+		double sum = 0;
+		int n = 200000;
+		for (int k = 0; k < n; k++) {
+			double mu = -1 + 2 * (k + 0.5) / n;
+			sum += cs_phase_hg(mu, gs[i]) * 2 * CS_PI * 2.0 / n;
+		}
+		CHECK_NEAR(sum, 1.0, 2e-3);
+	}
+}
+
+static void fair_weather(struct cs_wx *wx, double coverage)
+{
+	cs_wx_default(wx);
+	wx->nlayers = 1;
+	wx->layers[0].genus = CS_CUMULUS;
+	wx->layers[0].coverage = coverage;
+	wx->layers[0].base_m = 1500;
+	wx->layers[0].top_m = 2700;
+}
+
+static int render_small(const struct cs_wx *wx, int w, int h, double el,
+			int threads, float *px, struct cs_render_stats *st)
+{
+	struct cs_scene *sc = malloc(sizeof *sc);
+	int rc = cs_scene_build(sc, wx, wx->time_utc, &noise, &nstats);
+	if (rc == CS_OK) {
+		struct cs_camera cam;
+		cs_v3 pos = v3(0, 0, wx->site.alt_m + 2);
+		rc = cs_camera_init(&cam, sc, pos, wx->site.lat_deg, 160, el, 70, w, h);
+		struct cs_render_settings s;
+		cs_render_quality("low", &s);
+		if (rc == CS_OK)
+			rc = cs_render_image(sc, &cam, &s, threads, NULL, NULL, px, st);
+	}
+	free(sc);
+	return rc;
+}
+
+static void clear_sky_has_no_alpha_and_costs_nothing(void)
+{
+	struct cs_wx wx;
+	fair_weather(&wx, 0.0);
+	float px[32 * 18 * 5];
+	struct cs_render_stats st;
+	CHECK(render_small(&wx, 32, 18, 20, 2, px, &st) == CS_OK);
+	int nonzero = 0;
+	for (int i = 0; i < 32 * 18; i++)
+		nonzero += px[i * 5 + 3] != 0.0f;
+	CHECK(nonzero == 0);
+	CHECK(st.density_samples == 0 && st.light_samples == 0);
+}
+
+static double mean_alpha(double coverage)
+{
+	struct cs_wx wx;
+	fair_weather(&wx, coverage);
+	enum { W = 40, H = 24 };
+	static float px[W * H * 5];
+	struct cs_render_stats st;
+	if (render_small(&wx, W, H, 35, 0, px, &st) != CS_OK)
+		return -1;
+	double sum = 0;
+	for (int i = 0; i < W * H; i++)
+		sum += px[i * 5 + 3];
+	return sum / (W * H);
+}
+
+static void more_coverage_gives_more_cloud(void)
+{
+	double prev = -1;
+	for (double c = 0.1; c < 0.95; c += 0.2) {
+		double a = mean_alpha(c);
+		printf("  coverage %.1f: mean alpha %.3f\n", c, a);
+		CHECK(a > prev + 0.01);
+		prev = a;
+	}
+	CHECK(mean_alpha(0.0) == 0.0);
+}
+
+static void output_is_identical_for_any_thread_count(void)
+{
+	struct cs_wx wx;
+	fair_weather(&wx, 0.5);
+	enum { W = 48, H = 27 };
+	static float a[W * H * 5], b[W * H * 5], c[W * H * 5];
+	struct cs_render_stats sa, sb, sc;
+	CHECK(render_small(&wx, W, H, 15, 1, a, &sa) == CS_OK);
+	CHECK(render_small(&wx, W, H, 15, 2, b, &sb) == CS_OK);
+	CHECK(render_small(&wx, W, H, 15, 5, c, &sc) == CS_OK);
+	CHECK(memcmp(a, b, sizeof a) == 0 && memcmp(a, c, sizeof a) == 0);
+	CHECK(sa.density_samples == sb.density_samples &&
+	      sa.density_samples == sc.density_samples);
+}
+
+static int finite_result(const struct cs_ray_result *r)
+{
+	for (int k = 0; k < 3; k++)
+		if (!isfinite(r->rgb[k]) || r->rgb[k] < 0)
+			return 0;
+	return isfinite(r->transmittance) && r->transmittance >= 0 &&
+	       r->transmittance <= 1 && isfinite(r->depth_m) && r->depth_m >= 0;
+}
+
+/* A full scene (real clouds, sky, haze, ground) with the sun at elevation
+ * sun_el_deg. */
+static void real_scene(struct cs_scene *sc, double sun_el_deg, double extinction_scale)
+{
+	struct cs_wx wx;
+	fair_weather(&wx, 0.6);
+	wx.nlayers = 2;
+	wx.layers[1] = (struct cs_wx_layer){CS_CIRRUS, 0.5, 9000, 9600};
+	cs_scene_build(sc, &wx, wx.time_utc, &noise, &nstats);
+	double e = sun_el_deg * CS_PI / 180.0;
+	double sd[3] = {0, cos(e), sin(e)};
+	cs_sky_init(&sc->sky, sd, 3.0);
+	sc->sun_dir = v3(sd[0], sd[1], sd[2]);
+	memcpy(sc->sun_illuminance, sc->sky.sun_illuminance, sizeof sc->sun_illuminance);
+	sc->effects |= CS_FX_SUN | CS_FX_CLOUD_SHADOWS;
+	for (int i = 0; i < sc->nlayers; i++)
+		sc->layers[i].extinction_per_m *= extinction_scale;
+}
+
+static void hard_rays_stay_finite(void)
+{
+	static const double sun_el[] = {90, 45, 1, 0, -0.0001, -5, -30, -90};
+	static const double scale[] = {1, 1e-12, 1e6};
+	double R = CS_EARTH_RADIUS_M;
+	struct cs_render_settings s;
+	cs_render_quality("low", &s);
+	struct cs_scene *sc = malloc(sizeof *sc);
+	for (size_t i = 0; i < sizeof sun_el / sizeof sun_el[0]; i++)
+		for (size_t j = 0; j < 3; j++) {
+			real_scene(sc, sun_el[i], scale[j]);
+			struct {
+				cs_v3 o, d;
+			} rays[] = {
+				/* horizontal at the layer base: parallel to the boundary */
+				{v3(0, 0, 1500), v3(1, 0, 0)},
+				/* starting inside the layer, every way */
+				{v3(0, 0, 2000), v3(0, 0, 1)},
+				{v3(0, 0, 2000), v3(0, 0, -1)},
+				{v3(0, 0, 2000), v3(0.6, 0.8, 0)},
+				/* from 5 km, tangent to the top and to the base of the
+				 * layer: grazing both spheres */
+				{v3(0, 0, 5000), v3(0, (R + 2700) / (R + 5000),
+						    -sqrt(1 - pow((R + 2700) / (R + 5000), 2)))},
+				{v3(0, 0, 5000), v3(0, (R + 1500) / (R + 5000),
+						    -sqrt(1 - pow((R + 1500) / (R + 5000), 2)))},
+				/* from far above, and from a huge distance */
+				{v3(0, 0, 1e5), v3(0, 0.99999, -0.0044)},
+				{v3(5e6, -5e6, 1e6), v3_norm(v3(-1, 1, -0.3))},
+				{v3(0, 0, 1e9), v3(0, 0, -1)},
+				/* straight down onto the ground, and along it */
+				{v3(0, 0, 600), v3(0, 0, -1)},
+				{v3(0, 0, 540.0000001), v3(0, 1, 0)},
+			};
+			for (size_t k = 0; k < sizeof rays / sizeof rays[0]; k++) {
+				struct cs_ray_result r;
+				cs_v3 d = v3_norm(rays[k].d);
+				trace(sc, &s, rays[k].o, d, &r);
+				if (!finite_result(&r))
+					printf("  sun %g, scale %g, ray %zu: rgb %g %g %g T %g Z %g\n",
+					       sun_el[i], scale[j], k, r.rgb[0], r.rgb[1],
+					       r.rgb[2], r.transmittance, r.depth_m);
+				CHECK(finite_result(&r));
+			}
+		}
+	free(sc);
+}
+
+/* Many random scenes: random genera, coverages, altitudes, times (so sun
+ * positions, day and night), cameras and looks; every pixel finite. */
+static void random_scenes_render_finite_pixels(void)
+{
+	unsigned st = 31;
+	enum { W = 12, H = 8 };
+	float px[W * H * 5];
+	int bad = 0;
+	for (int n = 0; n < 120; n++) {
+		struct cs_wx wx;
+		cs_wx_default(&wx);
+		wx.time_utc += t_uniform(&st, 0, 365 * 86400.0);
+		wx.nlayers = (int)t_uniform(&st, 0, 4);
+		for (int i = 0; i < wx.nlayers; i++) {
+			double base = t_uniform(&st, 600, 11000);
+			wx.layers[i] = (struct cs_wx_layer){
+				(enum cs_genus)t_uniform(&st, 0, CS_GENUS_COUNT),
+				t_uniform(&st, 0, 1), base, base + t_uniform(&st, 10, 6000)};
+			if (wx.layers[i].top_m > 20000)
+				wx.layers[i].top_m = 20000;
+		}
+		wx.visibility_m = t_uniform(&st, 50, 100000);
+		wx.precipitation_mm_h = t_uniform(&st, 0, 2) < 1 ? 0 : t_uniform(&st, 0, 50);
+		wx.wind_speed_m_s = t_uniform(&st, 0, 40);
+		struct cs_scene *sc = malloc(sizeof *sc);
+		if (cs_scene_build(sc, &wx, wx.time_utc, &noise, &nstats) != CS_OK) {
+			printf("  scene %d: %s\n", n, cs_errmsg());
+			bad++;
+			free(sc);
+			continue;
+		}
+		struct cs_camera cam;
+		cs_v3 pos = cs_geo_to_world(wx.site.lat_deg, wx.site.lon_deg, sc->earth_radius_m,
+					    wx.site.lat_deg + t_uniform(&st, -0.3, 0.3),
+					    wx.site.lon_deg + t_uniform(&st, -0.3, 0.3),
+					    wx.site.alt_m + t_uniform(&st, 0, 15000));
+		struct cs_render_settings s;
+		cs_render_quality(n % 2 ? "low" : "medium", &s);
+		s.jitter = t_uniform(&st, 0, 1);
+		struct cs_render_stats rs;
+		if (cs_camera_init(&cam, sc, pos, wx.site.lat_deg, t_uniform(&st, 0, 360),
+				   t_uniform(&st, -90, 90), t_uniform(&st, 1, 179), W, H) != CS_OK ||
+		    cs_render_image(sc, &cam, &s, 2, NULL, NULL, px, &rs) != CS_OK) {
+			bad++;
+		} else {
+			for (int i = 0; i < W * H * 5; i++)
+				if (!isfinite(px[i]) || px[i] < 0) {
+					bad++;
+					break;
+				}
+		}
+		free(sc);
+	}
+	CHECK(bad == 0);
+}
+
+static void quality_presets_exist_and_rise(void)
+{
+	struct cs_render_settings lo, me, hi, ref;
+	CHECK(cs_render_quality("low", &lo) == CS_OK);
+	CHECK(cs_render_quality("medium", &me) == CS_OK);
+	CHECK(cs_render_quality("high", &hi) == CS_OK);
+	CHECK(cs_render_quality("reference", &ref) == CS_OK);
+	CHECK(lo.steps < me.steps && me.steps < hi.steps && hi.steps < ref.steps);
+	CHECK(cs_render_quality("ultra", &lo) == CS_EINVAL);
+	CHECK_STR_CONTAINS(cs_errmsg(), "unknown quality 'ultra'");
+}
+
+int main(void)
+{
+	if (cs_volume_new(&noise, 32, 32) != CS_OK ||
+	    cs_volume_bake(&noise, 0, NULL, NULL) != CS_OK)
+		return 1;
+	cs_noise_stats_compute(&noise, &nstats);
+	RUN(slab_transmittance_is_beer_lambert);
+	RUN(slab_single_scattering_matches_closed_form);
+	RUN(doubling_steps_halves_the_error);
+	RUN(phase_hg_is_normalised);
+	RUN(clear_sky_has_no_alpha_and_costs_nothing);
+	RUN(more_coverage_gives_more_cloud);
+	RUN(output_is_identical_for_any_thread_count);
+	RUN(hard_rays_stay_finite);
+	RUN(random_scenes_render_finite_pixels);
+	RUN(quality_presets_exist_and_rise);
+	cs_volume_free(&noise);
+	TEST_EXIT();
+}
