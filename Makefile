@@ -14,8 +14,9 @@ PREFIX    ?= /usr/local
 DESTDIR   ?=
 SAN       ?=
 B         := $(if $(SAN),build-san,build)
-PROGRAMS  := noisebake cloudrender
-PKGS      := OpenEXR libpng libcjson
+# every tools/*.c but the shared cli.c is a program
+PROGRAMS  := $(filter-out cli,$(basename $(notdir $(wildcard tools/*.c))))
+PKGS      := OpenEXR libpng libcjson libcurl
 
 CC        ?= cc
 CFLAGS    ?= -O2 -g
@@ -35,6 +36,9 @@ CLI_OBJ   := $(B)/tools/cli.o
 BINS      := $(PROGRAMS:%=$(B)/bin/%)
 UNIT_SRC  := $(wildcard tests/unit/test_*.c)
 UNIT_BINS := $(UNIT_SRC:tests/unit/%.c=$(B)/tests/%)
+# test helpers (servers, generators): tests/helpers/*.c -> $(B)/tests/helpers/*
+HELP_SRC  := $(wildcard tests/helpers/*.c)
+HELP_BINS := $(HELP_SRC:tests/helpers/%.c=$(B)/tests/helpers/%)
 
 .SECONDARY:
 .PHONY: all check check-run tests bench demo install deps clean
@@ -50,6 +54,12 @@ $(B)/tests/%.o: tests/unit/%.c
 	@mkdir -p $(@D)
 	$(CC) $(ALL_CFLAGS) -iquote tests/unit -c $< -o $@
 
+$(B)/tests/helpers/%.o: tests/helpers/%.c
+	@mkdir -p $(@D)
+	$(CC) $(ALL_CFLAGS) -c $< -o $@
+$(B)/tests/helpers/%: $(B)/tests/helpers/%.o $(B)/libcloudscape.a
+	$(CC) $(CFLAGS) $(SANFLAGS) -o $@ $^ $(LDLIBS)
+
 $(B)/libcloudscape.a: $(LIB_OBJ)
 	@rm -f $@
 	$(AR) rcs $@ $^
@@ -59,7 +69,7 @@ $(B)/bin/%: $(B)/tools/%.o $(CLI_OBJ) $(B)/libcloudscape.a
 $(B)/tests/test_%: $(B)/tests/test_%.o $(B)/libcloudscape.a
 	$(CC) $(CFLAGS) $(SANFLAGS) -o $@ $^ $(LDLIBS)
 
-tests: all $(UNIT_BINS)
+tests: all $(UNIT_BINS) $(HELP_BINS)
 
 # check installs what is missing first, then re-enters make so that
 # pkg-config sees the freshly installed packages.
@@ -91,4 +101,4 @@ clean:
 	rm -rf build build-san out
 
 -include $(LIB_OBJ:.o=.d) $(CLI_OBJ:.o=.d) $(PROGRAMS:%=$(B)/tools/%.d) \
-	$(UNIT_SRC:tests/unit/%.c=$(B)/tests/%.d)
+	$(UNIT_SRC:tests/unit/%.c=$(B)/tests/%.d) $(HELP_SRC:tests/helpers/%.c=$(B)/tests/helpers/%.d)

@@ -1,5 +1,7 @@
 # Helpers for tool tests: each case prints "ok NAME" or "FAIL NAME: why".
-# BIN is the folder of the built programs, TOP the source tree.
+# BIN is the folder of the built programs, TOP the source tree, HELPERS the
+# built test helpers (tests/helpers/*.c), DATA the shared real-data folder
+# (may be absent: tests that need it skip with a message).
 : "${BIN:?BIN must name the folder of the built programs}"
 BIN=$(cd "$BIN" && pwd)
 T=$(mktemp -d "${TMPDIR:-/tmp}/cs-tool-test.XXXXXX")
