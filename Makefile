@@ -4,7 +4,7 @@
 #   make check        install missing Debian packages, build, run every test
 #   make check SAN=1  the same with AddressSanitizer + UBSan (in build-san/)
 #   make bench        benchmarks (not part of check)
-#   make demo         bake a noise volume and its preview into out/
+#   make demo         bake the noise and render the default scene into out/
 #   make install PREFIX=/usr/local DESTDIR=
 #   make deps         install the Debian packages the project needs
 #   make clean
@@ -87,8 +87,9 @@ bench: deps
 demo: deps
 	@$(MAKE) --no-print-directory all
 	@mkdir -p out
-	$(B)/bin/noisebake -s 128 -o out/noise.exr --preview out/noise-preview.png
-	@echo "demo: wrote out/noise.exr and out/noise-preview.png"
+	$(B)/bin/noisebake -o out/noise.exr --preview out/noise-preview.png
+	$(B)/bin/cloudrender --noise out/noise.exr --size 1280x720 -o out/demo.png -o out/demo.exr
+	@echo "demo: wrote out/demo.png, out/demo.exr (the default scene), out/noise.exr and out/noise-preview.png"
 
 install: all
 	install -d $(DESTDIR)$(PREFIX)/bin $(DESTDIR)$(PREFIX)/share/man/man1 \

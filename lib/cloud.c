@@ -12,8 +12,8 @@
  * nearly a 2D coverage map through the layer: coverage is then the
  * fraction of the sky covered, and the height profile rounds the tops. */
 static const struct cs_genus_preset presets[CS_GENUS_COUNT] = {
-	[CS_CIRRUS] = {0.0015, 24000, 60000, 3000, 0.65, 4.0,
-		       {0.0, 0.35, 0.55, 1.0}, 0.0, 0.5, 8000, 10000},
+	[CS_CIRRUS] = {0.005, 20000, 60000, 2500, 0.45, 6.0,
+		       {0.0, 0.3, 0.5, 1.0}, 0.0, 0.4, 8000, 10000},
 	[CS_CIRROCUMULUS] = {0.004, 4000, 30000, 800, 0.35, 1.2,
 			     {0.0, 0.3, 0.7, 1.0}, 0.0, 0.3, 7000, 7600},
 	[CS_CIRROSTRATUS] = {0.0008, 40000, 80000, 6000, 0.15, 2.0,
@@ -31,7 +31,7 @@ static const struct cs_genus_preset presets[CS_GENUS_COUNT] = {
 	[CS_CUMULUS] = {0.05, 8000, 20000, 1500, 0.35, 1.0,
 			{0.0, 0.06, 0.45, 1.0}, 0.0, 0.12, 1500, 2700},
 	[CS_CUMULONIMBUS] = {0.07, 20000, 40000, 2500, 0.25, 1.0,
-			     {0.0, 0.04, 0.75, 1.0}, 0.7, 0.12, 1000, 11000},
+			     {0.0, 0.03, 0.8, 1.0}, 0.8, 0.12, 1000, 11000},
 };
 
 const struct cs_genus_preset *cs_genus_preset(enum cs_genus g)

@@ -176,6 +176,9 @@ double cs_worley3p(double x, double y, double z, const int period[3],
 	 * skipped, which is what keeps this fast. */
 	double best = feature_d2(X, Y, Z, 0, 0, 0, fx, fy, fz, period, seed);
 	for (int r = 1; r <= 2; r++) {
+		/* every cell of the outer shell is at least 1 away */
+		if (r == 2 && best <= 1.0)
+			break;
 		for (int dz = -r; dz <= r; dz++) {
 			double gz = gap2(dz, fz);
 			if (gz >= best)

@@ -271,10 +271,14 @@ void cs_render_ray(const struct cs_scene *sc, const struct cs_render_settings *s
 			t1 = iv[i].t1 > t1 ? iv[i].t1 : t1;
 		}
 		st->layer_crossings++;
+		/* the step: a layer's thickness over the steps, with thick layers
+		 * (towering cumulonimbus) sampled as if 2.5 km thick so that
+		 * their dense cores are not undersampled; max_steps bounds it */
 		double dt0 = INFINITY;
 		for (int l = 0; l < sc->nlayers; l++)
 			if (mask & (1u << l)) {
-				double th = (sc->layers[l].top_m - sc->layers[l].base_m) / s->steps;
+				double th = sc->layers[l].top_m - sc->layers[l].base_m;
+				th = (th < 2500.0 ? th : 2500.0) / s->steps;
 				dt0 = th < dt0 ? th : dt0;
 			}
 		double len = t1 - t0;

@@ -221,6 +221,43 @@ static inline int wrapi(long i, int n)
 	return (int)(m < 0 ? m + n : m);
 }
 
+/* The eight voxels around (u, v, w) and the trilinear weights: voxel
+ * centres are at (i + 0.5) / n, as baked, and every axis wraps. */
+struct corners {
+	size_t off[8]; /* float offsets of the voxels' channel 0; bit 0 = +x, 1 = +y, 2 = +z */
+	float tx, ty, tz;
+};
+
+static void corners(const struct cs_volume *v, double u, double vv, double w,
+		    struct corners *c)
+{
+	double gx = u * v->nx - 0.5, gy = vv * v->ny - 0.5, gz = w * v->nz - 0.5;
+	double fx = floor(gx), fy = floor(gy), fz = floor(gz);
+	c->tx = (float)(gx - fx), c->ty = (float)(gy - fy), c->tz = (float)(gz - fz);
+	/* reduce first so the conversion to long is defined for any finite input */
+	long ix = (long)(fx - v->nx * floor(fx / v->nx));
+	long iy = (long)(fy - v->ny * floor(fy / v->ny));
+	long iz = (long)(fz - v->nz * floor(fz / v->nz));
+	size_t xs[2] = {(size_t)wrapi(ix, v->nx), (size_t)wrapi(ix + 1, v->nx)};
+	size_t ys[2] = {(size_t)wrapi(iy, v->ny), (size_t)wrapi(iy + 1, v->ny)};
+	size_t zs[2] = {(size_t)wrapi(iz, v->nz), (size_t)wrapi(iz + 1, v->nz)};
+	size_t sy = (size_t)v->nx, sz = (size_t)v->nx * v->ny;
+	for (int k = 0; k < 8; k++)
+		c->off[k] = (zs[k >> 2] * sz + ys[(k >> 1) & 1] * sy + xs[k & 1]) * 4;
+}
+
+static inline float trilinear(const float *d, const struct corners *c)
+{
+	const size_t *o = c->off;
+	float c00 = d[o[0]] + c->tx * (d[o[1]] - d[o[0]]);
+	float c10 = d[o[2]] + c->tx * (d[o[3]] - d[o[2]]);
+	float c01 = d[o[4]] + c->tx * (d[o[5]] - d[o[4]]);
+	float c11 = d[o[6]] + c->tx * (d[o[7]] - d[o[6]]);
+	float c0 = c00 + c->ty * (c10 - c00);
+	float c1 = c01 + c->ty * (c11 - c01);
+	return c0 + c->tz * (c1 - c0);
+}
+
 void cs_volume_sample4(const struct cs_volume *v, double u, double vv,
 		       double w, float out[4])
 {
@@ -228,41 +265,18 @@ void cs_volume_sample4(const struct cs_volume *v, double u, double vv,
 		out[0] = out[1] = out[2] = out[3] = 0.0f;
 		return;
 	}
-	/* voxel centres are at (i + 0.5) / n, as baked */
-	double gx = u * v->nx - 0.5, gy = vv * v->ny - 0.5, gz = w * v->nz - 0.5;
-	double fx = floor(gx), fy = floor(gy), fz = floor(gz);
-	float tx = (float)(gx - fx), ty = (float)(gy - fy), tz = (float)(gz - fz);
-	/* reduce first so the conversion to long is defined for any finite input */
-	long ix = (long)(fx - v->nx * floor(fx / v->nx));
-	long iy = (long)(fy - v->ny * floor(fy / v->ny));
-	long iz = (long)(fz - v->nz * floor(fz / v->nz));
-	size_t x0 = (size_t)wrapi(ix, v->nx), x1 = (size_t)wrapi(ix + 1, v->nx);
-	size_t y0 = (size_t)wrapi(iy, v->ny), y1 = (size_t)wrapi(iy + 1, v->ny);
-	size_t z0 = (size_t)wrapi(iz, v->nz), z1 = (size_t)wrapi(iz + 1, v->nz);
-	size_t sy = (size_t)v->nx, sz = (size_t)v->nx * v->ny;
-	const float *p000 = v->data + (z0 * sz + y0 * sy + x0) * 4;
-	const float *p100 = v->data + (z0 * sz + y0 * sy + x1) * 4;
-	const float *p010 = v->data + (z0 * sz + y1 * sy + x0) * 4;
-	const float *p110 = v->data + (z0 * sz + y1 * sy + x1) * 4;
-	const float *p001 = v->data + (z1 * sz + y0 * sy + x0) * 4;
-	const float *p101 = v->data + (z1 * sz + y0 * sy + x1) * 4;
-	const float *p011 = v->data + (z1 * sz + y1 * sy + x0) * 4;
-	const float *p111 = v->data + (z1 * sz + y1 * sy + x1) * 4;
-	for (int c = 0; c < 4; c++) {
-		float c00 = p000[c] + tx * (p100[c] - p000[c]);
-		float c10 = p010[c] + tx * (p110[c] - p010[c]);
-		float c01 = p001[c] + tx * (p101[c] - p001[c]);
-		float c11 = p011[c] + tx * (p111[c] - p011[c]);
-		float c0 = c00 + ty * (c10 - c00);
-		float c1 = c01 + ty * (c11 - c01);
-		out[c] = c0 + tz * (c1 - c0);
-	}
+	struct corners c;
+	corners(v, u, vv, w, &c);
+	for (int k = 0; k < 4; k++)
+		out[k] = trilinear(v->data + k, &c);
 }
 
 float cs_volume_sample(const struct cs_volume *v, int channel, double u,
 		       double vv, double w)
 {
-	float out[4];
-	cs_volume_sample4(v, u, vv, w, out);
-	return out[channel & 3];
+	if (!isfinite(u) || !isfinite(vv) || !isfinite(w))
+		return 0.0f;
+	struct corners c;
+	corners(v, u, vv, w, &c);
+	return trilinear(v->data + (channel & 3), &c);
 }

@@ -1,0 +1,144 @@
+# cloudrender as a user runs it.
+. "$TOP/tests/tools/lib.sh"
+CR="$BIN/cloudrender"
+NB="$BIN/noisebake"
+FAST="--size 48x27 --quality low --noise-size 16 -q"
+
+wx_json() { # genus coverage base top [extra top-level members]
+	printf '{"schema":"cloudwx/1","time_utc":"2021-06-14T15:00:00Z","site":{"name":"Bern","lat_deg":46.95,"lon_deg":7.44,"alt_m":540},"layers":[{"genus":"%s","coverage":%s,"base_m":%s,"top_m":%s}]%s}\n' "$@"
+}
+png_size() { od -An -tu1 -j16 -N8 "$1" | tr -s ' '; }
+
+begin cloudrender_default_scene_renders_png_and_exr
+run "$CR" -o "$T/sky.png" -o "$T/sky.exr" --size 64x36 --noise-size 16 -q
+expect_rc 0; expect_file "$T/sky.png"; expect_file "$T/sky.exr"
+[ "$(png_size "$T/sky.png")" = " 0 0 0 64 0 0 0 36" ] || bad "PNG is not 64x36"
+head -c 4 "$T/sky.exr" | od -An -tx1 | grep -q '76 2f 31 01' || bad "EXR magic missing"
+end
+
+begin cloudrender_exr_holds_rgba_and_depth
+run "$CR" -o "$T/d.exr" $FAST
+expect_rc 0
+# the channel list is in the header: A B G R Z, in that (sorted) order
+for c in A B G R Z; do
+	grep -qa "$(printf '%s\0' "$c")" "$T/d.exr" || bad "no channel $c"
+done
+grep -qa 'cloudscapeTimeUTC' "$T/d.exr" || bad "no time attribute"
+end
+
+begin cloudrender_reads_weather_from_stdin_and_file
+wx_json cumulus 0.6 1500 2700 "" >"$T/wx.json"
+run "$CR" --wx "$T/wx.json" -o "$T/a.png" $FAST; expect_rc 0
+"$CR" --wx - -o "$T/b.png" $FAST <"$T/wx.json" 2>"$T/err"; rc=$?
+expect_rc 0
+cmp -s "$T/a.png" "$T/b.png" || bad "stdin and file renders differ"
+end
+
+begin cloudrender_output_is_identical_for_any_thread_count
+run "$CR" -o "$T/t1.png" -t 1 $FAST; expect_rc 0
+run "$CR" -o "$T/t3.png" -t 3 $FAST; expect_rc 0
+cmp -s "$T/t1.png" "$T/t3.png" || bad "1 and 3 threads differ"
+end
+
+begin cloudrender_clear_sky_has_no_clouds_and_costs_nothing
+printf '{"schema":"cloudwx/1","time_utc":"2021-06-14T15:00:00Z","site":{"lat_deg":46.95,"lon_deg":7.44,"alt_m":540},"layers":[]}\n' >"$T/clear.json"
+run "$CR" --wx "$T/clear.json" -o "$T/c.png" --stats $FAST
+expect_rc 0
+grep -q '"density_samples":0,' "$T/err" || bad "a clear sky sampled density"
+grep -q '"effects":\["sun","sky","ground","haze"\]' "$T/err" || bad "effects: $(grep -o '"effects":[^]]*]' "$T/err")"
+end
+
+begin cloudrender_rain_is_simulated_only_when_it_rains
+wx_json nimbostratus 1.0 900 4000 ',"precipitation_mm_h":3' >"$T/rain.json"
+run "$CR" --wx "$T/rain.json" -o "$T/r.png" --stats $FAST; expect_rc 0
+grep -q '"rain"' "$T/err" || bad "no rain effect when raining"
+wx_json nimbostratus 1.0 900 4000 '' >"$T/dry.json"
+run "$CR" --wx "$T/dry.json" -o "$T/r.png" --stats $FAST; expect_rc 0
+grep -q '"rain"' "$T/err" && bad "rain simulated without precipitation"
+end
+
+begin cloudrender_stats_report_phases_and_counts
+run "$CR" -o "$T/s.png" --stats $FAST
+expect_rc 0
+for k in '"wall_s":{"noise":' '"render":' '"density_samples":' '"light_samples":' \
+	'"rays_terminated_early":' '"layers":[{"genus":"cumulus"' '"effects":['; do
+	grep -qF "$k" "$T/err" || bad "stats lack $k"
+done
+end
+
+begin cloudrender_views_and_explicit_camera
+run "$CR" --list-views; expect_rc 0; expect_out gurten; expect_out bantiger
+run "$CR" --view gurten -o "$T/g.png" $FAST; expect_rc 0
+run "$CR" --view bantiger -o "$T/b.png" $FAST; expect_rc 0
+cmp -s "$T/g.png" "$T/b.png" && bad "two views gave the same image"
+run "$CR" --camera 46.95,7.44,3000 --look 90,-10 --fov 40 -o "$T/c.png" $FAST; expect_rc 0
+run "$CR" --time 2021-06-14T21:30Z -o "$T/n.png" --stats $FAST; expect_rc 0
+grep -q '"effects":\["sky"' "$T/err" || bad "night still has the sun"
+end
+
+begin cloudrender_options_change_the_picture
+run "$CR" -o "$T/base.png" $FAST; expect_rc 0
+for o in "--exposure 2" "--steps 5" "--light-steps 1" "--ms-octaves 1" "--no-ambient" \
+	"--no-jitter" "--seed 7" "--time 2021-06-14T08:00Z" "--fov 30" "--look 0,20" \
+	"--quality medium"; do
+	# shellcheck disable=SC2086
+	run "$CR" -o "$T/o.png" $FAST $o
+	expect_rc 0
+	cmp -s "$T/base.png" "$T/o.png" && bad "$o did not change the image"
+done
+end
+
+begin cloudrender_reads_a_baked_noise_volume
+run "$NB" -s 16 -o "$T/n.exr" -q; expect_rc 0
+run "$CR" --noise "$T/n.exr" -o "$T/n.png" $FAST; expect_rc 0
+end
+
+begin cloudrender_bad_input_is_a_clear_error_and_leaves_nothing
+echo old >"$T/keep.png"
+check_bad() { # expected-status message args...
+	want=$1; msg=$2; shift 2
+	run "$CR" -o "$T/keep.png" -o "$T/new.exr" "$@"
+	expect_rc "$want"; expect_err "$msg"
+	[ "$(cat "$T/keep.png")" = old ] || bad "'$*' clobbered the output"
+	expect_no_file "$T/new.exr"
+	[ "$(wc -l <"$T/err")" -le 2 ] || bad "'$*' printed more than a line or two"
+}
+printf '{"schema":"cloudwx/1",' >"$T/trunc.json"
+check_bad 1 "cloudrender: $T/trunc.json: malformed JSON" --wx "$T/trunc.json" $FAST
+wx_json cumulous 0.5 1500 2700 "" >"$T/genus.json"
+check_bad 1 'unknown genus "cumulous"' --wx "$T/genus.json" $FAST
+wx_json cumulus 1.5 1500 2700 "" >"$T/cov.json"
+check_bad 1 "layers[0].coverage: 1.5 is outside 0..1" --wx "$T/cov.json" $FAST
+check_bad 1 "cloudrender: cannot open $T/none.json" --wx "$T/none.json" $FAST
+check_bad 1 "cannot open $T/none.exr" --noise "$T/none.exr" $FAST
+printf 'not an exr' >"$T/bad.exr"
+check_bad 1 "not a readable OpenEXR file" --noise "$T/bad.exr" $FAST
+check_bad 2 "--size: 0 is out of range" --size 0x10 -q
+check_bad 2 "--size: expected WxH" --size 100 -q
+check_bad 2 "image size 16384x16384 is impossible" --size 16384x16384 -q
+check_bad 2 "--view: unknown view 'nowhere'" --view nowhere -q
+check_bad 2 "--quality: unknown quality 'best'" --quality best -q
+check_bad 2 "--time: '2021-06-14 15:00' is not an ISO 8601 UTC time" --time "2021-06-14 15:00" -q
+check_bad 2 "below the ground" --camera 46.95,7.44,100 $FAST
+check_bad 2 "--fov: 0 is out of range" --fov 0 -q
+check_bad 2 "--look: expected two comma-separated numbers" --look 90 -q
+run "$CR" -o "$T/x.tiff" -q; expect_rc 2; expect_err "must end in .png or .exr"
+run "$CR" -q; expect_rc 2; expect_err "no output"
+run "$CR" --bogus; expect_rc 2; expect_err "Try 'cloudrender --help'"
+end
+
+begin cloudrender_writes_png_to_stdout
+run "$CR" -o - $FAST; expect_rc 0
+head -c 8 "$T/out" | od -An -tx1 | grep -q '89 50 4e 47' || bad "stdout is not a PNG"
+end
+
+begin cloudrender_help_matches_man_page
+run "$CR" --help; expect_rc 0; expect_out "Usage: cloudrender"
+for o in $(grep -o -- '--[a-z][a-z-]*' "$T/out" | sort -u); do
+	grep -q -- "Fl ${o#-}" "$TOP/man/cloudrender.1" || bad "man page lacks $o"
+done
+for o in $(grep -o 'Fl -[a-z][a-z-]*' "$TOP/man/cloudrender.1" | sed 's/Fl -/--/' | sort -u); do
+	grep -q -- "$o" "$T/out" || bad "--help lacks $o"
+done
+run "$CR" --version; expect_rc 0; expect_out "cloudrender (cloudscape)"
+end
