@@ -39,45 +39,10 @@ const struct cs_genus_preset *cs_genus_preset(enum cs_genus g)
 	return (unsigned)g < CS_GENUS_COUNT ? &presets[g] : &presets[CS_CUMULUS];
 }
 
-static int cmp_float(const void *a, const void *b)
-{
-	float x = *(const float *)a, y = *(const float *)b;
-	return (x > y) - (x < y);
-}
-
-void cs_noise_stats_compute(const struct cs_volume *v, struct cs_noise_stats *st)
-{
-	size_t n = (size_t)v->nx * v->ny * v->nz;
-	/* a fixed stride subsample: at most 2^18 values, deterministic */
-	size_t stride = n > (1u << 18) ? n / (1u << 18) : 1;
-	size_t m = (n + stride - 1) / stride;
-	float *vals = malloc(m * sizeof *vals);
-	if (vals == NULL) { /* degrade to the nominal range */
-		for (int i = 0; i <= CS_QUANTILES; i++)
-			st->q[i] = (float)i / CS_QUANTILES;
-		return;
-	}
-	for (size_t i = 0; i < m; i++)
-		vals[i] = v->data[i * stride * 4];
-	qsort(vals, m, sizeof *vals, cmp_float);
-	for (int i = 0; i <= CS_QUANTILES; i++)
-		st->q[i] = vals[(size_t)((double)i / CS_QUANTILES * (double)(m - 1) + 0.5)];
-	free(vals);
-}
-
-static double quantile(const struct cs_noise_stats *st, double u)
-{
-	double x = u * CS_QUANTILES;
-	int i = (int)x;
-	if (i >= CS_QUANTILES)
-		return st->q[CS_QUANTILES];
-	if (i < 0)
-		return st->q[0];
-	return st->q[i] + (x - i) * (st->q[i + 1] - st->q[i]);
-}
+static void calibrate(struct cs_cloud_layer *l, const struct cs_volume *noise);
 
 void cs_cloud_layer_init(struct cs_cloud_layer *l, const struct cs_wx_layer *wl,
-			 const struct cs_noise_stats *st, double wind_speed_m_s,
+			 const struct cs_volume *noise, double wind_speed_m_s,
 			 double wind_from_deg, double ground_alt_m, double time_s)
 {
 	const struct cs_genus_preset *p = cs_genus_preset(wl->genus);
@@ -87,12 +52,6 @@ void cs_cloud_layer_init(struct cs_cloud_layer *l, const struct cs_wx_layer *wl,
 	l->base_m = wl->base_m;
 	l->top_m = wl->top_m;
 	l->coverage = wl->coverage;
-	/* Coverage c puts the threshold at the (1 - c) quantile of the base
-	 * shape, so c is the fraction of the layer's core that is cloud.  At
-	 * c = 0 the threshold is the maximum: no cloud at all. */
-	l->threshold = quantile(st, 1.0 - wl->coverage);
-	if (wl->coverage <= 0.0)
-		l->threshold = 2.0; /* above any value: not even the maximum voxel */
 	l->extinction_per_m = p->extinction_per_m;
 	l->inv_tile = 1.0 / p->tile_m;
 	l->inv_tile_z = 1.0 / p->tile_z_m;
@@ -109,13 +68,13 @@ void cs_cloud_layer_init(struct cs_cloud_layer *l, const struct cs_wx_layer *wl,
 	double mid = 0.5 * (wl->base_m + wl->top_m) - ground_alt_m;
 	double factor = pow(fmax(mid, 10.0) / 10.0, 1.0 / 7.0);
 	factor = factor > 3.0 ? 3.0 : factor;
-	/* The noise tiles, so the distance travelled only matters modulo the
-	 * (stretched) tile: reducing it here keeps coordinates small and exact
-	 * for any date. */
-	double along_tile = p->tile_m * p->stretch;
-	double travelled = fmod(wind_speed_m_s * factor * time_s, along_tile);
+	/* Not reduced modulo a tile: base and detail tiles need not share a
+	 * period.  In double precision the offset stays exact to centimetres
+	 * for any date and wind. */
+	double travelled = wind_speed_m_s * factor * time_s;
 	l->offset_along_m = isfinite(travelled) ? travelled : 0.0;
 	l->offset_across_m = 0.0;
+	calibrate(l, noise);
 }
 
 static inline double smooth01(double x)
@@ -132,19 +91,12 @@ static inline double profile(const double r[4], double h)
 	return up * down;
 }
 
-double cs_cloud_extinction(const struct cs_cloud_layer *l,
-			   const struct cs_volume *noise, double x, double y,
-			   double alt_m)
+/* The extinction at coordinates along and across the wind (already moved
+ * by it), at altitude alt_m and relative height h in [0, 1]. */
+static double extinction_aw(const struct cs_cloud_layer *l,
+			    const struct cs_volume *noise, double along,
+			    double across, double alt_m, double h)
 {
-	double h = (alt_m - l->base_m) / (l->top_m - l->base_m);
-	if (!(h >= 0.0 && h <= 1.0))
-		return 0.0;
-	if (l->kind == CS_LAYER_HOMOGENEOUS)
-		return fmax(0.0, l->homog_a + l->homog_b * h);
-
-	/* coordinates along and across the wind, moved by it */
-	double along = x * l->wind_x + y * l->wind_y - l->offset_along_m;
-	double across = -x * l->wind_y + y * l->wind_x - l->offset_across_m;
 	double u = along / l->stretch * l->inv_tile, v = across * l->inv_tile;
 	double w = alt_m * l->inv_tile_z;
 
@@ -173,4 +125,56 @@ double cs_cloud_extinction(const struct cs_cloud_layer *l,
 	d /= l->edge;
 	d = d < 1.0 ? d : 1.0;
 	return d * l->extinction_per_m;
+}
+
+double cs_cloud_extinction(const struct cs_cloud_layer *l,
+			   const struct cs_volume *noise, double x, double y,
+			   double alt_m)
+{
+	double h = (alt_m - l->base_m) / (l->top_m - l->base_m);
+	if (!(h >= 0.0 && h <= 1.0))
+		return 0.0;
+	if (l->kind == CS_LAYER_HOMOGENEOUS)
+		return fmax(0.0, l->homog_a + l->homog_b * h);
+	/* coordinates along and across the wind, moved by it */
+	double along = x * l->wind_x + y * l->wind_y - l->offset_along_m;
+	double across = -x * l->wind_y + y * l->wind_x - l->offset_across_m;
+	return extinction_aw(l, noise, along, across, alt_m, h);
+}
+
+/* Fraction of a grid over one whole base tile (the field's period), at the
+ * middle of the profile's plateau, that is cloud. */
+enum { CAL_N = 48 };
+static double covered_fraction(const struct cs_cloud_layer *l,
+			       const struct cs_volume *noise)
+{
+	double h = 0.5 * (l->ramp[1] + l->ramp[2]);
+	double alt = l->base_m + h * (l->top_m - l->base_m);
+	int in = 0;
+	for (int j = 0; j < CAL_N; j++)
+		for (int i = 0; i < CAL_N; i++)
+			in += extinction_aw(l, noise, (i + 0.5) / CAL_N * l->stretch / l->inv_tile,
+					    (j + 0.5) / CAL_N / l->inv_tile, alt, h) > 0.0;
+	return (double)in / (CAL_N * CAL_N);
+}
+
+/* Coverage c is the fraction of the layer's core that is cloud: the
+ * threshold is found by bisection (the covered fraction falls as the
+ * threshold rises), after erosion, so what the forecast says is what is
+ * drawn.  At c = 0 the threshold is above any value: no cloud at all. */
+static void calibrate(struct cs_cloud_layer *l, const struct cs_volume *noise)
+{
+	if (l->coverage <= 0.0 || noise == NULL) {
+		l->threshold = 2.0;
+		return;
+	}
+	double lo = -3.0, hi = 1.0; /* fraction(lo) ~ 1, fraction(hi) = 0 */
+	for (int it = 0; it < 24; it++) {
+		l->threshold = 0.5 * (lo + hi);
+		if (covered_fraction(l, noise) > l->coverage)
+			lo = l->threshold;
+		else
+			hi = l->threshold;
+	}
+	l->threshold = lo; /* the last threshold covering at least c */
 }

@@ -43,7 +43,8 @@ struct cs_cloud_layer {
 	enum cs_genus genus;
 	double base_m, top_m;     /* altitude above sea level */
 	double coverage;          /* 0..1 */
-	double threshold;         /* base-shape value below which there is no cloud */
+	double threshold;         /* base-shape value below which there is no cloud
+				     (calibrated from the coverage) */
 	double extinction_per_m;
 	double inv_tile, inv_tile_z, inv_detail; /* 1 / tile sizes, 1/m */
 	double stretch, erosion, anvil, edge;
@@ -54,20 +55,14 @@ struct cs_cloud_layer {
 	double homog_a, homog_b;  /* CS_LAYER_HOMOGENEOUS only */
 };
 
-/* Quantiles of the base-shape channel: q[i] is the value below which a
- * fraction i / CS_QUANTILES of the voxels lie.  Computed once per volume. */
-#define CS_QUANTILES 256
-struct cs_noise_stats {
-	float q[CS_QUANTILES + 1];
-};
-void cs_noise_stats_compute(const struct cs_volume *v, struct cs_noise_stats *st);
-
 /* Sets up a layer from a weather layer: its genus preset, coverage and the
  * wind (speed at 10 m, direction it blows from) acting for time_s seconds.
  * Wind aloft is taken as the 10-m wind times (altitude above ground /
- * 10 m)^(1/7), at most 3 times it (a power-law profile). */
+ * 10 m)^(1/7), at most 3 times it (a power-law profile).  The coverage
+ * threshold is calibrated on the noise so that a fraction coverage of the
+ * layer's core is cloud (about 5 ms). */
 void cs_cloud_layer_init(struct cs_cloud_layer *l, const struct cs_wx_layer *wl,
-			 const struct cs_noise_stats *st, double wind_speed_m_s,
+			 const struct cs_volume *noise, double wind_speed_m_s,
 			 double wind_from_deg, double ground_alt_m, double time_s);
 
 /* Extinction coefficient (1/m) at local position (x east, y north, metres)

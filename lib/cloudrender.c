@@ -126,15 +126,13 @@ int cs_cloudrender_run(struct cs_cloudrender_opts *o)
 
 	/* the scene and the camera */
 	t0 = now_s();
-	struct cs_noise_stats nst;
-	cs_noise_stats_compute(&noise, &nst);
 	struct cs_scene *sc = malloc(sizeof *sc);
 	float *px = malloc((size_t)o->width * o->height * 5 * sizeof(float));
 	if (sc == NULL || px == NULL) {
 		rc = cs_error(CS_ENOMEM, "out of memory for a %dx%d image", o->width, o->height);
 		goto done;
 	}
-	rc = cs_scene_build(sc, &o->wx, o->wx.time_utc, &noise, &nst);
+	rc = cs_scene_build(sc, &o->wx, o->wx.time_utc, &noise);
 	if (rc != CS_OK)
 		goto done;
 	o->scene = sc;

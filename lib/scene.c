@@ -64,7 +64,7 @@ static int rains(enum cs_genus g, int convective)
 }
 
 int cs_scene_build(struct cs_scene *sc, const struct cs_wx *wx, double time_utc,
-		   const struct cs_volume *noise, const struct cs_noise_stats *st)
+		   const struct cs_volume *noise)
 {
 	int rc = cs_wx_validate(wx);
 	if (rc != CS_OK)
@@ -84,7 +84,7 @@ int cs_scene_build(struct cs_scene *sc, const struct cs_wx *wx, double time_utc,
 	for (int i = 0; i < wx->nlayers; i++) {
 		if (wx->layers[i].coverage <= 0.0)
 			continue;
-		cs_cloud_layer_init(&sc->layers[sc->nlayers++], &wx->layers[i], st,
+		cs_cloud_layer_init(&sc->layers[sc->nlayers++], &wx->layers[i], noise,
 				    wx->wind_speed_m_s, wx->wind_from_deg,
 				    wx->site.alt_m, t_wind);
 	}

@@ -29,9 +29,8 @@ cs_v3 cs_geo_to_world(double origin_lat_deg, double origin_lon_deg,
 /* Builds the scene for wx at time_utc (seconds since 1970): the origin is
  * the weather site; the sun is placed for that time and place; layers with
  * no coverage are left out; rain only when it rains under a raining genus;
- * haze from the visibility.  The noise and its statistics must outlive the
- * scene. */
+ * haze from the visibility.  The noise must outlive the scene. */
 int cs_scene_build(struct cs_scene *sc, const struct cs_wx *wx, double time_utc,
-		   const struct cs_volume *noise, const struct cs_noise_stats *st);
+		   const struct cs_volume *noise);
 
 #endif

@@ -10,7 +10,6 @@
 #include <stdlib.h>
 
 static struct cs_volume noise;
-static struct cs_noise_stats nstats;
 
 /* A scene with one homogeneous spherical shell (extinction a + b * relative
  * height) between base and top and nothing else: no ground, sky or haze. */
@@ -189,7 +188,7 @@ static int render_small(const struct cs_wx *wx, int w, int h, double el,
 			int threads, float *px, struct cs_render_stats *st)
 {
 	struct cs_scene *sc = malloc(sizeof *sc);
-	int rc = cs_scene_build(sc, wx, wx->time_utc, &noise, &nstats);
+	int rc = cs_scene_build(sc, wx, wx->time_utc, &noise);
 	if (rc == CS_OK) {
 		struct cs_camera cam;
 		cs_v3 pos = v3(0, 0, wx->site.alt_m + 2);
@@ -276,7 +275,7 @@ static void real_scene(struct cs_scene *sc, double sun_el_deg, double extinction
 	fair_weather(&wx, 0.6);
 	wx.nlayers = 2;
 	wx.layers[1] = (struct cs_wx_layer){CS_CIRRUS, 0.5, 9000, 9600};
-	cs_scene_build(sc, &wx, wx.time_utc, &noise, &nstats);
+	cs_scene_build(sc, &wx, wx.time_utc, &noise);
 	double e = sun_el_deg * CS_PI / 180.0;
 	double sd[3] = {0, cos(e), sin(e)};
 	cs_sky_init(&sc->sky, sd, 3.0);
@@ -360,7 +359,7 @@ static void random_scenes_render_finite_pixels(void)
 		wx.precipitation_mm_h = t_uniform(&st, 0, 2) < 1 ? 0 : t_uniform(&st, 0, 50);
 		wx.wind_speed_m_s = t_uniform(&st, 0, 40);
 		struct cs_scene *sc = malloc(sizeof *sc);
-		if (cs_scene_build(sc, &wx, wx.time_utc, &noise, &nstats) != CS_OK) {
+		if (cs_scene_build(sc, &wx, wx.time_utc, &noise) != CS_OK) {
 			printf("  scene %d: %s\n", n, cs_errmsg());
 			bad++;
 			free(sc);
@@ -408,7 +407,6 @@ int main(void)
 	if (cs_volume_new(&noise, 32, 32) != CS_OK ||
 	    cs_volume_bake(&noise, 0, NULL, NULL) != CS_OK)
 		return 1;
-	cs_noise_stats_compute(&noise, &nstats);
 	RUN(slab_transmittance_is_beer_lambert);
 	RUN(slab_single_scattering_matches_closed_form);
 	RUN(doubling_steps_halves_the_error);

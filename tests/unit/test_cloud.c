@@ -1,0 +1,124 @@
+#include "cloud.h"
+#include "test.h"
+#include "vec.h"
+#include "volume.h"
+
+static struct cs_volume noise;
+
+static void layer(struct cs_cloud_layer *l, enum cs_genus g, double cov,
+		  double speed, double from_deg, double t)
+{
+	struct cs_wx_layer wl = {g, cov, 1500, 2700};
+	cs_cloud_layer_init(l, &wl, &noise, speed, from_deg, 540, t);
+}
+
+/* Clouds at time t + dt are the clouds at time t carried by the wind:
+ * density(x + v dt, t + dt) = density(x, t), with v the 10-m wind scaled by
+ * the documented power law to the layer's mid-height. */
+static void wind_moves_clouds_consistently_in_time(void)
+{
+	static const double froms[] = {0, 90, 250, 333};
+	double speed = 7.0, dt = 600.0;
+	double factor = pow((2100.0 - 540.0) / 10.0, 1.0 / 7.0);
+	for (size_t k = 0; k < 4; k++) {
+		struct cs_cloud_layer a, b;
+		double t = 6.6e8; /* 2021, in seconds since 2000 */
+		layer(&a, CS_CUMULUS, 0.5, speed, froms[k], t);
+		layer(&b, CS_CUMULUS, 0.5, speed, froms[k], t + dt);
+		double f = froms[k] * CS_PI / 180;
+		double vx = -sin(f) * speed * factor, vy = -cos(f) * speed * factor;
+		unsigned st = 3;
+		int nonzero = 0;
+		for (int i = 0; i < 2000; i++) {
+			double x = t_uniform(&st, -20000, 20000), y = t_uniform(&st, -20000, 20000);
+			double z = t_uniform(&st, 1500, 2700);
+			double da = cs_cloud_extinction(&a, &noise, x, y, z);
+			double db = cs_cloud_extinction(&b, &noise, x + vx * dt, y + vy * dt, z);
+			CHECK_NEAR(db, da, 1e-3 * a.extinction_per_m);
+			nonzero += da > 0;
+		}
+		CHECK(nonzero > 100); /* the comparison saw clouds, not only sky */
+	}
+}
+
+static void coverage_zero_is_no_cloud_anywhere(void)
+{
+	struct cs_cloud_layer l;
+	for (int g = 0; g < CS_GENUS_COUNT; g++) {
+		layer(&l, (enum cs_genus)g, 0.0, 5, 200, 0);
+		unsigned st = 4;
+		int any = 0;
+		for (int i = 0; i < 5000; i++)
+			any += cs_cloud_extinction(&l, &noise, t_uniform(&st, -5e4, 5e4),
+						   t_uniform(&st, -5e4, 5e4),
+						   t_uniform(&st, 1500, 2700)) != 0.0;
+		CHECK(any == 0);
+	}
+}
+
+/* Coverage is what is drawn: the fraction of a horizontal cut through the
+ * layer's core that is cloud equals the coverage (within sampling error)
+ * for every genus, and rises with it. */
+static void covered_fraction_follows_coverage(void)
+{
+	for (int g = 0; g < CS_GENUS_COUNT; g++) {
+		const struct cs_genus_preset *p = cs_genus_preset((enum cs_genus)g);
+		double prev = -1;
+		for (double c = 0.1; c <= 0.95; c += 0.2) {
+			struct cs_cloud_layer l;
+			layer(&l, (enum cs_genus)g, c, 0, 0, 0);
+			double h = 0.5 * (p->ramp[1] + p->ramp[2]);
+			unsigned st = 5;
+			int in = 0, n = 20000;
+			for (int i = 0; i < n; i++)
+				in += cs_cloud_extinction(&l, &noise, t_uniform(&st, -1e5, 1e5),
+							  t_uniform(&st, -1e5, 1e5),
+							  1500 + h * 1200) > 0;
+			double frac = (double)in / n;
+			if (fabs(frac - c) > 0.05)
+				printf("  %s coverage %.1f: covered fraction %.3f\n",
+				       cs_genus_name((enum cs_genus)g), c, frac);
+			CHECK_NEAR(frac, c, 0.05);
+			CHECK(frac > prev);
+			prev = frac;
+		}
+	}
+}
+
+static void density_is_zero_outside_the_layer_and_finite_inside(void)
+{
+	struct cs_cloud_layer l;
+	layer(&l, CS_CUMULONIMBUS, 0.9, 30, 10, 1e9);
+	CHECK(cs_cloud_extinction(&l, &noise, 0, 0, 1499.9) == 0.0);
+	CHECK(cs_cloud_extinction(&l, &noise, 0, 0, 2700.1) == 0.0);
+	CHECK(cs_cloud_extinction(&l, &noise, 0, 0, NAN) == 0.0);
+	unsigned st = 6;
+	for (int i = 0; i < 5000; i++) {
+		double e = cs_cloud_extinction(&l, &noise, t_uniform(&st, -1e7, 1e7),
+					       t_uniform(&st, -1e7, 1e7), t_uniform(&st, 1500, 2700));
+		CHECK(isfinite(e) && e >= 0 && e <= l.extinction_per_m);
+	}
+}
+
+static void every_genus_has_a_name_and_a_preset(void)
+{
+	for (int g = 0; g < CS_GENUS_COUNT; g++) {
+		const struct cs_genus_preset *p = cs_genus_preset((enum cs_genus)g);
+		CHECK(p->extinction_per_m > 0 && p->tile_m > 0 && p->edge > 0);
+		CHECK(p->base_m < p->top_m);
+		CHECK(cs_genus_from_name(cs_genus_name((enum cs_genus)g)) == g);
+	}
+}
+
+int main(void)
+{
+	if (cs_volume_new(&noise, 32, 32) != 0 || cs_volume_bake(&noise, 0, NULL, NULL) != 0)
+		return 1;
+	RUN(wind_moves_clouds_consistently_in_time);
+	RUN(coverage_zero_is_no_cloud_anywhere);
+	RUN(covered_fraction_follows_coverage);
+	RUN(density_is_zero_outside_the_layer_and_finite_inside);
+	RUN(every_genus_has_a_name_and_a_preset);
+	cs_volume_free(&noise);
+	TEST_EXIT();
+}
