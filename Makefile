@@ -16,7 +16,7 @@ SAN       ?=
 B         := $(if $(SAN),build-san,build)
 # every tools/*.c but the shared cli.c is a program
 PROGRAMS  := $(filter-out cli,$(basename $(notdir $(wildcard tools/*.c))))
-PKGS      := OpenEXR libpng libcjson libcurl
+PKGS      := OpenEXR libpng libcjson libcurl gdal
 
 CC        ?= cc
 CFLAGS    ?= -O2 -g
