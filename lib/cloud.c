@@ -134,8 +134,13 @@ double cs_cloud_extinction(const struct cs_cloud_layer *l,
 	double h = (alt_m - l->base_m) / (l->top_m - l->base_m);
 	if (!(h >= 0.0 && h <= 1.0))
 		return 0.0;
-	if (l->kind == CS_LAYER_HOMOGENEOUS)
+	if (l->kind == CS_LAYER_HOMOGENEOUS) {
+		double dx = x - l->homog_x, dy = y - l->homog_y;
+		if (l->homog_radius_m > 0.0 &&
+		    dx * dx + dy * dy > l->homog_radius_m * l->homog_radius_m)
+			return 0.0;
 		return fmax(0.0, l->homog_a + l->homog_b * h);
+	}
 	/* coordinates along and across the wind, moved by it */
 	double along = x * l->wind_x + y * l->wind_y - l->offset_along_m;
 	double across = -x * l->wind_y + y * l->wind_x - l->offset_across_m;

@@ -33,7 +33,9 @@ const struct cs_genus_preset *cs_genus_preset(enum cs_genus g);
 
 enum cs_layer_kind {
 	CS_LAYER_CLOUD,       /* noise clouds, as described above */
-	CS_LAYER_HOMOGENEOUS, /* extinction a + b * (relative height): for tests */
+	CS_LAYER_HOMOGENEOUS, /* extinction a + b * (relative height), within
+				 homog_radius_m of (homog_x, homog_y) if that
+				 is > 0: analytic cases for tests */
 };
 
 /* A layer ready to be sampled.  Plain data: the per-sample code reads it and
@@ -53,6 +55,7 @@ struct cs_cloud_layer {
 	double offset_along_m;    /* how far the wind has carried the clouds, */
 	double offset_across_m;   /* reduced modulo the tile */
 	double homog_a, homog_b;  /* CS_LAYER_HOMOGENEOUS only */
+	double homog_radius_m, homog_x, homog_y;
 };
 
 /* Sets up a layer from a weather layer: its genus preset, coverage and the

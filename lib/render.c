@@ -184,23 +184,117 @@ static double haze_depth(const struct cs_scene *sc, double h0, double dz, double
 	return b * H * -expm1(x) / dz;
 }
 
+double cs_render_sun_transmittance(const struct cs_scene *sc,
+				   const struct cs_render_settings *s, cs_v3 p,
+				   struct cs_render_stats *st)
+{
+	if (!(sc->effects & CS_FX_SUN) || sc->nlayers == 0)
+		return 1.0;
+	return exp(-light_depth(sc, s, p, (1u << sc->nlayers) - 1u, st));
+}
+
+/* Soft shadow of the terrain on itself toward the sun: the smallest ratio
+ * of clearance to distance along the way (a penumbra cone of about 1/8
+ * radian), 0 when the path is blocked. */
+static double terrain_shadow(const struct cs_hfield *f, cs_v3 p, cs_v3 sun)
+{
+	double res = 1.0, t = 2.0;
+	for (int k = 0; k < 48 && t < 20000.0; k++) {
+		cs_v3 q = v3_mad(p, sun, t);
+		double alt = cs_hfield_altitude(f, q), h;
+		if (alt > f->max_m || !cs_hfield_height(f, q.x, q.y, &h))
+			break;
+		double gap = alt - h;
+		if (gap <= 0.0)
+			return 0.0;
+		double r = 8.0 * gap / t;
+		res = r < res ? r : res;
+		t += gap * 0.5 < 2.0 ? 2.0 : gap * 0.5 > 400.0 ? 400.0 : gap * 0.5;
+	}
+	return res;
+}
+
+/* Ambient occlusion from the terrain's horizon: the mean over 8 directions
+ * of the sine of the highest elevation seen within 600 m. */
+static double terrain_ao(const struct cs_hfield *f, cs_v3 p, double h0)
+{
+	static const double dist[3] = {40.0, 150.0, 600.0};
+	double occ = 0.0;
+	for (int k = 0; k < 8; k++) {
+		double a = k * (CS_PI / 4.0), best = 0.0;
+		for (int i = 0; i < 3; i++) {
+			double h;
+			cs_hfield_height(f, p.x + dist[i] * cos(a), p.y + dist[i] * sin(a), &h);
+			double s = (h - h0) / sqrt((h - h0) * (h - h0) + dist[i] * dist[i]);
+			best = s > best ? s : best;
+		}
+		occ += best;
+	}
+	return 1.0 - occ / 8.0;
+}
+
+static double srgb_to_linear(double c)
+{
+	return c <= 0.04045 ? c / 12.92 : pow((c + 0.055) / 1.055, 2.4);
+}
+
+/* Ground colour of the terrain: from the colour image when there is one,
+ * else grass, rock on steep slopes and snow high up. */
+static void terrain_albedo(const struct cs_scene *sc, double x, double y,
+			   double h, cs_v3 n, double alb[3])
+{
+	const struct cs_hfield *f = sc->terrain;
+	if (sc->terrain_color) {
+		double col = f->a[0] + f->a[1] * x + f->a[2] * y;
+		double row = f->b[0] + f->b[1] * x + f->b[2] * y;
+		int i = (int)(col / (f->w - 1) * (sc->terrain_color_w - 1) + 0.5);
+		int j = (int)(row / (f->h - 1) * (sc->terrain_color_h - 1) + 0.5);
+		i = i < 0 ? 0 : i >= sc->terrain_color_w ? sc->terrain_color_w - 1 : i;
+		j = j < 0 ? 0 : j >= sc->terrain_color_h ? sc->terrain_color_h - 1 : j;
+		const uint8_t *px = sc->terrain_color + ((size_t)j * sc->terrain_color_w + i) * 3;
+		for (int k = 0; k < 3; k++)
+			alb[k] = srgb_to_linear(px[k] / 255.0);
+		return;
+	}
+	static const double grass[3] = {0.10, 0.14, 0.06}, rock[3] = {0.22, 0.20, 0.18},
+			    snow[3] = {0.80, 0.82, 0.88};
+	double steep = n.z < 0.7 ? 1.0 : n.z > 0.85 ? 0.0 : (0.85 - n.z) / 0.15;
+	double high = h < 2400.0 ? 0.0 : h > 2900.0 ? 1.0 : (h - 2400.0) / 500.0;
+	high *= n.z > 0.6 ? 1.0 : 0.0; /* snow does not stick to cliffs */
+	for (int k = 0; k < 3; k++) {
+		double g = grass[k] + steep * (rock[k] - grass[k]);
+		alb[k] = g + high * (snow[k] - g);
+	}
+}
+
 static void ground_light(const struct cs_scene *sc,
 			 const struct cs_render_settings *s, cs_v3 p,
-			 struct cs_render_stats *st, double rgb[3])
+			 int on_terrain, struct cs_render_stats *st, double rgb[3])
 {
-	cs_v3 n = v3_norm(v3(p.x, p.y, p.z + sc->earth_radius_m));
+	cs_v3 up = v3_norm(v3(p.x, p.y, p.z + sc->earth_radius_m));
+	cs_v3 n = up;
+	double alb[3] = {sc->ground_albedo[0], sc->ground_albedo[1], sc->ground_albedo[2]};
+	double ao = 1.0, self = 1.0;
+	if (on_terrain) {
+		double h;
+		cs_hfield_height(sc->terrain, p.x, p.y, &h);
+		n = cs_hfield_normal(sc->terrain, p.x, p.y);
+		terrain_albedo(sc, p.x, p.y, h, n, alb);
+		ao = terrain_ao(sc->terrain, p, h);
+	}
 	double cosi = v3_dot(n, sc->sun_dir);
 	double direct = 0.0;
 	if ((sc->effects & CS_FX_SUN) && cosi > 0.0) {
-		double T = 1.0;
-		if (sc->effects & CS_FX_CLOUD_SHADOWS)
-			T = exp(-light_depth(sc, s, p, (1u << sc->nlayers) - 1u, st));
-		direct = cosi * T / CS_PI;
+		if (on_terrain)
+			self = terrain_shadow(sc->terrain, p, sc->sun_dir);
+		double T = (sc->effects & CS_FX_CLOUD_SHADOWS) && self > 0.0
+				   ? cs_render_sun_transmittance(sc, s, p, st)
+				   : 1.0;
+		direct = cosi * T * self / CS_PI;
 	}
 	for (int k = 0; k < 3; k++)
-		rgb[k] = sc->ground_albedo[k] *
-			 (sc->sun_illuminance[k] * direct +
-			  ((sc->effects & CS_FX_SKY) ? sc->ambient_up[k] : 0.0));
+		rgb[k] = alb[k] * (sc->sun_illuminance[k] * direct +
+				   ((sc->effects & CS_FX_SKY) ? sc->ambient_up[k] * ao : 0.0));
 }
 
 void cs_render_ray(const struct cs_scene *sc, const struct cs_render_settings *s,
@@ -211,11 +305,26 @@ void cs_render_ray(const struct cs_scene *sc, const struct cs_render_settings *s
 	double T = 1.0, Tcloud = 1.0, depth = CS_SKY_DEPTH_M;
 	double R = sc->earth_radius_m;
 
-	/* the ground, or nothing */
+	/* the ground (the terrain, and flat ground around it), or nothing */
 	double tg = INFINITY, g0, g1;
+	int on_terrain = 0;
 	if ((sc->effects & CS_FX_GROUND) &&
-	    sphere_hit(sc, o, d, R + sc->ground_alt_m, &g0, &g1) && g1 >= 0.0)
+	    sphere_hit(sc, o, d, R + sc->ground_alt_m, &g0, &g1) && g1 >= 0.0) {
 		tg = g0 > 0.0 ? g0 : 0.0;
+		double hh;
+		cs_v3 p = v3_mad(o, d, tg);
+		if (sc->terrain && cs_hfield_height(sc->terrain, p.x, p.y, &hh))
+			tg = INFINITY; /* inside the grid the terrain is the ground */
+	}
+	if (sc->terrain) {
+		double tt;
+		unsigned long cells = 0;
+		if (cs_hfield_intersect(sc->terrain, o, d, isfinite(tg) ? tg : 1e7, &tt, &cells)) {
+			tg = tt;
+			on_terrain = 1;
+		}
+		st->terrain_cells += cells;
+	}
 	double tmax = isfinite(tg) ? tg : 1e7;
 
 	/* the intervals the ray spends in each layer, and in the rain */
@@ -358,7 +467,7 @@ void cs_render_ray(const struct cs_scene *sc, const struct cs_render_settings *s
 	double bg[3] = {0.0, 0.0, 0.0};
 	if (!terminated) {
 		if (isfinite(tg)) {
-			ground_light(sc, s, v3_mad(o, d, tg), st, bg);
+			ground_light(sc, s, v3_mad(o, d, tg), on_terrain, st, bg);
 			if (haze) {
 				double th = exp(-haze_depth(sc, h0, dz, tg));
 				for (int k = 0; k < 3; k++)
@@ -526,6 +635,7 @@ int cs_render_image(const struct cs_scene *sc, const struct cs_camera *cam,
 		stats->light_samples += job->stats[i].light_samples;
 		stats->rays_terminated_early += job->stats[i].rays_terminated_early;
 		stats->layer_crossings += job->stats[i].layer_crossings;
+		stats->terrain_cells += job->stats[i].terrain_cells;
 	}
 	free(job);
 	return CS_OK;

@@ -8,6 +8,7 @@
 #define CS_RENDER_H
 
 #include "cloud.h"
+#include "hfield.h"
 #include "sky.h"
 #include "vec.h"
 
@@ -40,13 +41,18 @@ enum {
 	CS_FX_GROUND = 8,        /* ground shading */
 	CS_FX_HAZE = 16,         /* aerial perspective from visibility */
 	CS_FX_RAIN = 32,         /* rain below raining layers */
-	CS_FX_CLOUD_SHADOWS = 64 /* clouds shadowing the ground */
+	CS_FX_CLOUD_SHADOWS = 64, /* clouds shadowing the ground */
+	CS_FX_TERRAIN = 128      /* a heightfield instead of flat ground */
 };
 
 struct cs_scene {
 	double earth_radius_m;
 	double ground_alt_m;          /* flat ground: the sphere at this altitude */
 	double ground_albedo[3];
+	const struct cs_hfield *terrain; /* or NULL: flat ground everywhere;
+					    else flat ground only outside it */
+	const uint8_t *terrain_color; /* sRGB 8-bit RGB over the terrain grid, or NULL */
+	int terrain_color_w, terrain_color_h;
 	int nlayers;
 	struct cs_cloud_layer layers[CS_WX_MAX_LAYERS];
 	const struct cs_volume *noise;
@@ -70,8 +76,14 @@ double cs_phase_hg(double cos_theta, double g);
 
 struct cs_render_stats {
 	uint64_t pixels, density_samples, light_samples, rays_terminated_early,
-		layer_crossings;
+		layer_crossings, terrain_cells;
 };
+
+/* Transmittance of the clouds from p toward the sun (1 without clouds or
+ * sun): what makes cloud shadows on the ground. */
+double cs_render_sun_transmittance(const struct cs_scene *sc,
+				   const struct cs_render_settings *s, cs_v3 p,
+				   struct cs_render_stats *st);
 
 struct cs_ray_result {
 	double rgb[3];          /* radiance toward the eye */

@@ -390,6 +390,80 @@ static void random_scenes_render_finite_pixels(void)
 	CHECK(bad == 0);
 }
 
+/* With one round cloud and a low sun, the centroid of its shadow on flat
+ * ground lies at height / tan(sun elevation) from its footprint, away from
+ * the sun (the system this project follows cast shadows straight down). */
+static void cloud_shadow_is_displaced_along_the_sun(void)
+{
+	static const double elev_deg[] = {10, 20, 35, 60};
+	for (size_t k = 0; k < 4; k++) {
+		struct cs_scene sc;
+		slab_scene(&sc, 0.01, 0, 1000, 1400);
+		sc.layers[0].homog_radius_m = 300;
+		double e = elev_deg[k] * CS_PI / 180;
+		sc.sun_dir = v3(cos(e), 0, sin(e)); /* the sun in the east */
+		sc.effects |= CS_FX_SUN | CS_FX_CLOUD_SHADOWS;
+		struct cs_render_settings s = plain(32, 32);
+		struct cs_render_stats st = {0};
+		double want = -1200 / tan(e), sw = 0, sx = 0, sy = 0;
+		for (double y = -1000; y <= 1000; y += 20)
+			for (double x = want - 2500; x <= want + 2500; x += 20) {
+				/* the ground point on the sphere under (x, y) */
+				double z = sqrt(CS_EARTH_RADIUS_M * CS_EARTH_RADIUS_M - x * x - y * y) -
+					   CS_EARTH_RADIUS_M;
+				double w = 1 - cs_render_sun_transmittance(&sc, &s, v3(x, y, z), &st);
+				sw += w, sx += w * x, sy += w * y;
+			}
+		CHECK(sw > 0);
+		printf("  sun %2.0f deg: shadow centroid x %.1f m, expected %.1f m\n",
+		       elev_deg[k], sx / sw, want);
+		CHECK_NEAR(sx / sw / want, 1.0, 0.03);
+		CHECK_NEAR(sy / sw, 0.0, 10.0);
+	}
+}
+
+/* A hill in the terrain: a ray toward it stops on its surface (the depth is
+ * the heightfield's intersection), a ray beside it reaches the flat ground
+ * around the grid, and every value is finite. */
+static void terrain_is_the_ground_where_it_is(void)
+{
+	enum { W = 81 };
+	static float z[W * W];
+	for (int j = 0; j < W; j++)
+		for (int i = 0; i < W; i++) {
+			double dx = (i - 40) * 25.0, dy = (j - 40) * 25.0;
+			z[j * W + i] = (float)(500 + 400 * exp(-(dx * dx + dy * dy) / (2 * 300.0 * 300.0)));
+		}
+	double a[3] = {40 + 4000 / 25.0, 1 / 25.0, 0}, b[3] = {40, 0, -1 / 25.0};
+	struct cs_hfield f;
+	CHECK(cs_hfield_init(&f, z, W, W, a, b, CS_EARTH_RADIUS_M) == CS_OK);
+	struct cs_scene *sc = malloc(sizeof *sc);
+	real_scene(sc, 40, 1.0);
+	sc->ground_alt_m = 500;
+	sc->terrain = &f;
+	sc->effects |= CS_FX_TERRAIN;
+	struct cs_render_settings s;
+	cs_render_quality("low", &s);
+	/* the hill's top is at x = -4000, y = 0, 900 m */
+	cs_v3 o = v3(-7000, 0, 700), d = v3_norm(v3(1, 0, 0.02));
+	struct cs_ray_result r;
+	double t;
+	CHECK(cs_hfield_intersect(&f, o, d, 1e6, &t, NULL));
+	trace(sc, &s, o, d, &r);
+	CHECK(finite_result(&r));
+	CHECK(r.depth_m <= t + 1e-6); /* a cloud may come first, never beyond the hill */
+	sc->nlayers = 0;
+	trace(sc, &s, o, d, &r);
+	CHECK_NEAR(r.depth_m, t, 1e-6);
+	/* beside the grid the flat ground at 500 m */
+	cs_v3 d2 = v3_norm(v3(0, 1, -0.05));
+	trace(sc, &s, o, d2, &r);
+	CHECK(finite_result(&r) && r.depth_m < 1e5);
+	CHECK_NEAR(cs_scene_altitude(sc, v3_mad(o, d2, r.depth_m)), 500.0, 1e-3);
+	free(sc);
+	cs_hfield_free(&f);
+}
+
 static void quality_presets_exist_and_rise(void)
 {
 	struct cs_render_settings lo, me, hi, ref;
@@ -416,6 +490,8 @@ int main(void)
 	RUN(output_is_identical_for_any_thread_count);
 	RUN(hard_rays_stay_finite);
 	RUN(random_scenes_render_finite_pixels);
+	RUN(cloud_shadow_is_displaced_along_the_sun);
+	RUN(terrain_is_the_ground_where_it_is);
 	RUN(quality_presets_exist_and_rise);
 	cs_volume_free(&noise);
 	TEST_EXIT();
