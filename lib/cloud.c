@@ -48,6 +48,7 @@ void cs_cloud_layer_init(struct cs_cloud_layer *l, const struct cs_wx_layer *wl,
 	const struct cs_genus_preset *p = cs_genus_preset(wl->genus);
 	memset(l, 0, sizeof *l);
 	l->kind = CS_LAYER_CLOUD;
+	l->site = -1;
 	l->genus = wl->genus;
 	l->base_m = wl->base_m;
 	l->top_m = wl->top_m;
@@ -95,14 +96,13 @@ static inline double profile(const double r[4], double h)
  * by it), at altitude alt_m and relative height h in [0, 1]. */
 static double extinction_aw(const struct cs_cloud_layer *l,
 			    const struct cs_volume *noise, double along,
-			    double across, double alt_m, double h)
+			    double across, double alt_m, double h, double thr)
 {
 	double u = along / l->stretch * l->inv_tile, v = across * l->inv_tile;
 	double w = alt_m * l->inv_tile_z;
 
 	double shape = cs_volume_sample(noise, 0, u, v, w) * profile(l->ramp, h);
 	/* an anvil spreads the top: the threshold drops toward the top */
-	double thr = l->threshold;
 	if (l->anvil > 0.0 && h > 0.6)
 		thr -= l->anvil * 0.35 * smooth01((h - 0.6) / 0.3) * (1.0 - thr);
 	if (shape <= thr)
@@ -141,17 +141,26 @@ double cs_cloud_extinction(const struct cs_cloud_layer *l,
 			return 0.0;
 		return fmax(0.0, l->homog_a + l->homog_b * h);
 	}
+	double thr = l->threshold;
+	if (l->nfar > 0) { /* blended with other sites: the coverage here */
+		double w = cs_cloud_site_weight(l, x, y) * CS_BLEND_LEVELS;
+		if (w <= 0.0)
+			return 0.0;
+		int k = (int)w;
+		thr = k >= CS_BLEND_LEVELS ? l->thr_table[CS_BLEND_LEVELS]
+					   : l->thr_table[k] + (w - k) * (l->thr_table[k + 1] - l->thr_table[k]);
+	}
 	/* coordinates along and across the wind, moved by it */
 	double along = x * l->wind_x + y * l->wind_y - l->offset_along_m;
 	double across = -x * l->wind_y + y * l->wind_x - l->offset_across_m;
-	return extinction_aw(l, noise, along, across, alt_m, h);
+	return extinction_aw(l, noise, along, across, alt_m, h, thr);
 }
 
 /* Fraction of a grid over one whole base tile (the field's period), at the
  * middle of the profile's plateau, that is cloud. */
 enum { CAL_N = 48 };
 static double covered_fraction(const struct cs_cloud_layer *l,
-			       const struct cs_volume *noise)
+			       const struct cs_volume *noise, double thr)
 {
 	double h = 0.5 * (l->ramp[1] + l->ramp[2]);
 	double alt = l->base_m + h * (l->top_m - l->base_m);
@@ -159,7 +168,7 @@ static double covered_fraction(const struct cs_cloud_layer *l,
 	for (int j = 0; j < CAL_N; j++)
 		for (int i = 0; i < CAL_N; i++)
 			in += extinction_aw(l, noise, (i + 0.5) / CAL_N * l->stretch / l->inv_tile,
-					    (j + 0.5) / CAL_N / l->inv_tile, alt, h) > 0.0;
+					    (j + 0.5) / CAL_N / l->inv_tile, alt, h, thr) > 0.0;
 	return (double)in / (CAL_N * CAL_N);
 }
 
@@ -167,19 +176,56 @@ static double covered_fraction(const struct cs_cloud_layer *l,
  * threshold is found by bisection (the covered fraction falls as the
  * threshold rises), after erosion, so what the forecast says is what is
  * drawn.  At c = 0 the threshold is above any value: no cloud at all. */
-static void calibrate(struct cs_cloud_layer *l, const struct cs_volume *noise)
+static double calibrate_coverage(const struct cs_cloud_layer *l,
+				 const struct cs_volume *noise, double coverage)
 {
-	if (l->coverage <= 0.0 || noise == NULL) {
-		l->threshold = 2.0;
-		return;
-	}
+	if (coverage <= 0.0 || noise == NULL)
+		return 2.0;
 	double lo = -3.0, hi = 1.0; /* fraction(lo) ~ 1, fraction(hi) = 0 */
 	for (int it = 0; it < 24; it++) {
-		l->threshold = 0.5 * (lo + hi);
-		if (covered_fraction(l, noise) > l->coverage)
-			lo = l->threshold;
+		double mid = 0.5 * (lo + hi);
+		if (covered_fraction(l, noise, mid) > coverage)
+			lo = mid;
 		else
-			hi = l->threshold;
+			hi = mid;
 	}
-	l->threshold = lo; /* the last threshold covering at least c */
+	return lo; /* the last threshold covering at least the coverage */
+}
+
+static void calibrate(struct cs_cloud_layer *l, const struct cs_volume *noise)
+{
+	l->threshold = calibrate_coverage(l, noise, l->coverage);
+}
+
+void cs_cloud_layer_blend(struct cs_cloud_layer *l, const struct cs_volume *noise,
+			  int site, int nfar, const double *far_x, const double *far_y)
+{
+	l->site = site;
+	l->nfar = nfar < CS_WX_MAX_FAR ? nfar : CS_WX_MAX_FAR;
+	for (int f = 0; f < l->nfar; f++) {
+		double d2 = far_x[f] * far_x[f] + far_y[f] * far_y[f];
+		d2 = d2 > 1.0 ? d2 : 1.0;
+		l->far_ux[f] = far_x[f] / d2;
+		l->far_uy[f] = far_y[f] / d2;
+	}
+	for (int k = 0; k <= CS_BLEND_LEVELS; k++)
+		l->thr_table[k] = k == CS_BLEND_LEVELS
+					  ? l->threshold
+					  : calibrate_coverage(l, noise, l->coverage * k / CS_BLEND_LEVELS);
+}
+
+double cs_cloud_site_weight(const struct cs_cloud_layer *l, double x, double y)
+{
+	if (l->nfar <= 0)
+		return 1.0;
+	double w[CS_WX_MAX_FAR], sum = 0.0;
+	for (int f = 0; f < l->nfar; f++) {
+		double p = x * l->far_ux[f] + y * l->far_uy[f];
+		w[f] = p < 0.0 ? 0.0 : p > 1.0 ? 1.0 : p;
+		sum += w[f];
+	}
+	double scale = sum > 1.0 ? 1.0 / sum : 1.0;
+	if (l->site < 0)
+		return 1.0 - sum * scale;
+	return w[l->site] * scale;
 }

@@ -12,6 +12,8 @@
 #include "volume.h"
 #include "wx.h"
 
+#define CS_BLEND_LEVELS 16
+
 /* The look of a genus (see man 1 cloudrender, GENERA). */
 struct cs_genus_preset {
 	double extinction_per_m;  /* at density 1 */
@@ -54,6 +56,12 @@ struct cs_cloud_layer {
 	double wind_x, wind_y;    /* unit vector the wind blows toward (east, north) */
 	double offset_along_m;    /* how far the wind has carried the clouds, */
 	double offset_across_m;   /* reduced modulo the tile */
+	/* Near and far weather: the layer belongs to the near site (site -1)
+	 * or to far site `site`; with far sites its coverage is scaled, point
+	 * by point, by its site's weight (see cs_cloud_site_weight). */
+	int site, nfar;
+	double far_ux[CS_WX_MAX_FAR], far_uy[CS_WX_MAX_FAR]; /* far position / |position|^2 */
+	double thr_table[CS_BLEND_LEVELS + 1]; /* threshold at coverage * k / CS_BLEND_LEVELS */
 	double homog_a, homog_b;  /* CS_LAYER_HOMOGENEOUS only */
 	double homog_radius_m, homog_x, homog_y;
 };
@@ -67,6 +75,19 @@ struct cs_cloud_layer {
 void cs_cloud_layer_init(struct cs_cloud_layer *l, const struct cs_wx_layer *wl,
 			 const struct cs_volume *noise, double wind_speed_m_s,
 			 double wind_from_deg, double ground_alt_m, double time_s);
+
+/* Makes the layer part of a near/far blend: it belongs to site (-1 near,
+ * else the far index) among nfar far sites at world positions (far_x,
+ * far_y) (the near site is at the origin).  Calibrates a threshold table
+ * (about 80 ms). */
+void cs_cloud_layer_blend(struct cs_cloud_layer *l, const struct cs_volume *noise,
+			  int site, int nfar, const double *far_x, const double *far_y);
+
+/* The weight of the layer's site at (x, y): far site f weighs
+ * w_f = clamp(projection of (x, y) on the line from the near site to f, as
+ * a fraction of that line, 0, 1); the far weights are scaled to sum to at
+ * most 1 and the near site has the rest.  1 without far sites. */
+double cs_cloud_site_weight(const struct cs_cloud_layer *l, double x, double y);
 
 /* Extinction coefficient (1/m) at local position (x east, y north, metres)
  * and altitude alt_m.  Zero outside the layer.  No allocation, no state. */

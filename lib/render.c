@@ -328,7 +328,7 @@ void cs_render_ray(const struct cs_scene *sc, const struct cs_render_settings *s
 	double tmax = isfinite(tg) ? tg : 1e7;
 
 	/* the intervals the ray spends in each layer, and in the rain */
-	struct interval iv[2 * CS_WX_MAX_LAYERS + 2];
+	struct interval iv[2 * CS_SCENE_MAX_LAYERS + 2];
 	int n = 0;
 	for (int i = 0; i < sc->nlayers; i++) {
 		double a[2][2];

@@ -15,6 +15,7 @@
 #include <stdint.h>
 
 #define CS_EARTH_RADIUS_M 6371000.0
+#define CS_SCENE_MAX_LAYERS 24 /* near layers and those of the far sites */
 #define CS_SKY_DEPTH_M 1e10 /* Z of a ray that meets neither cloud nor ground */
 
 struct cs_render_settings {
@@ -54,7 +55,7 @@ struct cs_scene {
 	const uint8_t *terrain_color; /* sRGB 8-bit RGB over the terrain grid, or NULL */
 	int terrain_color_w, terrain_color_h;
 	int nlayers;
-	struct cs_cloud_layer layers[CS_WX_MAX_LAYERS];
+	struct cs_cloud_layer layers[CS_SCENE_MAX_LAYERS];
 	const struct cs_volume *noise;
 	cs_v3 sun_dir;                /* unit, toward the sun */
 	double sun_illuminance[3];    /* irradiance on a plane facing the sun */

@@ -88,6 +88,30 @@ int cs_scene_build(struct cs_scene *sc, const struct cs_wx *wx, double time_utc,
 				    wx->wind_speed_m_s, wx->wind_from_deg,
 				    wx->site.alt_m, t_wind);
 	}
+	/* far sites: their layers join the scene, and every layer's coverage
+	 * is weighted by how far along the line to each far site a point is */
+	if (wx->nfar > 0) {
+		double fx[CS_WX_MAX_FAR], fy[CS_WX_MAX_FAR];
+		int near = sc->nlayers;
+		for (int f = 0; f < wx->nfar; f++) {
+			cs_v3 p = cs_geo_to_world(wx->site.lat_deg, wx->site.lon_deg,
+						  sc->earth_radius_m, wx->far[f].site.lat_deg,
+						  wx->far[f].site.lon_deg, 0.0);
+			fx[f] = p.x, fy[f] = p.y;
+		}
+		for (int i = 0; i < near; i++)
+			cs_cloud_layer_blend(&sc->layers[i], noise, -1, wx->nfar, fx, fy);
+		for (int f = 0; f < wx->nfar; f++)
+			for (int i = 0; i < wx->far[f].nlayers && sc->nlayers < CS_SCENE_MAX_LAYERS; i++) {
+				if (wx->far[f].layers[i].coverage <= 0.0)
+					continue;
+				struct cs_cloud_layer *l = &sc->layers[sc->nlayers++];
+				cs_cloud_layer_init(l, &wx->far[f].layers[i], noise,
+						    wx->wind_speed_m_s, wx->wind_from_deg,
+						    wx->far[f].site.alt_m, t_wind);
+				cs_cloud_layer_blend(l, noise, f, wx->nfar, fx, fy);
+			}
+	}
 	if (sc->nlayers > 0)
 		sc->effects |= CS_FX_CLOUDS;
 

@@ -100,6 +100,44 @@ static void density_is_zero_outside_the_layer_and_finite_inside(void)
 	}
 }
 
+static double fraction_near(const struct cs_cloud_layer *l, double cx, double cy)
+{
+	unsigned st = 10;
+	int in = 0, n = 4000;
+	for (int i = 0; i < n; i++)
+		in += cs_cloud_extinction(l, &noise, cx + t_uniform(&st, -9000, 9000),
+					  cy + t_uniform(&st, -9000, 9000),
+					  1500 + 0.425 * 1200) > 0;
+	return (double)in / n;
+}
+
+/* Near and far weather blend by distance along the line between the sites:
+ * the near layer's coverage holds at the near site and fades to nothing at
+ * the far site, the far layer's the other way round. */
+static void near_and_far_weather_blend_along_the_line(void)
+{
+	/* the far site 300 km north, so that the weight hardly changes over the
+	 * 18 km squares (two tiles) sampled below */
+	double fx[1] = {0}, fy[1] = {300000};
+	struct cs_cloud_layer nl, fl;
+	layer(&nl, CS_STRATOCUMULUS, 0.9, 0, 0, 0);
+	layer(&fl, CS_STRATOCUMULUS, 0.3, 0, 0, 0);
+	cs_cloud_layer_blend(&nl, &noise, -1, 1, fx, fy);
+	cs_cloud_layer_blend(&fl, &noise, 0, 1, fx, fy);
+	CHECK_NEAR(cs_cloud_site_weight(&nl, 0, 0), 1.0, 1e-12);
+	CHECK_NEAR(cs_cloud_site_weight(&fl, 0, 0), 0.0, 1e-12);
+	CHECK_NEAR(cs_cloud_site_weight(&nl, 5000, 150000), 0.5, 1e-12);
+	CHECK_NEAR(cs_cloud_site_weight(&fl, -7000, 450000), 1.0, 1e-12);
+	CHECK_NEAR(cs_cloud_site_weight(&nl, 0, -9000), 1.0, 1e-12);
+	/* covered fractions along the line (sampled across a strip) */
+	double n0 = fraction_near(&nl, 0, -20000), n1 = fraction_near(&nl, 0, 150000),
+	       n2 = fraction_near(&nl, 0, 400000);
+	double f0 = fraction_near(&fl, 0, -20000), f2 = fraction_near(&fl, 0, 400000);
+	printf("  near layer: %.3f behind, %.3f half-way, %.3f beyond the far site\n", n0, n1, n2);
+	CHECK(fabs(n0 - 0.9) < 0.06 && fabs(n1 - 0.45) < 0.06 && n2 == 0.0);
+	CHECK(f0 == 0.0 && fabs(f2 - 0.3) < 0.06);
+}
+
 static void every_genus_has_a_name_and_a_preset(void)
 {
 	for (int g = 0; g < CS_GENUS_COUNT; g++) {
@@ -118,6 +156,7 @@ int main(void)
 	RUN(coverage_zero_is_no_cloud_anywhere);
 	RUN(covered_fraction_follows_coverage);
 	RUN(density_is_zero_outside_the_layer_and_finite_inside);
+	RUN(near_and_far_weather_blend_along_the_line);
 	RUN(every_genus_has_a_name_and_a_preset);
 	cs_volume_free(&noise);
 	TEST_EXIT();
