@@ -206,48 +206,49 @@ double cs_worley3p(double x, double y, double z, const int period[3],
 	return sqrt(best);
 }
 
-static inline void octave_period(const int period[3], long scale, int out[3])
-{
-	for (int a = 0; a < 3; a++)
-		out[a] = period[a] > 0 ? (int)(period[a] * scale) : 0;
-}
+enum basis { PERLIN, INVERTED_WORLEY };
 
-double cs_perlin_fbm3p(double x, double y, double z, const int period[3],
-		       uint32_t seed, const struct cs_fbm *fbm)
+/* The fractal sum shared by both bases: octave i at frequency
+ * lacunarity^i (and period times that), amplitude gain^i, seed + i,
+ * divided by the sum of the amplitudes. */
+static double fbm3p(enum basis basis, double x, double y, double z,
+		    const int period[3], uint32_t seed, const struct cs_fbm *fbm)
 {
 	double sum = 0.0, norm = 0.0, amp = 1.0;
 	long freq = 1;
 	for (int i = 0; i < fbm->octaves; i++) {
 		int p[3];
-		octave_period(period, freq, p);
-		sum += amp * cs_perlin3p(x * (double)freq, y * (double)freq,
-					 z * (double)freq, p, seed + (uint32_t)i);
-		norm += amp;
-		amp *= fbm->gain;
-		freq *= fbm->lacunarity;
-	}
-	/* Improved Perlin noise slightly exceeds [-1, 1] at rare points (see
-	 * noise.h); the clamp makes the documented range exact. */
-	sum /= norm;
-	return sum < -1.0 ? -1.0 : sum > 1.0 ? 1.0 : sum;
-}
-
-double cs_worley_fbm3p(double x, double y, double z, const int period[3],
-		       uint32_t seed, const struct cs_fbm *fbm)
-{
-	double sum = 0.0, norm = 0.0, amp = 1.0;
-	long freq = 1;
-	for (int i = 0; i < fbm->octaves; i++) {
-		int p[3];
-		octave_period(period, freq, p);
-		double f1 = cs_worley3p(x * (double)freq, y * (double)freq,
-					z * (double)freq, p, seed + (uint32_t)i);
-		sum += amp * (1.0 - (f1 < 1.0 ? f1 : 1.0));
+		for (int a = 0; a < 3; a++)
+			p[a] = period[a] > 0 ? (int)(period[a] * freq) : 0;
+		double fx = x * (double)freq, fy = y * (double)freq, fz = z * (double)freq;
+		double n;
+		if (basis == PERLIN) {
+			n = cs_perlin3p(fx, fy, fz, p, seed + (uint32_t)i);
+		} else {
+			double f1 = cs_worley3p(fx, fy, fz, p, seed + (uint32_t)i);
+			n = 1.0 - (f1 < 1.0 ? f1 : 1.0);
+		}
+		sum += amp * n;
 		norm += amp;
 		amp *= fbm->gain;
 		freq *= fbm->lacunarity;
 	}
 	return sum / norm;
+}
+
+double cs_perlin_fbm3p(double x, double y, double z, const int period[3],
+		       uint32_t seed, const struct cs_fbm *fbm)
+{
+	/* Improved Perlin noise slightly exceeds [-1, 1] at rare points (see
+	 * noise.h); the clamp makes the documented range exact. */
+	double v = fbm3p(PERLIN, x, y, z, period, seed, fbm);
+	return v < -1.0 ? -1.0 : v > 1.0 ? 1.0 : v;
+}
+
+double cs_worley_fbm3p(double x, double y, double z, const int period[3],
+		       uint32_t seed, const struct cs_fbm *fbm)
+{
+	return fbm3p(INVERTED_WORLEY, x, y, z, period, seed, fbm);
 }
 
 double cs_perlin_worley3p(double x, double y, double z, const int period[3],
