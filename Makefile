@@ -89,7 +89,8 @@ demo: deps
 	@mkdir -p out
 	$(B)/bin/noisebake -o out/noise.exr --preview out/noise-preview.png
 	$(B)/bin/cloudrender --noise out/noise.exr --size 1280x720 -o out/demo.png -o out/demo.exr
-	@echo "demo: wrote out/demo.png, out/demo.exr (the default scene), out/noise.exr and out/noise-preview.png"
+	CLOUDRENDER=$(B)/bin/cloudrender scripts/genus-sheet out/genus-sheet.png --noise out/noise.exr
+	@echo "demo: wrote out/demo.png, out/demo.exr (the default scene), out/genus-sheet.png, out/noise.exr and out/noise-preview.png"
 
 install: all
 	install -d $(DESTDIR)$(PREFIX)/bin $(DESTDIR)$(PREFIX)/share/man/man1 \

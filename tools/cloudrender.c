@@ -97,9 +97,9 @@ static void print_stats(const struct cs_cloudrender_opts *o)
 			sc->layers[i].coverage, sc->layers[i].base_m, sc->layers[i].top_m);
 	fprintf(stderr, "],\"effects\":[");
 	static const char *const names[] = {"sun", "sky", "clouds", "ground",
-					    "haze", "rain", "cloud_shadows"};
+					    "haze", "rain", "cloud_shadows", "terrain"};
 	int first = 1;
-	for (int b = 0; sc && b < 7; b++)
+	for (int b = 0; sc && b < 8; b++)
 		if (sc->effects & (1u << b)) {
 			fprintf(stderr, "%s\"%s\"", first ? "" : ",", names[b]);
 			first = 0;
