@@ -1,0 +1,186 @@
+/* wxinterp - describe the sky at a time from hourly provider forecasts. */
+#include "cli.h"
+
+#include "err.h"
+#include "time.h"
+#include "wxinterp.h"
+#include "wxset.h"
+
+#include <getopt.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#ifndef CS_VERSION
+#define CS_VERSION "unknown"
+#endif
+
+static void usage(void)
+{
+	printf("Usage: wxinterp [options] FILE... [--at TIME | --from TIME --to TIME]\n"
+	       "       wxinterp --template [options]\n"
+	       "Describe the sky from hourly meteoblue or Open-Meteo files: cloud layers\n"
+	       "(genus, coverage, base, top), rain, wind, visibility and fog at any minute,\n"
+	       "as cloudwx JSON; a series of times as JSON Lines.  Several FILEs of one\n"
+	       "site are merged by time (a later file wins where files overlap).\n"
+	       "\n"
+	       "  -o, --output FILE      write to FILE, atomically (default '-': standard output)\n"
+	       "      --at TIME          one state at TIME: ISO 8601 with a zone, or 'now'\n"
+	       "      --from TIME        first state of a series (default: the first hour)\n"
+	       "      --to TIME          last state of a series (default: the last hour)\n"
+	       "      --step DURATION    series interval: N with s, m, h or d (default 1h)\n"
+	       "      --far FILE         provider file of a distant site (up to 4)\n"
+	       "      --far-name NAME    name of the site of the preceding --far\n"
+	       "      --site-name NAME   name of the site (default: the file's, else its name)\n"
+	       "      --alt M            ground height of the site, m (default: the file's)\n"
+	       "      --max-gap DURATION missing values are interpolated between valid hours\n"
+	       "                         at most this far apart (default 3h)\n"
+	       "      --set PATH=VALUE   edit the state: layer.low.coverage=0.8,\n"
+	       "                         precipitation=2.5, wind.speed=3, visibility=5000,\n"
+	       "                         layer.high=cirrostratus, ... (repeatable)\n"
+	       "      --template         the built-in fair-weather state, no input files\n"
+	       "                         (indented; edit it by hand or with --set)\n"
+	       "      --pretty           indent the JSON (one state only)\n"
+	       "  -q, --quiet            no warnings\n"
+	       "  -v, --verbose          say what was read and which rule gave each layer\n"
+	       "  -h, --help             this help\n"
+	       "      --version          print the version\n"
+	       "\n"
+	       "Exit status: 0 success, 1 data or runtime error, 2 usage error.\n"
+	       "See wxinterp(1), cloudwx(5).\n");
+}
+
+static void print_note(void *user, int level, const char *msg)
+{
+	(void)user;
+	if ((level == 1 && !cli_quiet) || (level == 2 && cli_verbose))
+		cli_err("%s", msg);
+}
+
+static double when(const char *opt, const char *s)
+{
+	double t;
+	if (strcmp(s, "now") == 0)
+		return (double)time(NULL);
+	if (cs_time_parse(s, &t) != CS_OK)
+		cli_usage_error("%s: %s", opt, cs_errmsg());
+	return t;
+}
+
+static double duration(const char *opt, const char *s)
+{
+	double v;
+	if (cs_duration_parse(s, &v) != CS_OK)
+		cli_usage_error("%s: %s", opt, cs_errmsg());
+	return v;
+}
+
+enum {
+	OPT_AT = 256, OPT_FROM, OPT_TO, OPT_STEP, OPT_FAR, OPT_FAR_NAME,
+	OPT_SITE_NAME, OPT_ALT, OPT_MAX_GAP, OPT_SET, OPT_TEMPLATE, OPT_PRETTY,
+	OPT_VERSION,
+};
+
+int main(int argc, char **argv)
+{
+	static const struct option longopts[] = {
+		{"output", required_argument, NULL, 'o'},
+		{"at", required_argument, NULL, OPT_AT},
+		{"from", required_argument, NULL, OPT_FROM},
+		{"to", required_argument, NULL, OPT_TO},
+		{"step", required_argument, NULL, OPT_STEP},
+		{"far", required_argument, NULL, OPT_FAR},
+		{"far-name", required_argument, NULL, OPT_FAR_NAME},
+		{"site-name", required_argument, NULL, OPT_SITE_NAME},
+		{"alt", required_argument, NULL, OPT_ALT},
+		{"max-gap", required_argument, NULL, OPT_MAX_GAP},
+		{"set", required_argument, NULL, OPT_SET},
+		{"template", no_argument, NULL, OPT_TEMPLATE},
+		{"pretty", no_argument, NULL, OPT_PRETTY},
+		{"quiet", no_argument, NULL, 'q'},
+		{"verbose", no_argument, NULL, 'v'},
+		{"help", no_argument, NULL, 'h'},
+		{"version", no_argument, NULL, OPT_VERSION},
+		{NULL, 0, NULL, 0},
+	};
+	struct cs_wxinterp_opts o;
+	int opt, have_step = 0;
+
+	cli_init("wxinterp");
+	cs_wxinterp_defaults(&o);
+	while ((opt = getopt_long(argc, argv, "o:qvh", longopts, NULL)) != -1) {
+		switch (opt) {
+		case 'o': o.output = optarg; break;
+		case OPT_AT: o.at_utc = when("--at", optarg); o.have_at = 1; break;
+		case OPT_FROM: o.from_utc = when("--from", optarg); o.have_from = 1; break;
+		case OPT_TO: o.to_utc = when("--to", optarg); o.have_to = 1; break;
+		case OPT_STEP: o.step_s = duration("--step", optarg); have_step = 1; break;
+		case OPT_FAR:
+			if (o.nfar == CS_WX_MAX_FAR)
+				cli_usage_error("--far: at most %d far sites", CS_WX_MAX_FAR);
+			o.far[o.nfar++] = optarg;
+			break;
+		case OPT_FAR_NAME:
+			if (o.nfar == 0 || o.far_name[o.nfar - 1] != NULL)
+				cli_usage_error("--far-name names the site of the --far "
+						"FILE before it");
+			if (strlen(optarg) > 63)
+				cli_usage_error("--far-name: at most 63 bytes");
+			o.far_name[o.nfar - 1] = optarg;
+			break;
+		case OPT_SITE_NAME:
+			if (strlen(optarg) > 63)
+				cli_usage_error("--site-name: at most 63 bytes");
+			o.site_name = optarg;
+			break;
+		case OPT_ALT: o.alt_m = cli_double("--alt", optarg, -500, 9000); o.have_alt = 1; break;
+		case OPT_MAX_GAP:
+			o.max_gap_s = duration("--max-gap", optarg);
+			if (o.max_gap_s < 3600)
+				cli_usage_error("--max-gap: at least 1h (the step of the data)");
+			break;
+		case OPT_SET:
+			if (o.nsets == CS_WXINTERP_MAX_SETS)
+				cli_usage_error("--set: at most %d edits", CS_WXINTERP_MAX_SETS);
+			if (cs_wx_set_check(optarg) != CS_OK)
+				cli_usage_error("--set %s", cs_errmsg());
+			o.sets[o.nsets++] = optarg;
+			break;
+		case OPT_TEMPLATE: o.template_state = 1; break;
+		case OPT_PRETTY: o.pretty = 1; break;
+		case 'q': cli_quiet = 1; break;
+		case 'v': cli_verbose = 1; break;
+		case 'h': usage(); return EXIT_OK;
+		case OPT_VERSION: printf("wxinterp (cloudscape) %s\n", CS_VERSION); return EXIT_OK;
+		default:
+			fprintf(stderr, "Try 'wxinterp --help' for more information.\n");
+			return EXIT_USAGE;
+		}
+	}
+	for (; optind < argc; optind++) {
+		if (o.ninputs == CS_WXINTERP_MAX_INPUTS)
+			cli_usage_error("at most %d input files", CS_WXINTERP_MAX_INPUTS);
+		o.inputs[o.ninputs++] = argv[optind];
+	}
+	if (o.have_at && have_step)
+		cli_usage_error("--step sets the interval of a series; --at gives one time");
+	if (o.template_state && o.have_from != o.have_to)
+		cli_usage_error("--template: a series needs both --from and --to");
+	/* the template is indented for editing, unless it is a series */
+	if (o.template_state && !o.have_from)
+		o.pretty = 1;
+
+	o.note = print_note;
+	int rc = cs_wxinterp_run(&o);
+	if (rc != CS_OK) {
+		cli_err("%s", cs_errmsg());
+		if (rc == CS_EINVAL)
+			fprintf(stderr, "Try 'wxinterp --help' for more information.\n");
+		return rc == CS_EINVAL ? EXIT_USAGE : EXIT_DATA;
+	}
+	if (cli_verbose)
+		cli_err("wrote %ld state%s to %s", o.nstates, o.nstates == 1 ? "" : "s",
+			strcmp(o.output, "-") == 0 ? "standard output" : o.output);
+	return EXIT_OK;
+}
