@@ -4,7 +4,7 @@
 #   make check        install missing Debian packages, build, run every test
 #   make check SAN=1  the same with AddressSanitizer + UBSan (in build-san/)
 #   make bench        benchmarks (not part of check)
-#   make demo         bake the noise and render the default scene into out/
+#   make demo         bake the noise, make a synthetic Bern terrain, render into out/
 #   make install PREFIX=/usr/local DESTDIR=
 #   make deps         install the Debian packages the project needs
 #   make clean
@@ -88,9 +88,15 @@ demo: deps
 	@$(MAKE) --no-print-directory all
 	@mkdir -p out
 	$(B)/bin/noisebake -o out/noise.exr --preview out/noise-preview.png
+	scripts/make-bern-dem out/bern-synthetic-dem.tif
+	$(B)/bin/terrainprep out/bern-synthetic-dem.tif -o out/bern.exr --hillshade out/bern-hillshade.png
 	$(B)/bin/cloudrender --noise out/noise.exr --size 1280x720 -o out/demo.png -o out/demo.exr
+	$(B)/bin/cloudrender --noise out/noise.exr --terrain out/bern.exr --view gurten \
+		--time 2021-06-14T16:45Z --size 1280x720 -o out/gurten.png
 	CLOUDRENDER=$(B)/bin/cloudrender scripts/genus-sheet out/genus-sheet.png --noise out/noise.exr
-	@echo "demo: wrote out/demo.png, out/demo.exr (the default scene), out/genus-sheet.png, out/noise.exr and out/noise-preview.png"
+	@echo "demo: wrote out/demo.png and out/demo.exr (the default scene), out/gurten.png (from the"
+	@echo "demo: Gurten over a SYNTHETIC Bern terrain), out/genus-sheet.png, out/noise.exr,"
+	@echo "demo: out/noise-preview.png, out/bern.exr and out/bern-hillshade.png"
 
 install: all
 	install -d $(DESTDIR)$(PREFIX)/bin $(DESTDIR)$(PREFIX)/share/man/man1 \

@@ -3,7 +3,9 @@
 #include "err.h"
 #include "exr.h"
 #include "image.h"
+#include "hfield.h"
 #include "scene.h"
+#include "terrain.h"
 #include "sun.h"
 #include "time.h"
 #include "volume.h"
@@ -78,6 +80,25 @@ static int write_outputs(const struct cs_cloudrender_opts *o, const float *px)
 	return rc;
 }
 
+/* Places the heightfield: three corners' geographic positions on the
+ * sphere fix the affine map from world to grid. */
+static int place_terrain(const struct cs_scene *sc, const struct cs_wx *wx,
+			 const struct cs_terrain *t, struct cs_hfield *hf)
+{
+	static const int corner[3] = {0, 1, 3}; /* upper-left, upper-right, lower-left */
+	double col[3] = {0, t->width - 1, 0}, row[3] = {0, 0, t->height - 1}, x[3], y[3];
+	for (int k = 0; k < 3; k++) {
+		cs_v3 p = cs_geo_to_world(wx->site.lat_deg, wx->site.lon_deg, sc->earth_radius_m,
+					  t->corner_lat[corner[k]], t->corner_lon[corner[k]], 0.0);
+		x[k] = p.x, y[k] = p.y;
+	}
+	double a[3], b[3];
+	int rc = cs_hfield_place(col, row, x, y, a, b);
+	if (rc == CS_OK)
+		rc = cs_hfield_init(hf, t->h, t->width, t->height, a, b, sc->earth_radius_m);
+	return rc;
+}
+
 int cs_cloudrender_run(struct cs_cloudrender_opts *o)
 {
 	int rc;
@@ -124,8 +145,14 @@ int cs_cloudrender_run(struct cs_cloudrender_opts *o)
 		return rc;
 	o->t_noise_s = now_s() - t0;
 
-	/* the scene and the camera */
+	/* the scene, the terrain and the camera */
 	t0 = now_s();
+	struct cs_terrain terrain;
+	struct cs_hfield hf;
+	int have_terrain = 0, have_hf = 0;
+	uint8_t *drape = NULL;
+	memset(&terrain, 0, sizeof terrain);
+	memset(&hf, 0, sizeof hf);
 	struct cs_scene *sc = malloc(sizeof *sc);
 	float *px = malloc((size_t)o->width * o->height * 5 * sizeof(float));
 	if (sc == NULL || px == NULL) {
@@ -136,6 +163,28 @@ int cs_cloudrender_run(struct cs_cloudrender_opts *o)
 	if (rc != CS_OK)
 		goto done;
 	o->scene = sc;
+	if (o->terrain_path) {
+		rc = cs_terrain_read(o->terrain_path, &terrain);
+		if (rc != CS_OK)
+			goto done;
+		have_terrain = 1;
+		rc = place_terrain(sc, &o->wx, &terrain, &hf);
+		if (rc != CS_OK)
+			goto done;
+		have_hf = 1;
+		sc->terrain = &hf;
+		sc->effects |= CS_FX_TERRAIN;
+		if (o->terrain_color_path) {
+			rc = cs_png_read_rgb8(o->terrain_color_path, &drape, &sc->terrain_color_w,
+					      &sc->terrain_color_h);
+			if (rc != CS_OK)
+				goto done;
+			sc->terrain_color = drape;
+		}
+	} else if (o->terrain_color_path) {
+		rc = cs_error(CS_EINVAL, "--terrain-color needs --terrain");
+		goto done;
+	}
 	double lat = o->wx.site.lat_deg, lon = o->wx.site.lon_deg;
 	double alt = o->wx.site.alt_m + 2.0, az = 160.0, el = 8.0, fov = 70.0;
 	if (view) {
@@ -148,13 +197,23 @@ int cs_cloudrender_run(struct cs_cloudrender_opts *o)
 		az = o->look_az_deg, el = o->look_el_deg;
 	if (o->fov_deg > 0.0)
 		fov = o->fov_deg;
-	if (alt < sc->ground_alt_m) {
-		rc = cs_error(CS_EINVAL, "the camera at %.1f m is below the ground (%.1f m)",
-			      alt, sc->ground_alt_m);
-		goto done;
-	}
 	cs_v3 pos = cs_geo_to_world(o->wx.site.lat_deg, o->wx.site.lon_deg,
 				    sc->earth_radius_m, lat, lon, alt);
+	double ground = sc->ground_alt_m, th;
+	int over_terrain = have_hf && cs_hfield_height(&hf, pos.x, pos.y, &th);
+	if (over_terrain) {
+		ground = th;
+		if (!view && !o->have_camera) { /* the default eye stands on the terrain */
+			alt = th + 2.0;
+			pos = cs_geo_to_world(o->wx.site.lat_deg, o->wx.site.lon_deg,
+					      sc->earth_radius_m, lat, lon, alt);
+		}
+	}
+	if (alt < ground) {
+		rc = cs_error(CS_EINVAL, "the camera at %.1f m is below the %s (%.1f m)",
+			      alt, over_terrain ? "terrain" : "ground", ground);
+		goto done;
+	}
 	struct cs_camera cam;
 	rc = cs_camera_init(&cam, sc, pos, o->wx.site.lat_deg, az, el, fov, o->width, o->height);
 	if (rc != CS_OK)
@@ -177,6 +236,15 @@ int cs_cloudrender_run(struct cs_cloudrender_opts *o)
 	o->t_write_s = now_s() - t0;
 done:
 	free(px);
+	free(drape);
+	if (have_hf)
+		cs_hfield_free(&hf);
+	if (have_terrain)
+		cs_terrain_free(&terrain);
+	if (o->scene) { /* what it pointed to is gone */
+		o->scene->terrain = NULL;
+		o->scene->terrain_color = NULL;
+	}
 	if (rc != CS_OK) {
 		free(sc);
 		o->scene = NULL;

@@ -10,6 +10,8 @@
 struct cs_cloudrender_opts {
 	const char *wx_path;      /* cloudwx JSON or "-", or NULL: built-in */
 	const char *noise_path;   /* noise volume, or NULL: baked in memory */
+	const char *terrain_path; /* heightfield from terrainprep, or NULL: flat */
+	const char *terrain_color_path; /* PNG draped over the terrain, or NULL */
 	int noise_size;           /* in-memory bake size (default 64) */
 	int have_time;
 	double time_utc;          /* overrides the weather state's time */

@@ -82,15 +82,17 @@ void cs_exr_reader_init(exr_context_initializer_t *init, struct cs_exr_mem *src)
 	exr_msg[0] = '\0';
 }
 
-#define TRY(call, what)                                                      \
+/* On failure: rc = code with "name: what: the core's message", goto label. */
+#define EXR_CHECK(call, code, what, label)                                   \
 	do {                                                                 \
 		exr_result_t r_ = (call);                                    \
 		if (r_ != EXR_ERR_SUCCESS) {                                 \
-			rc = cs_error(CS_EIO, "%s: %s: %s", name, what,       \
+			rc = cs_error(code, "%s: %s: %s", name, what,         \
 				      cs_exr_message(r_));                   \
-			goto fail;                                           \
+			goto label;                                          \
 		}                                                            \
 	} while (0)
+#define TRY(call, what) EXR_CHECK(call, CS_EIO, what, fail)
 
 static int set_attr(exr_context_t f, const struct cs_exr_attr *a)
 {
@@ -205,5 +207,109 @@ fail:
 		exr_finish(&f);
 	cs_outfile_abort(&of);
 	free(scratch);
+	return rc;
+}
+
+#undef TRY
+#define TRY(call, what) EXR_CHECK(call, CS_EDATA, what, done)
+
+#define MAX_READ_PIXELS ((long)1 << 28) /* 1 GiB of floats */
+
+int cs_exr_read_float_channel(const void *data, size_t len, const char *name,
+			      const char *channel, int *width, int *height,
+			      float **pixels)
+{
+	int rc = CS_OK;
+	exr_context_t f = NULL;
+	exr_decode_pipeline_t dec = EXR_DECODE_PIPELINE_INITIALIZER;
+	int dec_live = 0;
+	float *px = NULL;
+	struct cs_exr_mem src = {data, len};
+	exr_context_initializer_t init;
+
+	*pixels = NULL;
+	cs_exr_reader_init(&init, &src);
+	TRY(exr_start_read(&f, name, &init), "not a readable OpenEXR file");
+	int parts = 0;
+	TRY(exr_get_count(f, &parts), "part count");
+	exr_storage_t st = EXR_STORAGE_LAST_TYPE;
+	if (parts == 1)
+		TRY(exr_get_storage(f, 0, &st), "storage");
+	if (parts != 1 || st != EXR_STORAGE_SCANLINE) {
+		rc = cs_error(CS_EDATA, "%s: expected a single-part scanline image", name);
+		goto done;
+	}
+	const exr_attr_chlist_t *chl = NULL;
+	TRY(exr_get_channels(f, 0, &chl), "channel list");
+	int found = 0;
+	for (int i = 0; i < chl->num_channels; i++) {
+		const exr_attr_chlist_entry_t *e = &chl->entries[i];
+		if (strcmp(e->name.str, channel) != 0)
+			continue;
+		found = e->x_sampling == 1 && e->y_sampling == 1 &&
+			(e->pixel_type == EXR_PIXEL_FLOAT || e->pixel_type == EXR_PIXEL_HALF);
+		if (!found) {
+			rc = cs_error(CS_EDATA, "%s: channel %s is subsampled or not half/float",
+				      name, channel);
+			goto done;
+		}
+	}
+	if (!found) {
+		rc = cs_error(CS_EDATA, "%s: no channel %s", name, channel);
+		goto done;
+	}
+	exr_attr_box2i_t dw;
+	TRY(exr_get_data_window(f, 0, &dw), "data window");
+	long w = (long)dw.max.x - dw.min.x + 1, h = (long)dw.max.y - dw.min.y + 1;
+	if (dw.min.x != 0 || dw.min.y != 0 || w < 1 || h < 1 || w * h > MAX_READ_PIXELS) {
+		rc = cs_error(CS_EDATA, "%s: unsupported data window (%d,%d)-(%d,%d)",
+			      name, dw.min.x, dw.min.y, dw.max.x, dw.max.y);
+		goto done;
+	}
+	px = malloc((size_t)w * (size_t)h * sizeof *px);
+	if (px == NULL) {
+		rc = cs_error(CS_ENOMEM, "out of memory");
+		goto done;
+	}
+	int32_t spc = 0;
+	TRY(exr_get_scanlines_per_chunk(f, 0, &spc), "chunk size");
+	for (long y = 0; y < h; y += spc) {
+		exr_chunk_info_t ci;
+		TRY(exr_read_scanline_chunk_info(f, 0, (int)y, &ci),
+		    "truncated or corrupt pixel data");
+		if (ci.start_y != y || ci.height < 1 || y + ci.height > h || ci.width != w) {
+			rc = cs_error(CS_EDATA, "%s: inconsistent chunk at scanline %ld", name, y);
+			goto done;
+		}
+		if (!dec_live)
+			TRY(exr_decoding_initialize(f, 0, &ci, &dec), "decoder");
+		else
+			TRY(exr_decoding_update(f, 0, &ci, &dec), "decoder");
+		/* the core converts half to float; other channels are skipped */
+		for (int k = 0; k < dec.channel_count; k++) {
+			exr_coding_channel_info_t *c = &dec.channels[k];
+			int want = strcmp(c->channel_name, channel) == 0;
+			c->decode_to_ptr = want ? (uint8_t *)(px + (size_t)y * w) : NULL;
+			c->user_bytes_per_element = 4;
+			c->user_data_type = EXR_PIXEL_FLOAT;
+			c->user_pixel_stride = 4;
+			c->user_line_stride = (int32_t)w * 4;
+		}
+		if (!dec_live) {
+			TRY(exr_decoding_choose_default_routines(f, 0, &dec), "decoder");
+			dec_live = 1;
+		}
+		TRY(exr_decoding_run(f, 0, &dec), "truncated or corrupt pixel data");
+	}
+	*width = (int)w;
+	*height = (int)h;
+	*pixels = px;
+	px = NULL;
+done:
+	if (dec_live)
+		exr_decoding_destroy(f, &dec);
+	if (f)
+		exr_finish(&f);
+	free(px);
 	return rc;
 }

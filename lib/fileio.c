@@ -75,6 +75,15 @@ int cs_outfile_open(struct cs_outfile *of, const char *dst)
 	return CS_OK;
 }
 
+int cs_outfile_write(struct cs_outfile *of, const void *buf, size_t n)
+{
+	if (write_full(of->fd, buf, n) < 0)
+		return cs_error(CS_EIO, "cannot write %s: %s",
+				of->to_stdout ? "standard output" : of->dst_path,
+				strerror(errno));
+	return CS_OK;
+}
+
 /* Copies the finished temporary to standard output or to the stream
  * destination. */
 static int copy_out(struct cs_outfile *of)

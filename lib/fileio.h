@@ -23,6 +23,9 @@ struct cs_outfile {
  * created with mode 0666 & ~umask, like an ordinary output. */
 int cs_outfile_open(struct cs_outfile *of, const char *dst);
 
+/* Writes n bytes to the temporary. */
+int cs_outfile_write(struct cs_outfile *of, const void *buf, size_t n);
+
 /* Flushes, closes and renames the temporary over the destination (or copies
  * it to standard output and removes it). */
 int cs_outfile_commit(struct cs_outfile *of);

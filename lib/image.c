@@ -7,6 +7,7 @@
 
 #include <math.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
 
@@ -49,6 +50,35 @@ int cs_png_write(const char *path, int width, int height, int channels,
 		return rc;
 	}
 	return cs_outfile_commit(&of);
+}
+
+int cs_png_read_rgb8(const char *path, uint8_t **rgb, int *width, int *height)
+{
+	png_image img;
+	memset(&img, 0, sizeof img);
+	img.version = PNG_IMAGE_VERSION;
+	*rgb = NULL;
+	if (!png_image_begin_read_from_file(&img, path))
+		return cs_error(CS_EDATA, "%s: not a readable PNG: %s", path, img.message);
+	if (img.width < 1 || img.height < 1 || (double)img.width * img.height > 1e8) {
+		png_image_free(&img);
+		return cs_error(CS_EDATA, "%s: a %ux%u image is too large", path,
+				img.width, img.height);
+	}
+	img.format = PNG_FORMAT_RGB;
+	uint8_t *buf = malloc(PNG_IMAGE_SIZE(img));
+	if (buf == NULL) {
+		png_image_free(&img);
+		return cs_error(CS_ENOMEM, "out of memory reading %s", path);
+	}
+	if (!png_image_finish_read(&img, NULL, buf, 0, NULL)) {
+		free(buf);
+		return cs_error(CS_EDATA, "%s: %s", path, img.message);
+	}
+	*rgb = buf;
+	*width = (int)img.width;
+	*height = (int)img.height;
+	return CS_OK;
 }
 
 static double aces(double x)

@@ -11,6 +11,10 @@
 int cs_png_write(const char *path, int width, int height, int channels,
 		 const uint8_t *pixels);
 
+/* Reads a PNG as 8-bit sRGB RGB (any PNG: grey, palette and alpha are
+ * converted); *rgb is malloc'ed for the caller. */
+int cs_png_read_rgb8(const char *path, uint8_t **rgb, int *width, int *height);
+
 /* Linear radiance (kcd/m^2, linear sRGB) to 8-bit sRGB for display: scaled
  * by 2^exposure_ev / 16 kcd/m^2, ACES filmic curve (Narkowicz 2015 fit),
  * sRGB transfer function.  px holds n pixels, stride floats apart, R G B

@@ -155,20 +155,27 @@ struct interval {
 	unsigned mask; /* layers; 0 = the rain shaft */
 };
 
-/* Sky radiance for haze and background, in direction d. */
-static void horizon_light(const struct cs_scene *sc, cs_v3 d, double rgb[3])
+/* The light the haze scatters toward the eye along d: the sky's radiance at
+ * the same azimuth and the same angle from the horizon, looking up (for a
+ * plane-parallel haze layer the path looking down at an angle sees what the
+ * path looking up at it sees), at least 1 degree up. */
+static void haze_light(const struct cs_scene *sc, cs_v3 d, double rgb[3])
 {
 	if (!(sc->effects & CS_FX_SKY)) {
 		rgb[0] = rgb[1] = rgb[2] = 0.0;
 		return;
 	}
-	double flat[3] = {d.x, d.y, 0.02};
-	double l = sqrt(flat[0] * flat[0] + flat[1] * flat[1] + flat[2] * flat[2]);
-	if (l < 1e-9)
-		flat[0] = 1.0, l = sqrt(1.0 + flat[2] * flat[2]);
-	for (int k = 0; k < 3; k++)
-		flat[k] /= l;
-	cs_sky_radiance(&sc->sky, flat, rgb);
+	double up = fabs(d.z) > 0.0175 ? fabs(d.z) : 0.0175;
+	double flat = sqrt(d.x * d.x + d.y * d.y);
+	double dir[3] = {1.0, 0.0, 0.0};
+	if (flat > 1e-9) {
+		double k = sqrt(1.0 - up * up) / flat;
+		dir[0] = d.x * k, dir[1] = d.y * k;
+	} else {
+		dir[0] = sqrt(1.0 - up * up);
+	}
+	dir[2] = up;
+	cs_sky_radiance(&sc->sky, dir, rgb);
 }
 
 /* Haze optical depth along a straight ray leaving altitude h0 with vertical
@@ -282,6 +289,16 @@ static void ground_light(const struct cs_scene *sc,
 		terrain_albedo(sc, p.x, p.y, h, n, alb);
 		ao = terrain_ao(sc->terrain, p, h);
 	}
+	if (sc->noise && !(on_terrain && sc->terrain_color)) {
+		/* fields and woods: the albedo varies over ~1 km and ~150 m, which
+		 * also shows the eye how far away the ground is */
+		double v = 0.6 * cs_volume_sample(sc->noise, 1, p.x / 4000.0, p.y / 4000.0, 0.3) +
+			   0.4 * cs_volume_sample(sc->noise, 3, p.x / 600.0, p.y / 600.0, 0.7);
+		double k = 0.4 + 1.2 * v;
+		for (int c = 0; c < 3; c++)
+			alb[c] *= k;
+	}
+
 	double cosi = v3_dot(n, sc->sun_dir);
 	double direct = 0.0;
 	if ((sc->effects & CS_FX_SUN) && cosi > 0.0) {
@@ -458,7 +475,7 @@ void cs_render_ray(const struct cs_scene *sc, const struct cs_render_settings *s
 	double hz[3] = {0.0, 0.0, 0.0};
 	int haze = (sc->effects & CS_FX_HAZE) && sc->haze_beta0_per_m > 0.0;
 	if (haze)
-		horizon_light(sc, d, hz);
+		haze_light(sc, d, hz);
 	if (haze && depth < CS_SKY_DEPTH_M) {
 		double th = exp(-haze_depth(sc, h0, dz, depth));
 		for (int k = 0; k < 3; k++)

@@ -8,10 +8,10 @@
 #include <string.h>
 
 static const struct cs_view views[] = {
-	{"gurten", 46.91722, 7.44361, 860.0, 12.0, 3.0, 60.0,
-	 "Gurten summit (858 m) looking north over Bern toward Solothurn"},
-	{"bantiger", 46.97917, 7.52916, 949.0, 235.5, 3.0, 60.0,
-	 "Bantiger (947 m) looking south-west over Bern toward Fribourg"},
+	{"gurten", 46.91722, 7.44361, 883.0, 12.0, -1.0, 60.0,
+	 "Gurten summit (858 m), from its tower at 25 m, looking north over Bern toward Solothurn"},
+	{"bantiger", 46.97917, 7.52916, 972.0, 235.5, -1.0, 60.0,
+	 "Bantiger (947 m), from the tower's platform at 25 m, looking south-west over Bern toward Fribourg"},
 };
 
 const struct cs_view *cs_views(int *count)

@@ -91,6 +91,25 @@ void cli_long_list(const char *opt, const char *s, long lo, long hi, int n,
 				opt, n, count);
 }
 
+void cli_double_list(const char *opt, const char *s, double lo, double hi,
+		     int n, double *out)
+{
+	char buf[256];
+	if (strlen(s) >= sizeof buf)
+		cli_usage_error("%s: list too long", opt);
+	strcpy(buf, s);
+	int count = 0;
+	char *save = NULL;
+	for (char *tok = strtok_r(buf, ",", &save); tok;
+	     tok = strtok_r(NULL, ",", &save)) {
+		if (count == n)
+			cli_usage_error("%s: expected %d comma-separated numbers", opt, n);
+		out[count++] = cli_double(opt, tok, lo, hi);
+	}
+	if (count != n)
+		cli_usage_error("%s: expected %d comma-separated numbers", opt, n);
+}
+
 int cli_progress(void *label, double fraction)
 {
 	if (cli_quiet || !isatty(STDERR_FILENO))

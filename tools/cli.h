@@ -32,6 +32,11 @@ double cli_double(const char *opt, const char *s, double lo, double hi);
 void cli_long_list(const char *opt, const char *s, long lo, long hi, int n,
 		   int *out);
 
+/* Parses a comma-separated list of exactly n numbers in [lo, hi] (finite),
+ * or exits with a usage error. */
+void cli_double_list(const char *opt, const char *s, double lo, double hi,
+		     int n, double *out);
+
 /* Progress bar on stderr, drawn only when stderr is a terminal and not
  * quiet.  Callback-compatible with cs_progress_fn (user = label). */
 int cli_progress(void *label, double fraction);

@@ -28,6 +28,9 @@ static void usage(void)
 	       "                         default: built-in fair weather over Bern)\n"
 	       "      --noise FILE       noise volume from noisebake (default: baked in memory)\n"
 	       "      --noise-size N     size of the in-memory noise, 16..256 (default 64)\n"
+	       "      --terrain FILE     heightfield from terrainprep (EXR + .json sidecar;\n"
+	       "                         default: flat ground at the weather site's height)\n"
+	       "      --terrain-color FILE  PNG draped over the terrain's grid\n"
 	       "      --time TIME        UTC time, ISO 8601 (default: the weather state's)\n"
 	       "      --view NAME        named viewpoint: gurten, bantiger\n"
 	       "      --list-views       list the viewpoints and exit\n"
@@ -78,7 +81,7 @@ static void print_stats(const struct cs_cloudrender_opts *o)
 		"\"wall_s\":{\"noise\":%.3f,\"scene\":%.3f,\"render\":%.3f,\"write\":%.3f,"
 		"\"total\":%.3f},"
 		"\"pixels\":%llu,\"density_samples\":%llu,\"light_samples\":%llu,"
-		"\"rays_terminated_early\":%llu,\"layer_crossings\":%llu,"
+		"\"rays_terminated_early\":%llu,\"layer_crossings\":%llu,\"terrain_cells\":%llu,"
 		"\"density_samples_per_pixel\":%.2f,\"density_samples_per_s\":%.0f,",
 		when, o->width, o->height, o->quality, o->settings.steps,
 		o->settings.light_steps, o->settings.ms_octaves, o->t_noise_s,
@@ -86,7 +89,8 @@ static void print_stats(const struct cs_cloudrender_opts *o)
 		(unsigned long long)s->pixels, (unsigned long long)s->density_samples,
 		(unsigned long long)s->light_samples,
 		(unsigned long long)s->rays_terminated_early,
-		(unsigned long long)s->layer_crossings, (double)s->density_samples / px,
+		(unsigned long long)s->layer_crossings, (unsigned long long)s->terrain_cells,
+		(double)s->density_samples / px,
 		o->t_render_s > 0 ? (double)s->density_samples / o->t_render_s : 0.0);
 	fprintf(stderr, "\"sun\":{\"azimuth_deg\":%.3f,\"elevation_deg\":%.3f},\"layers\":[",
 		o->sun_azimuth_deg, o->sun_elevation_deg);
@@ -124,7 +128,7 @@ enum {
 	OPT_WX = 256, OPT_NOISE, OPT_NOISE_SIZE, OPT_TIME, OPT_VIEW, OPT_LIST_VIEWS,
 	OPT_CAMERA, OPT_LOOK, OPT_FOV, OPT_SIZE, OPT_QUALITY, OPT_STEPS,
 	OPT_LIGHT_STEPS, OPT_MS, OPT_NO_AMBIENT, OPT_NO_JITTER, OPT_SEED,
-	OPT_EXPOSURE, OPT_STATS, OPT_VERSION,
+	OPT_EXPOSURE, OPT_STATS, OPT_VERSION, OPT_TERRAIN, OPT_TERRAIN_COLOR,
 };
 
 int main(int argc, char **argv)
@@ -134,6 +138,8 @@ int main(int argc, char **argv)
 		{"wx", required_argument, NULL, OPT_WX},
 		{"noise", required_argument, NULL, OPT_NOISE},
 		{"noise-size", required_argument, NULL, OPT_NOISE_SIZE},
+		{"terrain", required_argument, NULL, OPT_TERRAIN},
+		{"terrain-color", required_argument, NULL, OPT_TERRAIN_COLOR},
 		{"time", required_argument, NULL, OPT_TIME},
 		{"view", required_argument, NULL, OPT_VIEW},
 		{"list-views", no_argument, NULL, OPT_LIST_VIEWS},
@@ -175,6 +181,8 @@ int main(int argc, char **argv)
 			break;
 		case OPT_WX: o.wx_path = optarg; break;
 		case OPT_NOISE: o.noise_path = optarg; break;
+		case OPT_TERRAIN: o.terrain_path = optarg; break;
+		case OPT_TERRAIN_COLOR: o.terrain_color_path = optarg; break;
 		case OPT_NOISE_SIZE: o.noise_size = (int)cli_long("--noise-size", optarg, 16, 256); break;
 		case OPT_TIME:
 			if (cs_time_parse(optarg, &o.time_utc) != CS_OK)
@@ -241,6 +249,8 @@ int main(int argc, char **argv)
 	}
 	if (optind < argc)
 		cli_usage_error("unexpected argument '%s'", argv[optind]);
+	if (o.terrain_color_path && !o.terrain_path)
+		cli_usage_error("--terrain-color needs --terrain");
 	if (o.noutputs == 0)
 		cli_usage_error("no output: give -o FILE.png and/or -o FILE.exr");
 	int to_stdout = 0;
