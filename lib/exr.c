@@ -5,6 +5,7 @@
 #include "half.h"
 
 #include <errno.h>
+#include <sys/stat.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -111,33 +112,28 @@ static int set_attr(exr_context_t f, const struct cs_exr_attr *a)
 	return EXR_ERR_INVALID_ARGUMENT;
 }
 
-int cs_exr_write(const char *path, int width, int height,
-		 const struct cs_exr_channel *ch, int nch,
-		 const struct cs_exr_attr *attrs, int nattrs)
+/* Writes the image once, with the given compression, into the (empty)
+ * temporary of. */
+static int write_once(struct cs_outfile *of, const char *name, int width,
+		      int height, const struct cs_exr_channel *ch, int nch,
+		      const struct cs_exr_attr *attrs, int nattrs,
+		      exr_compression_t compression)
 {
-	const char *name = strcmp(path, "-") == 0 ? "standard output" : path;
 	int rc = CS_OK;
 	exr_context_t f = NULL;
 	exr_encode_pipeline_t enc = EXR_ENCODE_PIPELINE_INITIALIZER;
 	int enc_live = 0;
 	void *scratch = NULL;
-	struct cs_outfile of;
 
-	if (width < 1 || height < 1 || nch < 1 || nch > 16)
-		return cs_error(CS_EINVAL, "cannot write a %dx%d image of %d channels",
-				width, height, nch);
 	exr_msg[0] = '\0';
-	rc = cs_outfile_open(&of, path);
-	if (rc != CS_OK)
-		return rc;
 	exr_context_initializer_t init = EXR_DEFAULT_CONTEXT_INITIALIZER;
 	init.error_handler_fn = on_exr_error;
-	init.user_data = &of;
+	init.user_data = of;
 	init.write_fn = write_cb;
 	TRY(exr_start_write(&f, name, EXR_WRITE_FILE_DIRECTLY, &init), "cannot start writing");
 	int part = 0;
 	TRY(exr_add_part(f, "image", EXR_STORAGE_SCANLINE, &part), "add part");
-	TRY(exr_initialize_required_attr_simple(f, part, width, height, EXR_COMPRESSION_ZIP),
+	TRY(exr_initialize_required_attr_simple(f, part, width, height, compression),
 	    "header");
 	for (int c = 0; c < nch; c++)
 		TRY(exr_add_channel(f, part, ch[c].name,
@@ -199,14 +195,84 @@ int cs_exr_write(const char *path, int width, int height,
 	enc_live = 0;
 	TRY(exr_finish(&f), "cannot finish file");
 	free(scratch);
-	return cs_outfile_commit(&of);
+	return CS_OK;
 fail:
 	if (enc_live)
 		exr_encoding_destroy(f, &enc);
 	if (f)
 		exr_finish(&f);
-	cs_outfile_abort(&of);
 	free(scratch);
+	return rc;
+}
+
+/* Reads the temporary back and compares every channel with what was meant
+ * to be written (half channels: with the rounding to half). */
+static int verify(const struct cs_outfile *of, const char *name, int width,
+		  int height, const struct cs_exr_channel *ch, int nch)
+{
+	struct stat st;
+	if (fstat(of->fd, &st) < 0 || st.st_size <= 0)
+		return cs_error(CS_EIO, "%s: cannot read back what was written", name);
+	size_t len = (size_t)st.st_size;
+	unsigned char *data = malloc(len);
+	if (data == NULL)
+		return cs_error(CS_ENOMEM, "out of memory");
+	int rc = CS_OK;
+	if (pread(of->fd, data, len, 0) != (ssize_t)len)
+		rc = cs_error(CS_EIO, "%s: cannot read back what was written", name);
+	for (int c = 0; c < nch && rc == CS_OK; c++) {
+		int w = 0, h = 0;
+		float *px = NULL;
+		rc = cs_exr_read_float_channel(data, len, name, ch[c].name, &w, &h, &px);
+		if (rc == CS_OK && (w != width || h != height))
+			rc = CS_EDATA;
+		for (size_t i = 0; rc == CS_OK && i < (size_t)width * height; i++) {
+			float want = ch[c].data[i * ch[c].stride];
+			if (!ch[c].is_float)
+				want = cs_half_to_float(cs_float_to_half(want));
+			if (memcmp(&want, &px[i], sizeof want) != 0 && !(want != want && px[i] != px[i]))
+				rc = CS_EDATA;
+		}
+		free(px);
+	}
+	free(data);
+	return rc;
+}
+
+int cs_exr_write(const char *path, int width, int height,
+		 const struct cs_exr_channel *ch, int nch,
+		 const struct cs_exr_attr *attrs, int nattrs)
+{
+	const char *name = strcmp(path, "-") == 0 ? "standard output" : path;
+	if (width < 1 || height < 1 || nch < 1 || nch > 16)
+		return cs_error(CS_EINVAL, "cannot write a %dx%d image of %d channels",
+				width, height, nch);
+	struct cs_outfile of;
+	int rc = cs_outfile_open(&of, path);
+	if (rc != CS_OK)
+		return rc;
+	/* OpenEXR 3.1's ZIP encoder can store a 16-scanline chunk that does not
+	 * compress as garbage (seen with smooth float heights), so every file
+	 * is read back and compared; if it is wrong, it is written again with
+	 * ZIPS (one scanline a chunk), which does not have the fault. */
+	static const exr_compression_t tries[2] = {EXR_COMPRESSION_ZIP, EXR_COMPRESSION_ZIPS};
+	for (int k = 0; k < 2; k++) {
+		if (ftruncate(of.fd, 0) < 0) {
+			rc = cs_error(CS_EIO, "%s: cannot write: %s", name, strerror(errno));
+			break;
+		}
+		rc = write_once(&of, name, width, height, ch, nch, attrs, nattrs, tries[k]);
+		if (rc != CS_OK)
+			break;
+		rc = verify(&of, name, width, height, ch, nch);
+		if (rc == CS_OK)
+			return cs_outfile_commit(&of);
+		if (rc != CS_EDATA)
+			break;
+		rc = cs_error(CS_EIO, "%s: the OpenEXR library wrote data that does not read back",
+			      name);
+	}
+	cs_outfile_abort(&of);
 	return rc;
 }
 
@@ -223,7 +289,7 @@ int cs_exr_read_float_channel(const void *data, size_t len, const char *name,
 	exr_context_t f = NULL;
 	exr_decode_pipeline_t dec = EXR_DECODE_PIPELINE_INITIALIZER;
 	int dec_live = 0;
-	float *px = NULL;
+	float *px = NULL, *skip = NULL;
 	struct cs_exr_mem src = {data, len};
 	exr_context_initializer_t init;
 
@@ -273,6 +339,15 @@ int cs_exr_read_float_channel(const void *data, size_t len, const char *name,
 	}
 	int32_t spc = 0;
 	TRY(exr_get_scanlines_per_chunk(f, 0, &spc), "chunk size");
+	if (spc < 1 || spc > 256) {
+		rc = cs_error(CS_EDATA, "%s: unexpected %d scanlines per chunk", name, spc);
+		goto done;
+	}
+	skip = malloc((size_t)w * (size_t)spc * sizeof *skip);
+	if (skip == NULL) {
+		rc = cs_error(CS_ENOMEM, "out of memory");
+		goto done;
+	}
 	for (long y = 0; y < h; y += spc) {
 		exr_chunk_info_t ci;
 		TRY(exr_read_scanline_chunk_info(f, 0, (int)y, &ci),
@@ -285,11 +360,13 @@ int cs_exr_read_float_channel(const void *data, size_t len, const char *name,
 			TRY(exr_decoding_initialize(f, 0, &ci, &dec), "decoder");
 		else
 			TRY(exr_decoding_update(f, 0, &ci, &dec), "decoder");
-		/* the core converts half to float; other channels are skipped */
+		/* the core converts half to float; the other channels are
+		 * decoded into a scratch row block and dropped (a NULL
+		 * destination crashes OpenEXR 3.1's converting unpacker) */
 		for (int k = 0; k < dec.channel_count; k++) {
 			exr_coding_channel_info_t *c = &dec.channels[k];
 			int want = strcmp(c->channel_name, channel) == 0;
-			c->decode_to_ptr = want ? (uint8_t *)(px + (size_t)y * w) : NULL;
+			c->decode_to_ptr = want ? (uint8_t *)(px + (size_t)y * w) : (uint8_t *)skip;
 			c->user_bytes_per_element = 4;
 			c->user_data_type = EXR_PIXEL_FLOAT;
 			c->user_pixel_stride = 4;
@@ -311,5 +388,6 @@ done:
 	if (f)
 		exr_finish(&f);
 	free(px);
+	free(skip);
 	return rc;
 }

@@ -142,3 +142,31 @@ for o in $(grep -o 'Fl -[a-z][a-z-]*' "$TOP/man/cloudrender.1" | sed 's/Fl -/--/
 done
 run "$CR" --version; expect_rc 0; expect_out "cloudrender (cloudscape)"
 end
+
+begin cloudrender_renders_terrain_and_refuses_a_camera_inside_it
+TP="$BIN/terrainprep"
+if "$TOP/scripts/make-bern-dem" -r 400 "$T/dem.tif" >/dev/null 2>&1 &&
+	"$TP" -q "$T/dem.tif" -o "$T/bern.exr" 2>"$T/err"; then
+	run "$CR" --terrain "$T/bern.exr" --view gurten -o "$T/g.png" --stats $FAST
+	expect_rc 0
+	grep -q '"terrain"' "$T/err" || bad "no terrain effect"
+	grep -q '"terrain_cells":0,' "$T/err" && bad "no terrain cell was visited"
+	run "$CR" --terrain "$T/bern.exr" --view gurten -o "$T/flat.png" $FAST
+	run "$CR" --view gurten -o "$T/flat.png" $FAST
+	cmp -s "$T/g.png" "$T/flat.png" && bad "the terrain changed nothing"
+	# inside the Gurten (858 m) at 700 m
+	run "$CR" --terrain "$T/bern.exr" --camera 46.91722,7.44361,700 -o "$T/in.png" $FAST
+	expect_rc 2; expect_err "below the terrain"; expect_no_file "$T/in.png"
+	"$NB" -s 8 -q --preview "$T/drape.png"
+	run "$CR" --terrain "$T/bern.exr" --terrain-color "$T/drape.png" --view gurten -o "$T/c.png" $FAST
+	expect_rc 0
+	cmp -s "$T/g.png" "$T/c.png" && bad "--terrain-color changed nothing"
+	run "$CR" --terrain-color "$T/drape.png" -o "$T/c.png" $FAST
+	expect_rc 2; expect_err "--terrain-color needs --terrain"
+	rm "$T/bern.json"
+	run "$CR" --terrain "$T/bern.exr" -o "$T/x.png" $FAST
+	expect_rc 1; expect_err "bern.json"; expect_no_file "$T/x.png"
+else
+	bad "could not make a test terrain: $(head -c 300 "$T/err")"
+fi
+end
