@@ -19,7 +19,7 @@
 #define MB_PACKAGES "/packages/basic-1h_clouds-1h"
 #define OM_PATH "/v1/forecast"
 #define OM_HOURLY "cloud_cover,cloud_cover_low,cloud_cover_mid,cloud_cover_high," \
-	"precipitation,wind_speed_10m,wind_direction_10m,visibility," \
+	"precipitation,showers,wind_speed_10m,wind_direction_10m,visibility," \
 	"relative_humidity_2m,temperature_2m,is_day"
 
 /* WGS84; heights above sea level of the named point (summits for hills). */

@@ -150,6 +150,7 @@ static struct txt txt(double v)
 
 struct doc {
 	cJSON *root;
+	int strict;   /* units exactly as cloudscape requests them (mbfetch) */
 	enum cs_provider prov;
 	const cJSON *data, *units;
 	const char *data_name, *units_name;
@@ -450,15 +451,18 @@ static const struct unit *find_unit(struct doc *d, size_t k, const char *key,
 		return NULL;
 	}
 	char expect[96] = "";
-	for (; u->scale != 0; u++) {
+	/* strict: only the first unit of each kind, the one mbfetch asks for;
+	 * a provider that silently ignored the request is caught here */
+	for (int n = 0; u->scale != 0 && (!d->strict || n < 1); u++, n++) {
 		const char *name = mb ? u->mb : u->om;
 		if (strcmp(us->valuestring, name) == 0)
 			return u;
 		snprintf(expect + strlen(expect), sizeof expect - strlen(expect),
 			 "%s\"%s\"", expect[0] ? ", " : "", name);
 	}
-	problem(pr, "%s.%s: unit \"%.40s\" is not one cloudscape reads "
-		"(expected %s)", d->units_name, ukey, us->valuestring, expect);
+	problem(pr, "%s.%s: unit \"%.40s\" is not %s (expected %s)", d->units_name,
+		ukey, us->valuestring,
+		d->strict ? "the one cloudscape requests" : "one cloudscape reads", expect);
 	return NULL;
 }
 
@@ -537,11 +541,12 @@ static void check_arrays(struct doc *d, struct cs_problems *pr)
 
 /* Fills d from the text, reporting every problem; d->root is NULL when the
  * text is no provider document at all. */
-static void analyse(const char *json, size_t len, struct doc *d,
+static void analyse(const char *json, size_t len, int strict, struct doc *d,
 		    struct cs_problems *pr)
 {
 	memset(d, 0, sizeof *d);
 	memset(pr, 0, sizeof *pr);
+	d->strict = strict;
 	d->lat = d->lon = d->alt = d->offset_s = NAN;
 	if (json == NULL) {
 		problem(pr, "no input");
@@ -609,7 +614,7 @@ int cs_provider_detect(const char *json, size_t len, enum cs_provider *p)
 int cs_provider_check(const char *json, size_t len, struct cs_problems *pr)
 {
 	struct doc d;
-	analyse(json, len, &d, pr);
+	analyse(json, len, 1, &d, pr);
 	doc_free(&d);
 	if (pr->count == 0)
 		return CS_OK;
@@ -667,7 +672,7 @@ int cs_provider_parse(const char *json, size_t len, const char *name,
 		name = "input";
 	struct doc d;
 	struct cs_problems pr;
-	analyse(json, len, &d, &pr);
+	analyse(json, len, 0, &d, &pr);
 	int rc = CS_OK;
 	if (pr.count == 1)
 		rc = cs_error(CS_EDATA, "%s: %s", name, pr.msg[0]);

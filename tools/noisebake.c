@@ -10,6 +10,8 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <strings.h>
+#include <sys/stat.h>
 
 #ifndef CS_VERSION
 #define CS_VERSION "unknown"
@@ -75,6 +77,17 @@ static int info(const char *path)
 	}
 	cs_volume_free(&v);
 	return EXIT_OK;
+}
+
+/* Whether an output name fits its format: "-", an existing device or pipe
+ * (/dev/stdout), or a name ending in ext. */
+static int named_as(const char *path, const char *ext)
+{
+	struct stat st;
+	size_t n = strlen(path), e = strlen(ext);
+	if (strcmp(path, "-") == 0 || (stat(path, &st) == 0 && !S_ISREG(st.st_mode)))
+		return 1;
+	return n > e && strcasecmp(path + n - e, ext) == 0;
 }
 
 enum {
@@ -155,6 +168,10 @@ int main(int argc, char **argv)
 	}
 	if (o.output == NULL && o.preview == NULL)
 		cli_usage_error("no output: give -o FILE.exr and/or --preview FILE.png");
+	if (o.output && !named_as(o.output, ".exr"))
+		cli_usage_error("-o %s: the volume is OpenEXR: name it .exr (or '-')", o.output);
+	if (o.preview && !named_as(o.preview, ".png"))
+		cli_usage_error("--preview %s: the preview is a PNG: name it .png (or '-')", o.preview);
 	if (o.output && o.preview && strcmp(o.output, "-") == 0 && strcmp(o.preview, "-") == 0)
 		cli_usage_error("-o - and --preview - cannot both use standard output");
 	int depth = o.depth > 0 ? o.depth : o.size;

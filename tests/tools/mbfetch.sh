@@ -56,11 +56,12 @@ om_json() {
  "timezone": "GMT", "timezone_abbreviation": "GMT", "elevation": 540.0,
  "hourly_units": {"time": "iso8601", "cloud_cover": "%", "cloud_cover_low": "%",
   "cloud_cover_mid": "%", "cloud_cover_high": "%", "precipitation": "mm",
-  "wind_speed_10m": "m/s", "wind_direction_10m": "°", "visibility": "m",
+  "showers": "mm", "wind_speed_10m": "m/s", "wind_direction_10m": "°", "visibility": "m",
   "relative_humidity_2m": "%", "temperature_2m": "°C", "is_day": ""},
  "hourly": {"time": [$times], "cloud_cover": [$(vals 40 "$n")],
   "cloud_cover_low": [$(vals 20 "$n")], "cloud_cover_mid": [$(vals 30 "$n")],
   "cloud_cover_high": [$(vals 10 "$n")], "precipitation": [$(vals 0.1 "$n")],
+  "showers": [$(vals 0.0 "$n")],
   "wind_speed_10m": [$(vals 3.5 "$n")], "wind_direction_10m": [$(vals 240 "$n")],
   "visibility": [$(vals 24140.0 "$n")], "relative_humidity_2m": [$(vals 71 "$n")],
   "temperature_2m": [$(vals 9.8 "$n")], "is_day": [$(vals 1 "$n")]}}
@@ -100,6 +101,7 @@ printf '200 OK\nX-Test-Hang: 1\n\n' | resp mbhang 1
 { json200; mb_json 6 ok '@QUERY@'; } | resp mbecho 1
 { json200; om_json 6; } | resp omcache 1
 { json200; om_json 6; } | resp mbwrong 1
+{ json200; om_json 6 | sed 's|"wind_speed_10m": "m/s"|"wind_speed_10m": "km/h"|'; } | resp omkmh 1
 
 "$HELPERS/httpd" "$S" --log "$T/req.log" --lifetime 60 >"$T/port" 2>"$T/httpd.err" &
 srv=$!
@@ -154,7 +156,7 @@ expect_rc 0
 cmp -s "$T/out" "$T/om6.json" || bad "standard output differs from what the server sent"
 for p in /omok/v1/forecast? latitude=46.95 longitude=7.45 wind_speed_unit=ms timezone=GMT \
 	past_days=2 forecast_days=3 \
-	hourly=cloud_cover,cloud_cover_low,cloud_cover_mid,cloud_cover_high,precipitation,wind_speed_10m,wind_direction_10m,visibility,relative_humidity_2m,temperature_2m,is_day; do
+	hourly=cloud_cover,cloud_cover_low,cloud_cover_mid,cloud_cover_high,precipitation,showers,wind_speed_10m,wind_direction_10m,visibility,relative_humidity_2m,temperature_2m,is_day; do
 	grep "^omok " "$T/req.log" | grep -qF -- "$p" || bad "request lacks $p"
 done
 grep "^omok " "$T/req.log" | grep -q apikey && bad "a key went to Open-Meteo"
@@ -298,6 +300,15 @@ run "$MB" $FAST --base-url "$BASE/mbnulls" -o "$T/o/out.json"
 expect_rc 0
 grep -q '"lowclouds": \[null, 20' "$T/o/out.json" || bad "the null in lowclouds is gone"
 grep -q '"sunshinetime": \[null, null' "$T/o/out.json" || bad "the nulls in sunshinetime are gone"
+end
+
+begin mbfetch_units_other_than_requested_are_invalid
+# a provider that ignored wind_speed_unit=ms: km/h would pass for m/s
+fresh
+run "$MB" $FAST --provider open-meteo --base-url "$BASE/omkmh" -o "$T/o/out.json"
+expect_rc 7
+expect_err 'hourly_units.wind_speed_10m: unit "km/h" is not the one cloudscape requests (expected "m/s")'
+expect_kept
 end
 
 begin mbfetch_two_hour_gap_in_time_is_invalid

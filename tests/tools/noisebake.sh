@@ -54,7 +54,7 @@ for args in "-s 1 -o x.exr" "-s 2000 -o x.exr" "-s abc -o x.exr" "-d 0 -o x.exr"
 	"--gain nan -o x.exr" "-t 0 -o x.exr" "--channels RX -o x.exr" \
 	"--channels RGBAR -o x.exr" "-s 8 --slices 8 --preview p.png" \
 	"--slices , --preview p.png" "--bogus" "" "extra -o x.exr" \
-	"--info a.exr -o b.exr"; do
+	"--info a.exr -o b.exr" "-o x.png" "--preview p.exr"; do
 	# shellcheck disable=SC2086
 	(cd "$T" && "$NB" $args >"$T/out" 2>"$T/err"); rc=$?
 	[ "$rc" -eq 2 ] || bad "'$args' exited $rc, expected 2"

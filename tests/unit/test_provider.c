@@ -257,21 +257,32 @@ static void time_gaps_repeats_and_bad_times_are_reported(void)
 			      "\"2021-06-14 02:00\"]", "\"time\":[]"), "data_1h.time: empty");
 }
 
-static void wrong_units_are_reported_with_the_accepted_ones(void)
+/* mbfetch's check wants exactly the units it requests (a provider that
+ * ignored the request must not pass: km/h would be read as m/s by anyone
+ * trusting the request); parsing reads and converts the others. */
+static void units_other_than_requested_fail_the_check_but_parse(void)
 {
 	expect_problem(edited(mb_base, "\"ms-1\"", "\"bft\""),
-		       "units.windspeed: unit \"bft\" is not one cloudscape reads "
-		       "(expected \"ms-1\", \"kmh\", \"mph\", \"kn\")");
+		       "units.windspeed: unit \"bft\" is not the one cloudscape requests "
+		       "(expected \"ms-1\")");
+	expect_problem(edited(mb_base, "\"ms-1\"", "\"kn\""),
+		       "units.windspeed: unit \"kn\" is not the one cloudscape requests");
 	expect_problem(edited(mb_base, "\"degree\"", "\"2char\""),
 		       "units.winddirection: unit \"2char\"");
 	expect_problem(edited(mb_base, "\"cloudcover\":\"percent\",", ""),
 		       "units.cloudcover: missing (the unit of data_1h.lowclouds)");
-	expect_problem(edited(om_base, "\"wind_speed_10m\":\"km/h\"", "\"wind_speed_10m\":\"bft\""),
-		       "hourly_units.wind_speed_10m: unit \"bft\"");
-	/* convertible units are accepted */
-	struct cs_problems pr;
-	CHECK(check(edited(mb_base, "\"ms-1\"", "\"kn\""), &pr) == CS_OK);
-	CHECK(check(edited(mb_base, "\"mm\"", "\"inch\""), &pr) == CS_OK);
+	expect_problem(om_base, "hourly_units.wind_speed_10m: unit \"km/h\" is not the one "
+				"cloudscape requests (expected \"m/s\")");
+	/* parsing converts what it can, and still refuses what it cannot */
+	struct cs_series s;
+	const char *kn = edited(mb_base, "\"ms-1\"", "\"kn\"");
+	CHECK(cs_provider_parse(kn, strlen(kn), "kn", &s) == CS_OK);
+	if (s.v[CS_VAR_WIND_SPEED])
+		CHECK_NEAR(s.v[CS_VAR_WIND_SPEED][0], 1.5 * 1852.0 / 3600.0, 1e-12);
+	cs_series_free(&s);
+	const char *bft = edited(mb_base, "\"ms-1\"", "\"bft\"");
+	CHECK(cs_provider_parse(bft, strlen(bft), "bft", &s) == CS_EDATA);
+	CHECK_STR_CONTAINS(cs_errmsg(), "is not one cloudscape reads (expected \"ms-1\", \"kmh\", \"mph\", \"kn\")");
 }
 
 static void out_of_range_values_name_field_index_and_value(void)
@@ -284,8 +295,13 @@ static void out_of_range_values_name_field_index_and_value(void)
 		       "data_1h.precipitation[1]: -0.5 is outside 0..500");
 	expect_problem(edited(mb_base, "[1,2,3]", "[1,2,300]"),
 		       "data_1h.fog_probability[2]: 300 is outside 0..100");
-	expect_problem(edited(om_base, "[36.0,18.0]", "[36.0,400]"),
-		       "hourly.wind_speed_10m[1]: 400 km/h (111.1111111 m/s) is outside 0..100 m/s");
+	{ /* in a unit parsing converts, the range is checked after converting */
+		struct cs_series s;
+		const char *j = edited(om_base, "[36.0,18.0]", "[36.0,400]");
+		CHECK(cs_provider_parse(j, strlen(j), "om", &s) == CS_EDATA);
+		CHECK_STR_CONTAINS(cs_errmsg(), "hourly.wind_speed_10m[1]: 400 km/h "
+				   "(111.1111111 m/s) is outside 0..100 m/s");
+	}
 	expect_problem(edited(mb_base, "\"latitude\":46.95", "\"latitude\":95"),
 		       "metadata.latitude: 95 is outside -90..90");
 	expect_problem(edited(mb_base, "[1.5,2.5,3.5]", "[1.5,\"2.5\",3.5]"),
@@ -386,7 +402,7 @@ int main(void)
 	RUN(arrays_of_another_length_name_the_field_and_index);
 	RUN(nulls_are_kept_as_nan_never_zero);
 	RUN(time_gaps_repeats_and_bad_times_are_reported);
-	RUN(wrong_units_are_reported_with_the_accepted_ones);
+	RUN(units_other_than_requested_fail_the_check_but_parse);
 	RUN(out_of_range_values_name_field_index_and_value);
 	RUN(provider_error_bodies_are_reported_verbatim);
 	RUN(html_truncated_and_empty_bodies_are_reported);
