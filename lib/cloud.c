@@ -30,8 +30,8 @@ static const struct cs_genus_preset presets[CS_GENUS_COUNT] = {
 			{0.0, 0.1, 0.9, 1.0}, 0.0, 0.6, 300, 800},
 	[CS_CUMULUS] = {0.05, 8000, 20000, 1500, 0.35, 1.0,
 			{0.0, 0.06, 0.45, 1.0}, 0.0, 0.12, 1500, 2700},
-	[CS_CUMULONIMBUS] = {0.07, 20000, 40000, 2500, 0.25, 1.0,
-			     {0.0, 0.03, 0.8, 1.0}, 0.8, 0.12, 1000, 11000},
+	[CS_CUMULONIMBUS] = {0.07, 40000, 80000, 2500, 0.3, 1.0,
+			     {0.0, 0.03, 0.92, 1.0}, 0.6, 0.1, 1000, 11000},
 };
 
 const struct cs_genus_preset *cs_genus_preset(enum cs_genus g)
@@ -102,9 +102,9 @@ static double extinction_aw(const struct cs_cloud_layer *l,
 	double w = alt_m * l->inv_tile_z;
 
 	double shape = cs_volume_sample(noise, 0, u, v, w) * profile(l->ramp, h);
-	/* an anvil spreads the top: the threshold drops toward the top */
-	if (l->anvil > 0.0 && h > 0.6)
-		thr -= l->anvil * 0.35 * smooth01((h - 0.6) / 0.3) * (1.0 - thr);
+	/* an anvil spreads the top fifth: the threshold drops there */
+	if (l->anvil > 0.0 && h > 0.78)
+		thr -= l->anvil * 0.3 * smooth01((h - 0.78) / 0.1) * (1.0 - thr);
 	if (shape <= thr)
 		return 0.0;
 	double d = (shape - thr) / (1.0 - thr); /* 0 at the edge, 1 at the core */

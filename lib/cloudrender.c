@@ -46,11 +46,13 @@ static double now_s(void)
 	return (double)ts.tv_sec + ts.tv_nsec * 1e-9;
 }
 
-static int write_outputs(const struct cs_cloudrender_opts *o, const float *px)
+static int write_outputs(struct cs_cloudrender_opts *o, const float *px)
 {
 	size_t n = (size_t)o->width * o->height;
 	uint8_t *rgb = NULL;
 	int rc = CS_OK;
+	if (o->exposure_auto)
+		o->exposure_ev = cs_auto_exposure_ev(px, 5, n);
 	for (int i = 0; i < o->noutputs && rc == CS_OK; i++) {
 		if (cs_output_kind(o->outputs[i]) == 'e') {
 			const struct cs_exr_channel ch[5] = {

@@ -25,6 +25,7 @@ struct cs_cloudrender_opts {
 	struct cs_render_settings settings;
 	const char *quality;      /* the preset name, for reports */
 	double exposure_ev;
+	int exposure_auto;        /* choose exposure_ev from the image */
 	int threads;
 	const char *outputs[CS_RENDER_MAX_OUTPUTS]; /* .png or .exr ("-": PNG to stdout) */
 	int noutputs;

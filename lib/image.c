@@ -92,6 +92,19 @@ static double srgb_oetf(double v)
 	return v <= 0.0031308 ? 12.92 * v : 1.055 * pow(v, 1.0 / 2.4) - 0.055;
 }
 
+double cs_auto_exposure_ev(const float *px, size_t stride, size_t n)
+{
+	double sum = 0.0;
+	for (size_t i = 0; i < n; i++) {
+		const float *p = px + i * stride;
+		double y = 0.2126 * p[0] + 0.7152 * p[1] + 0.0722 * p[2];
+		sum += log(isfinite(y) && y > 1e-9 ? y : 1e-9);
+	}
+	double avg = n ? exp(sum / (double)n) : 1.0;
+	/* x = L 2^ev / 16 = 0.25 at L = avg */
+	return log2(0.25 * 16.0 / avg);
+}
+
 void cs_tonemap_srgb8(const float *px, size_t stride, size_t n,
 		      double exposure_ev, uint8_t *rgb)
 {

@@ -15,6 +15,12 @@ int cs_png_write(const char *path, int width, int height, int channels,
  * converted); *rgb is malloc'ed for the caller. */
 int cs_png_read_rgb8(const char *path, uint8_t **rgb, int *width, int *height);
 
+/* The exposure (stops) that brings the log-average luminance of n pixels
+ * (R G B first of each, stride floats apart) to 0.25 on the tone curve's
+ * input, as a camera's automatic exposure does (Reinhard et al. 2002's
+ * key); zero-radiance pixels count as 1e-9 kcd/m^2. */
+double cs_auto_exposure_ev(const float *px, size_t stride, size_t n);
+
 /* Linear radiance (kcd/m^2, linear sRGB) to 8-bit sRGB for display: scaled
  * by 2^exposure_ev / 16 kcd/m^2, ACES filmic curve (Narkowicz 2015 fit),
  * sRGB transfer function.  px holds n pixels, stride floats apart, R G B

@@ -45,7 +45,8 @@ static void usage(void)
 	       "      --no-ambient       no sky light on the clouds\n"
 	       "      --no-jitter        sample at step midpoints (banding instead of noise)\n"
 	       "      --seed N           seed of the per-pixel jitter, 0..4294967295 (default 0)\n"
-	       "      --exposure EV      PNG exposure in stops (default 0)\n"
+	       "      --exposure EV|auto PNG exposure in stops, -20..20 (default 0), or auto:\n"
+	       "                         from the image's mean luminance (twilight, night)\n"
 	       "  -t, --threads N        worker threads, 1..256 (default: all processors)\n"
 	       "      --stats            print a JSON summary on standard error\n"
 	       "  -q, --quiet            no progress bar\n"
@@ -78,13 +79,14 @@ static void print_stats(const struct cs_cloudrender_opts *o)
 	fprintf(stderr,
 		"{\"program\":\"cloudrender\",\"time_utc\":\"%s\",\"size\":[%d,%d],"
 		"\"quality\":\"%s\",\"steps\":%d,\"light_steps\":%d,\"ms_octaves\":%d,"
+		"\"exposure_ev\":%.3f,"
 		"\"wall_s\":{\"noise\":%.3f,\"scene\":%.3f,\"render\":%.3f,\"write\":%.3f,"
 		"\"total\":%.3f},"
 		"\"pixels\":%llu,\"density_samples\":%llu,\"light_samples\":%llu,"
 		"\"rays_terminated_early\":%llu,\"layer_crossings\":%llu,\"terrain_cells\":%llu,"
 		"\"density_samples_per_pixel\":%.2f,\"density_samples_per_s\":%.0f,",
 		when, o->width, o->height, o->quality, o->settings.steps,
-		o->settings.light_steps, o->settings.ms_octaves, o->t_noise_s,
+		o->settings.light_steps, o->settings.ms_octaves, o->exposure_ev, o->t_noise_s,
 		o->t_scene_s, o->t_render_s, o->t_write_s, total,
 		(unsigned long long)s->pixels, (unsigned long long)s->density_samples,
 		(unsigned long long)s->light_samples,
@@ -235,7 +237,12 @@ int main(int argc, char **argv)
 		case OPT_NO_AMBIENT: no_ambient = 1; break;
 		case OPT_NO_JITTER: no_jitter = 1; break;
 		case OPT_SEED: seed = cli_long("--seed", optarg, 0, 4294967295L); break;
-		case OPT_EXPOSURE: o.exposure_ev = cli_double("--exposure", optarg, -20.0, 20.0); break;
+		case OPT_EXPOSURE:
+			if (strcmp(optarg, "auto") == 0)
+				o.exposure_auto = 1;
+			else
+				o.exposure_ev = cli_double("--exposure", optarg, -20.0, 20.0);
+			break;
 		case 't': o.threads = (int)cli_long("--threads", optarg, 1, 256); break;
 		case OPT_STATS: stats = 1; break;
 		case 'q': cli_quiet = 1; break;

@@ -170,3 +170,17 @@ else
 	bad "could not make a test terrain: $(head -c 300 "$T/err")"
 fi
 end
+
+begin cloudrender_auto_exposure_shows_the_night
+run "$CR" --time 2021-06-14T21:30Z -o "$T/night0.png" --stats $FAST
+expect_rc 0
+grep -q '"exposure_ev":0.000' "$T/err" || bad "fixed exposure is not 0"
+run "$CR" --time 2021-06-14T21:30Z --exposure auto -o "$T/nightA.png" --stats $FAST
+expect_rc 0
+ev=$(sed -n 's/.*"exposure_ev":\([0-9.-]*\).*/\1/p' "$T/err")
+awk -v e="$ev" 'BEGIN { exit !(e > 15) }' || bad "auto exposure at night is $ev stops, expected > 15"
+run "$CR" --exposure auto -o "$T/dayA.png" --stats $FAST
+ev=$(sed -n 's/.*"exposure_ev":\([0-9.-]*\).*/\1/p' "$T/err")
+awk -v e="$ev" 'BEGIN { exit !(e > -3 && e < 3) }' || bad "auto exposure by day is $ev stops, expected near 0"
+run "$CR" --exposure bright -o "$T/x.png" $FAST; expect_rc 2; expect_err "--exposure: 'bright' is not a number"
+end
