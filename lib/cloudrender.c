@@ -82,6 +82,15 @@ static int write_outputs(struct cs_cloudrender_opts *o, const float *px)
 	return rc;
 }
 
+/* Distance on the sphere between two places, km (haversine). */
+static double great_circle_km(double lat1, double lon1, double lat2, double lon2)
+{
+	double k = CS_PI / 180.0;
+	double a = sin((lat2 - lat1) * k / 2), b = sin((lon2 - lon1) * k / 2);
+	double h = a * a + cos(lat1 * k) * cos(lat2 * k) * b * b;
+	return 2.0 * CS_EARTH_RADIUS_M / 1000.0 * asin(sqrt(h < 1.0 ? h : 1.0));
+}
+
 /* Places the heightfield: three corners' geographic positions on the
  * sphere fix the affine map from world to grid. */
 static int place_terrain(const struct cs_scene *sc, const struct cs_wx *wx,
@@ -220,6 +229,10 @@ int cs_cloudrender_run(struct cs_cloudrender_opts *o)
 	rc = cs_camera_init(&cam, sc, pos, o->wx.site.lat_deg, az, el, fov, o->width, o->height);
 	if (rc != CS_OK)
 		goto done;
+	o->camera_site_km = great_circle_km(lat, lon, o->wx.site.lat_deg, o->wx.site.lon_deg);
+	o->camera_terrain_km = have_terrain ? great_circle_km(lat, lon, terrain.center_lat,
+							      terrain.center_lon)
+					    : -1.0;
 	struct cs_sun sun;
 	if (cs_sun_position(o->wx.time_utc, o->wx.site.lat_deg, o->wx.site.lon_deg, &sun) == CS_OK) {
 		o->sun_azimuth_deg = sun.azimuth_deg;

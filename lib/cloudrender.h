@@ -38,6 +38,8 @@ struct cs_cloudrender_opts {
 	struct cs_wx wx;
 	struct cs_scene *scene;   /* valid until cs_cloudrender_free() */
 	double sun_azimuth_deg, sun_elevation_deg;
+	double camera_site_km;    /* from the camera to the weather site */
+	double camera_terrain_km; /* to the terrain's centre (-1 without terrain) */
 };
 
 /* Defaults: built-in weather, in-memory noise, the default camera at the

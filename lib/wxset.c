@@ -281,6 +281,17 @@ static int layer_of(struct assign *a, struct target *t, int *idx)
 	return CS_OK;
 }
 
+/* Layers come low to high (man 1 wxinterp): by base, stably. */
+static void sort_layers(struct cs_wx_layer *l, int n)
+{
+	for (int i = 1; i < n; i++)
+		for (int j = i; j > 0 && l[j].base_m < l[j - 1].base_m; j--) {
+			struct cs_wx_layer tmp = l[j];
+			l[j] = l[j - 1];
+			l[j - 1] = tmp;
+		}
+}
+
 int cs_wx_set(struct cs_wx *wx, const char *assignment)
 {
 	struct assign a;
@@ -309,6 +320,7 @@ int cs_wx_set(struct cs_wx *wx, const char *assignment)
 			return rc;
 		if (a.field == NULL || a.field->type == T_GENUS) {
 			place(&t.layers[i], (enum cs_genus)a.genus, t.site->alt_m);
+			sort_layers(t.layers, *t.n);
 			return CS_OK;
 		}
 		base = (char *)&t.layers[i];
@@ -317,5 +329,7 @@ int cs_wx_set(struct cs_wx *wx, const char *assignment)
 		snprintf(base + a.field->off, sizeof t.site->name, "%s", a.value);
 	else
 		*(double *)(base + a.field->off) = a.num;
+	if (a.kind == K_LAYER)
+		sort_layers(t.layers, *t.n);
 	return CS_OK;
 }

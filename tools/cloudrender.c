@@ -297,6 +297,13 @@ int main(int argc, char **argv)
 		cs_cloudrender_free(&o);
 		return rc == CS_EINVAL ? EXIT_USAGE : EXIT_DATA;
 	}
+	/* legal, but almost certainly not what was meant */
+	if (!cli_quiet && o.camera_site_km > 300.0)
+		cli_err("warning: the camera is %.0f km from the weather site (%s): "
+			"the weather describes the sky over the site", o.camera_site_km,
+			o.wx.site.name[0] ? o.wx.site.name : "unnamed");
+	if (!cli_quiet && o.camera_terrain_km > 300.0)
+		cli_err("warning: the camera is %.0f km from the terrain's centre", o.camera_terrain_km);
 	if (stats)
 		print_stats(&o);
 	cs_cloudrender_free(&o);

@@ -184,3 +184,12 @@ ev=$(sed -n 's/.*"exposure_ev":\([0-9.-]*\).*/\1/p' "$T/err")
 awk -v e="$ev" 'BEGIN { exit !(e > -3 && e < 3) }' || bad "auto exposure by day is $ev stops, expected near 0"
 run "$CR" --exposure bright -o "$T/x.png" $FAST; expect_rc 2; expect_err "--exposure: 'bright' is not a number"
 end
+
+begin cloudrender_warns_when_the_camera_is_far_from_the_weather
+run "$CR" --camera 40.0,-3.7,700 -o "$T/far.png" --size 32x18 --noise-size 16
+expect_rc 0
+expect_err "cloudrender: warning: the camera is 1"
+expect_err "km from the weather site (Bern)"
+run "$CR" -o "$T/near.png" --size 32x18 --noise-size 16
+[ -s "$T/err" ] && bad "a warning for the default camera: $(cat "$T/err")"
+end

@@ -306,25 +306,33 @@ static void set_edits_each_kind_of_path(void)
 	      wx.wind_from_deg == 90 && wx.fog_probability == 0.25 && wx.site.alt_m == 858);
 	CHECK(strcmp(wx.site.name, "Gurten") == 0);
 	CHECK_NEAR(wx.time_utc, utc("2024-01-01T12:00Z"), 0);
-	/* a missing étage is added with its default genus */
+	/* a missing étage is added with its default genus, in its place:
+	 * the layers stay ordered low to high */
 	CHECK(cs_wx_set(&wx, "layer.mid.coverage=0.6") == CS_OK);
-	CHECK(wx.nlayers == 3 && wx.layers[2].genus == CS_ALTOCUMULUS);
-	CHECK_NEAR(wx.layers[2].coverage, 0.6, 0);
+	CHECK(wx.nlayers == 3 && wx.layers[1].genus == CS_ALTOCUMULUS);
+	CHECK_NEAR(wx.layers[1].coverage, 0.6, 0);
 	/* a genus change moves the layer to the genus's altitudes */
 	CHECK(cs_wx_set(&wx, "layer.high=cirrostratus") == CS_OK);
-	CHECK(wx.layers[1].genus == CS_CIRROSTRATUS);
-	CHECK_NEAR(wx.layers[1].base_m, cs_genus_preset(CS_CIRROSTRATUS)->base_m, 0);
+	CHECK(wx.layers[2].genus == CS_CIRROSTRATUS);
+	CHECK_NEAR(wx.layers[2].base_m, cs_genus_preset(CS_CIRROSTRATUS)->base_m, 0);
 	CHECK(cs_wx_set(&wx, "layers[0].genus=stratus") == CS_OK);
 	CHECK_NEAR(wx.layers[0].base_m, 858 + cs_genus_preset(CS_STRATUS)->base_m, 0);
 	CHECK(cs_wx_set(&wx, "layers[0].base=1000") == CS_OK);
 	CHECK(cs_wx_set(&wx, "layers[0].top_m=1400") == CS_OK);
 	CHECK(wx.layers[0].base_m == 1000 && wx.layers[0].top_m == 1400);
-	CHECK(cs_wx_set(&wx, "layers[3]=cumulonimbus") == CS_OK); /* appends */
-	CHECK(wx.nlayers == 4 && wx.layers[3].coverage == 0.5);
+	CHECK(cs_wx_set(&wx, "layers[3]=cumulonimbus") == CS_OK); /* adds */
+	int cb = -1;
+	for (int i = 0; i < wx.nlayers; i++)
+		cb = wx.layers[i].genus == CS_CUMULONIMBUS ? i : cb;
+	CHECK(wx.nlayers == 4 && cb >= 0 && wx.layers[cb].coverage == 0.5);
 	CHECK(cs_wx_set(&wx, "layer.high=none") == CS_OK);
-	CHECK(wx.nlayers == 3 && wx.layers[1].genus == CS_ALTOCUMULUS);
+	CHECK(wx.nlayers == 3);
+	for (int i = 0; i < wx.nlayers; i++)
+		CHECK(wx.layers[i].genus != CS_CIRROSTRATUS);
 	CHECK(cs_wx_set(&wx, "layers[0]=none") == CS_OK);
-	CHECK(wx.nlayers == 2 && wx.layers[0].genus == CS_ALTOCUMULUS);
+	CHECK(wx.nlayers == 2);
+	for (int i = 1; i < wx.nlayers; i++)
+		CHECK(wx.layers[i - 1].base_m <= wx.layers[i].base_m);
 	CHECK(cs_wx_set(&wx, "layer.high=none") == CS_OK); /* none there: no-op */
 	CHECK(cs_wx_validate(&wx) == CS_OK);
 }
@@ -568,8 +576,23 @@ static void run_template_and_option_errors(void)
 	CHECK_STR_CONTAINS(cs_errmsg(), "missing.json");
 }
 
+/* A layer added or moved by --set keeps the layers ordered low to high. */
+static void set_keeps_layers_low_to_high(void)
+{
+	struct cs_wx wx;
+	cs_wx_default(&wx); /* cumulus, cirrus */
+	CHECK(cs_wx_set(&wx, "layer.mid.coverage=0.5") == CS_OK);
+	CHECK(wx.nlayers == 3);
+	for (int i = 1; i < wx.nlayers; i++)
+		CHECK(wx.layers[i - 1].base_m <= wx.layers[i].base_m);
+	CHECK(wx.layers[1].genus == CS_ALTOCUMULUS);
+	CHECK(cs_wx_set(&wx, "layers[2].base_m=500") == CS_OK);
+	CHECK(wx.layers[0].base_m == 500 && wx.layers[0].genus == CS_CIRRUS);
+}
+
 int main(void)
 {
+	RUN(set_keeps_layers_low_to_high);
 	snprintf(tmpdir, sizeof tmpdir, "/tmp/cs-test-wxinterp.XXXXXX");
 	if (mkdtemp(tmpdir) == NULL)
 		return 1;
