@@ -30,8 +30,8 @@ static const struct cs_genus_preset presets[CS_GENUS_COUNT] = {
 			{0.0, 0.1, 0.9, 1.0}, 0.0, 0.6, 300, 800},
 	[CS_CUMULUS] = {0.05, 8000, 20000, 1500, 0.35, 1.0,
 			{0.0, 0.06, 0.45, 1.0}, 0.0, 0.12, 1500, 2700},
-	[CS_CUMULONIMBUS] = {0.07, 40000, 80000, 2500, 0.3, 1.0,
-			     {0.0, 0.03, 0.92, 1.0}, 0.6, 0.1, 1000, 11000},
+	[CS_CUMULONIMBUS] = {0.07, 40000, 80000, 4000, 0.15, 1.0,
+			     {0.0, 0.03, 0.92, 1.0}, 0.35, 0.1, 1000, 11000},
 };
 
 const struct cs_genus_preset *cs_genus_preset(enum cs_genus g)
