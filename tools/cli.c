@@ -68,21 +68,31 @@ double cli_double(const char *opt, const char *s, double lo, double hi)
 	return v;
 }
 
-void cli_long_list(const char *opt, const char *s, long lo, long hi, int n,
-		   int *out)
+/* Splits a comma-separated option value into at most max tokens held in
+ * buf; exits with a usage error if there are more or it is too long. */
+static int split_list(const char *opt, const char *s, char buf[256], char **tok,
+		      int max)
 {
-	char buf[256];
-	if (strlen(s) >= sizeof buf)
+	if (strlen(s) >= 256)
 		cli_usage_error("%s: list too long", opt);
 	strcpy(buf, s);
 	int count = 0;
 	char *save = NULL;
-	for (char *tok = strtok_r(buf, ",", &save); tok;
-	     tok = strtok_r(NULL, ",", &save)) {
-		if (count == n)
-			cli_usage_error("%s: expected %d values, got more", opt, n);
-		out[count++] = (int)cli_long(opt, tok, lo, hi);
+	for (char *t = strtok_r(buf, ",", &save); t; t = strtok_r(NULL, ",", &save)) {
+		if (count == max)
+			cli_usage_error("%s: expected %d comma-separated values, got more", opt, max);
+		tok[count++] = t;
 	}
+	return count;
+}
+
+void cli_long_list(const char *opt, const char *s, long lo, long hi, int n,
+		   int *out)
+{
+	char buf[256], *tok[64];
+	int count = split_list(opt, s, buf, tok, n < 64 ? n : 64);
+	for (int i = 0; i < count; i++)
+		out[i] = (int)cli_long(opt, tok[i], lo, hi);
 	if (count == 1)
 		for (int i = 1; i < n; i++)
 			out[i] = out[0];
@@ -94,20 +104,12 @@ void cli_long_list(const char *opt, const char *s, long lo, long hi, int n,
 void cli_double_list(const char *opt, const char *s, double lo, double hi,
 		     int n, double *out)
 {
-	char buf[256];
-	if (strlen(s) >= sizeof buf)
-		cli_usage_error("%s: list too long", opt);
-	strcpy(buf, s);
-	int count = 0;
-	char *save = NULL;
-	for (char *tok = strtok_r(buf, ",", &save); tok;
-	     tok = strtok_r(NULL, ",", &save)) {
-		if (count == n)
-			cli_usage_error("%s: expected %d comma-separated numbers", opt, n);
-		out[count++] = cli_double(opt, tok, lo, hi);
-	}
+	char buf[256], *tok[64];
+	int count = split_list(opt, s, buf, tok, n < 64 ? n : 64);
 	if (count != n)
 		cli_usage_error("%s: expected %d comma-separated numbers", opt, n);
+	for (int i = 0; i < count; i++)
+		out[i] = cli_double(opt, tok[i], lo, hi);
 }
 
 int cli_progress(void *label, double fraction)
