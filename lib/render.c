@@ -119,32 +119,34 @@ static double extinction_at(const struct cs_scene *sc, unsigned mask, cs_v3 p)
 	return sigma;
 }
 
-/* Optical depth from p toward the sun through the layers in mask, with
- * light_steps midpoint samples over each layer's part of the path.  The
- * path through a layer is capped at 20 km: beyond that a cloud is either
- * opaque long before or too thin to matter. */
+/* Optical depth from p toward the sun through every layer: light_steps
+ * midpoint samples over each part of the path in a layer of mask (the
+ * layers the sample is in), a third as many, at least 2, in the others
+ * (cirrus shading the cumulus below it).  A path through one layer is
+ * capped at 20 km: beyond that a cloud is either opaque long before or too
+ * thin to matter. */
 static double light_depth(const struct cs_scene *sc,
 			  const struct cs_render_settings *s, cs_v3 p,
 			  unsigned mask, struct cs_render_stats *st)
 {
 	double tau = 0.0;
+	int others = s->light_steps / 3 > 2 ? s->light_steps / 3 : 2;
 	for (int i = 0; i < sc->nlayers; i++) {
-		if (!(mask & (1u << i)))
-			continue;
 		const struct cs_cloud_layer *l = &sc->layers[i];
+		int steps = (mask & (1u << i)) ? s->light_steps : others;
 		double iv[2][2];
 		int n = shell_intervals(sc, p, sc->sun_dir,
 					sc->earth_radius_m + l->base_m,
 					sc->earth_radius_m + l->top_m, 20000.0, iv);
 		for (int k = 0; k < n; k++) {
 			double len = iv[k][1] - iv[k][0];
-			double dt = len / s->light_steps;
-			for (int j = 0; j < s->light_steps; j++) {
+			double dt = len / steps;
+			for (int j = 0; j < steps; j++) {
 				cs_v3 q = v3_mad(p, sc->sun_dir, iv[k][0] + (j + 0.5) * dt);
 				tau += cs_cloud_extinction(l, sc->noise, q.x, q.y,
 							   cs_scene_altitude(sc, q)) * dt;
 			}
-			st->light_samples += (uint64_t)s->light_steps;
+			st->light_samples += (uint64_t)steps;
 		}
 	}
 	return tau;

@@ -390,6 +390,33 @@ static void random_scenes_render_finite_pixels(void)
 	CHECK(bad == 0);
 }
 
+/* A higher cloud between a lower one and the sun shades it: the lower
+ * slab's single scattering drops by exactly the higher cloud's
+ * transmittance along the sun (the view ray misses the higher cloud). */
+static void higher_clouds_shade_lower_ones(void)
+{
+	struct cs_scene sc;
+	slab_scene(&sc, 0.002, 0, 1000, 1200);
+	double e = 45 * CS_PI / 180;
+	sc.sun_dir = v3(cos(e), 0, sin(e));
+	sc.sun_illuminance[0] = sc.sun_illuminance[1] = sc.sun_illuminance[2] = 1.0;
+	sc.effects |= CS_FX_SUN;
+	struct cs_render_settings s = plain(64, 12);
+	struct cs_ray_result alone, shaded;
+	trace(&sc, &s, v3(0, 0, 0), v3(0, 0, 1), &alone);
+	/* a disc of cloud 5000..5500 m, 3 km across, 4.5 km east: in the sun's
+	 * way from the slab, not in the view's */
+	sc.nlayers = 2;
+	sc.layers[1] = sc.layers[0];
+	sc.layers[1].base_m = 5000, sc.layers[1].top_m = 5500;
+	sc.layers[1].homog_a = 0.001;
+	sc.layers[1].homog_radius_m = 3000, sc.layers[1].homog_x = 4500;
+	trace(&sc, &s, v3(0, 0, 0), v3(0, 0, 1), &shaded);
+	double want = exp(-0.001 * 500 / sin(e));
+	CHECK_NEAR(shaded.rgb[1] / alone.rgb[1], want, 0.01 * want);
+	CHECK_NEAR(shaded.transmittance, alone.transmittance, 1e-12);
+}
+
 /* With one round cloud and a low sun, the centroid of its shadow on flat
  * ground lies at height / tan(sun elevation) from its footprint, away from
  * the sun (the system this project follows cast shadows straight down). */
@@ -490,6 +517,7 @@ int main(void)
 	RUN(output_is_identical_for_any_thread_count);
 	RUN(hard_rays_stay_finite);
 	RUN(random_scenes_render_finite_pixels);
+	RUN(higher_clouds_shade_lower_ones);
 	RUN(cloud_shadow_is_displaced_along_the_sun);
 	RUN(terrain_is_the_ground_where_it_is);
 	RUN(quality_presets_exist_and_rise);
