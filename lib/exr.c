@@ -5,6 +5,7 @@
 #include "half.h"
 
 #include <errno.h>
+#include <stddef.h>
 #include <sys/stat.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -220,21 +221,24 @@ static int verify(const struct cs_outfile *of, const char *name, int width,
 	int rc = CS_OK;
 	if (pread(of->fd, data, len, 0) != (ssize_t)len)
 		rc = cs_error(CS_EIO, "%s: cannot read back what was written", name);
-	for (int c = 0; c < nch && rc == CS_OK; c++) {
-		int w = 0, h = 0;
-		float *px = NULL;
-		rc = cs_exr_read_float_channel(data, len, name, ch[c].name, &w, &h, &px);
-		if (rc == CS_OK && (w != width || h != height))
-			rc = CS_EDATA;
-		for (size_t i = 0; rc == CS_OK && i < (size_t)width * height; i++) {
-			float want = ch[c].data[i * ch[c].stride];
+	const char *names[16];
+	for (int c = 0; c < nch; c++)
+		names[c] = ch[c].name;
+	int w = 0, h = 0;
+	float *px = NULL;
+	if (rc == CS_OK)
+		rc = cs_exr_read_channels(data, len, name, names, nch, &w, &h, &px);
+	if (rc == CS_OK && (w != width || h != height))
+		rc = CS_EDATA;
+	for (size_t i = 0; rc == CS_OK && i < (size_t)width * height; i++)
+		for (int c = 0; c < nch && rc == CS_OK; c++) {
+			float want = ch[c].data[i * ch[c].stride], got = px[i * nch + c];
 			if (!ch[c].is_float)
 				want = cs_half_to_float(cs_float_to_half(want));
-			if (memcmp(&want, &px[i], sizeof want) != 0 && !(want != want && px[i] != px[i]))
+			if (memcmp(&want, &got, sizeof want) != 0 && !(want != want && got != got))
 				rc = CS_EDATA;
 		}
-		free(px);
-	}
+	free(px);
 	free(data);
 	return rc;
 }
@@ -281,15 +285,16 @@ int cs_exr_write(const char *path, int width, int height,
 
 #define MAX_READ_PIXELS ((long)1 << 28) /* 1 GiB of floats */
 
-int cs_exr_read_float_channel(const void *data, size_t len, const char *name,
-			      const char *channel, int *width, int *height,
-			      float **pixels)
+int cs_exr_read_channels(const void *data, size_t len, const char *name,
+			 const char *const *channels, int nch, int *width,
+			 int *height, float **pixels)
 {
 	int rc = CS_OK;
 	exr_context_t f = NULL;
 	exr_decode_pipeline_t dec = EXR_DECODE_PIPELINE_INITIALIZER;
 	int dec_live = 0;
-	float *px = NULL, *skip = NULL;
+	float *px = NULL;
+	uint8_t *skip = NULL, *stage = NULL;
 	struct cs_exr_mem src = {data, len};
 	exr_context_initializer_t init;
 
@@ -307,22 +312,28 @@ int cs_exr_read_float_channel(const void *data, size_t len, const char *name,
 	}
 	const exr_attr_chlist_t *chl = NULL;
 	TRY(exr_get_channels(f, 0, &chl), "channel list");
-	int found = 0;
-	for (int i = 0; i < chl->num_channels; i++) {
-		const exr_attr_chlist_entry_t *e = &chl->entries[i];
-		if (strcmp(e->name.str, channel) != 0)
-			continue;
-		found = e->x_sampling == 1 && e->y_sampling == 1 &&
-			(e->pixel_type == EXR_PIXEL_FLOAT || e->pixel_type == EXR_PIXEL_HALF);
+	if (nch < 1 || nch > 16) {
+		rc = cs_error(CS_EINVAL, "%s: cannot read %d channels", name, nch);
+		goto done;
+	}
+	for (int c = 0; c < nch; c++) {
+		int found = 0;
+		for (int i = 0; i < chl->num_channels; i++) {
+			const exr_attr_chlist_entry_t *e = &chl->entries[i];
+			if (strcmp(e->name.str, channels[c]) != 0)
+				continue;
+			found = e->x_sampling == 1 && e->y_sampling == 1 &&
+				(e->pixel_type == EXR_PIXEL_FLOAT || e->pixel_type == EXR_PIXEL_HALF);
+			if (!found) {
+				rc = cs_error(CS_EDATA, "%s: channel %s is subsampled or not half/float",
+					      name, channels[c]);
+				goto done;
+			}
+		}
 		if (!found) {
-			rc = cs_error(CS_EDATA, "%s: channel %s is subsampled or not half/float",
-				      name, channel);
+			rc = cs_error(CS_EDATA, "%s: no channel %s", name, channels[c]);
 			goto done;
 		}
-	}
-	if (!found) {
-		rc = cs_error(CS_EDATA, "%s: no channel %s", name, channel);
-		goto done;
 	}
 	exr_attr_box2i_t dw;
 	TRY(exr_get_data_window(f, 0, &dw), "data window");
@@ -332,7 +343,7 @@ int cs_exr_read_float_channel(const void *data, size_t len, const char *name,
 			      name, dw.min.x, dw.min.y, dw.max.x, dw.max.y);
 		goto done;
 	}
-	px = malloc((size_t)w * (size_t)h * sizeof *px);
+	px = malloc((size_t)w * (size_t)h * (size_t)nch * sizeof *px);
 	if (px == NULL) {
 		rc = cs_error(CS_ENOMEM, "out of memory");
 		goto done;
@@ -343,8 +354,10 @@ int cs_exr_read_float_channel(const void *data, size_t len, const char *name,
 		rc = cs_error(CS_EDATA, "%s: unexpected %d scanlines per chunk", name, spc);
 		goto done;
 	}
-	skip = malloc((size_t)w * (size_t)spc * sizeof *skip);
-	if (skip == NULL) {
+	size_t block = (size_t)w * (size_t)spc * 4; /* bytes: one channel, one chunk */
+	skip = malloc(block);
+	stage = malloc(block * (size_t)nch);
+	if (skip == NULL || stage == NULL) {
 		rc = cs_error(CS_ENOMEM, "out of memory");
 		goto done;
 	}
@@ -360,23 +373,46 @@ int cs_exr_read_float_channel(const void *data, size_t len, const char *name,
 			TRY(exr_decoding_initialize(f, 0, &ci, &dec), "decoder");
 		else
 			TRY(exr_decoding_update(f, 0, &ci, &dec), "decoder");
-		/* the core converts half to float; the other channels are
-		 * decoded into a scratch row block and dropped (a NULL
-		 * destination crashes OpenEXR 3.1's converting unpacker) */
+		/* Each channel is decoded in its own type into a planar staging
+		 * block (the wanted ones) or a scratch block (the others), and
+		 * converted here: OpenEXR 3.1's converting unpacker garbles
+		 * interleaved half-to-float output and crashes on a NULL
+		 * destination. */
 		for (int k = 0; k < dec.channel_count; k++) {
 			exr_coding_channel_info_t *c = &dec.channels[k];
-			int want = strcmp(c->channel_name, channel) == 0;
-			c->decode_to_ptr = want ? (uint8_t *)(px + (size_t)y * w) : (uint8_t *)skip;
-			c->user_bytes_per_element = 4;
-			c->user_data_type = EXR_PIXEL_FLOAT;
-			c->user_pixel_stride = 4;
-			c->user_line_stride = (int32_t)w * 4;
+			int want = 0;
+			while (want < nch && strcmp(c->channel_name, channels[want]) != 0)
+				want++;
+			c->decode_to_ptr = want < nch ? stage + (size_t)want * block : skip;
+			c->user_bytes_per_element = c->bytes_per_element;
+			c->user_data_type = c->data_type;
+			c->user_pixel_stride = c->bytes_per_element;
+			c->user_line_stride = (int32_t)w * c->bytes_per_element;
 		}
 		if (!dec_live) {
 			TRY(exr_decoding_choose_default_routines(f, 0, &dec), "decoder");
 			dec_live = 1;
 		}
 		TRY(exr_decoding_run(f, 0, &dec), "truncated or corrupt pixel data");
+		for (int k = 0; k < dec.channel_count; k++) {
+			const exr_coding_channel_info_t *c = &dec.channels[k];
+			if (c->decode_to_ptr == skip)
+				continue;
+			int want = (int)((c->decode_to_ptr - stage) / (ptrdiff_t)block);
+			size_t n = (size_t)ci.height * (size_t)w;
+			float *dst = px + (size_t)y * w * nch + want;
+			for (size_t i = 0; i < n; i++) {
+				float v;
+				if (c->bytes_per_element == 2) {
+					uint16_t hv;
+					memcpy(&hv, c->decode_to_ptr + i * 2, 2);
+					v = cs_half_to_float(hv);
+				} else {
+					memcpy(&v, c->decode_to_ptr + i * 4, 4);
+				}
+				dst[i * (size_t)nch] = v;
+			}
+		}
 	}
 	*width = (int)w;
 	*height = (int)h;
@@ -389,5 +425,13 @@ done:
 		exr_finish(&f);
 	free(px);
 	free(skip);
+	free(stage);
 	return rc;
+}
+
+int cs_exr_read_float_channel(const void *data, size_t len, const char *name,
+			      const char *channel, int *width, int *height,
+			      float **pixels)
+{
+	return cs_exr_read_channels(data, len, name, &channel, 1, width, height, pixels);
 }

@@ -42,6 +42,15 @@ struct cs_exr_mem {
 /* Fills init to read from src and to keep error messages (no printing). */
 void cs_exr_reader_init(exr_context_initializer_t *init, struct cs_exr_mem *src);
 
+/* Reads channels (half or 32-bit float) of a single-part scanline image
+ * held in memory, in one pass: *pixels (malloc'ed for the caller) holds
+ * nch floats per pixel in the order asked, *width * *height pixels, row 0
+ * first.  Other channels are ignored.  name labels messages (a file name).
+ * Errors are CS_EDATA ("name: why"). */
+int cs_exr_read_channels(const void *data, size_t len, const char *name,
+			 const char *const *channels, int nch, int *width,
+			 int *height, float **pixels);
+
 /* Reads one channel (half or 32-bit float) of a single-part scanline image
  * held in memory as floats: *pixels (malloc'ed for the caller) holds
  * *width * *height values, row 0 first.  Other channels are ignored.  name

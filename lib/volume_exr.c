@@ -5,7 +5,6 @@
 #include "err.h"
 #include "exr.h"
 #include "fileio.h"
-#include "half.h"
 
 #include <stdio.h>
 #include <stdlib.h>
@@ -96,9 +95,6 @@ int cs_volume_read_exr_mem(const void *data, size_t len, const char *name,
 {
 	int rc = CS_OK;
 	exr_context_t f = NULL;
-	exr_decode_pipeline_t dec = EXR_DECODE_PIPELINE_INITIALIZER;
-	int dec_live = 0;
-	uint16_t *halves = NULL;
 	struct cs_exr_mem src = {data, len};
 	exr_context_initializer_t init;
 
@@ -191,63 +187,21 @@ int cs_volume_read_exr_mem(const void *data, size_t len, const char *name,
 		BAD("cloudscapePeriod \"%.150s\" disagrees with the recipe and size (\"%.150s\")",
 		    period, want);
 
-	int32_t spc = 0;
-	EXR_TRY(exr_get_scanlines_per_chunk(f, 0, &spc), "chunk size");
-	if (spc < 1 || spc > 256)
-		BAD("unexpected %d scanlines per chunk", spc);
-	if (ptype == EXR_PIXEL_HALF) {
-		halves = malloc((size_t)spc * (size_t)width * 4u * sizeof *halves);
-		if (halves == NULL) {
-			rc = cs_error(CS_ENOMEM, "out of memory");
-			goto done;
-		}
-	}
-	for (long y = 0; y < height; y += spc) {
-		exr_chunk_info_t ci;
-		EXR_TRY(exr_read_scanline_chunk_info(f, 0, (int)y, &ci),
-			"truncated or corrupt pixel data");
-		if (ci.start_y != y || ci.height < 1 || ci.height > spc ||
-		    y + ci.height > height || ci.width != width)
-			BAD("inconsistent chunk at scanline %ld", y);
-		if (!dec_live)
-			EXR_TRY(exr_decoding_initialize(f, 0, &ci, &dec), "decoder");
-		else
-			EXR_TRY(exr_decoding_update(f, 0, &ci, &dec), "decoder");
-		float *rows = v->data + (size_t)y * width * 4;
-		for (int k = 0; k < dec.channel_count; k++) {
-			exr_coding_channel_info_t *ch = &dec.channels[k];
-			int c = chan_index(ch->channel_name);
-			if (ptype == EXR_PIXEL_FLOAT) {
-				ch->decode_to_ptr = (uint8_t *)(rows + c);
-				ch->user_bytes_per_element = 4;
-				ch->user_data_type = EXR_PIXEL_FLOAT;
-			} else {
-				ch->decode_to_ptr = (uint8_t *)(halves + c);
-				ch->user_bytes_per_element = 2;
-				ch->user_data_type = EXR_PIXEL_HALF;
-			}
-			ch->user_pixel_stride = 4 * ch->user_bytes_per_element;
-			ch->user_line_stride = (int32_t)width * ch->user_pixel_stride;
-		}
-		if (!dec_live) {
-			EXR_TRY(exr_decoding_choose_default_routines(f, 0, &dec),
-				"decoder");
-			dec_live = 1;
-		}
-		EXR_TRY(exr_decoding_run(f, 0, &dec), "truncated or corrupt pixel data");
-		if (ptype == EXR_PIXEL_HALF)
-			for (size_t i = 0; i < (size_t)ci.height * width * 4; i++)
-				rows[i] = cs_half_to_float(halves[i]);
-	}
+	/* the pixels, all four channels in one pass, as floats */
+	static const char *const rgba[4] = {"R", "G", "B", "A"};
+	float *px = NULL;
+	int w = 0, h = 0;
+	rc = cs_exr_read_channels(data, len, name, rgba, 4, &w, &h, &px);
+	if (rc != CS_OK)
+		goto done;
+	free(v->data);
+	v->data = px;
 	for (size_t i = 0; i < (size_t)width * height * 4; i++)
 		if (!(v->data[i] == v->data[i] && v->data[i] - v->data[i] == 0.0f))
 			BAD("non-finite value at pixel %zu", i / 4);
 done:
-	if (dec_live)
-		exr_decoding_destroy(f, &dec);
 	if (f)
 		exr_finish(&f);
-	free(halves);
 	if (rc != CS_OK)
 		cs_volume_free(v);
 	return rc;
