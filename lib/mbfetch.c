@@ -23,6 +23,16 @@
 #define CS_VERSION "unknown"
 #endif
 
+/* Formats into buf and redacts the secret from it. */
+static void vredacted(char *buf, size_t size, const char *secret, const char *fmt,
+		      va_list ap) __attribute__((format(printf, 4, 0)));
+static void vredacted(char *buf, size_t size, const char *secret, const char *fmt,
+		      va_list ap)
+{
+	vsnprintf(buf, size, fmt, ap);
+	cs_redact(buf, size, secret);
+}
+
 /* Records a message with the secret redacted; returns code. */
 static int fail(int code, const char *secret, const char *fmt, ...)
 	__attribute__((format(printf, 3, 4)));
@@ -31,12 +41,12 @@ static int fail(int code, const char *secret, const char *fmt, ...)
 	char buf[1024];
 	va_list ap;
 	va_start(ap, fmt);
-	vsnprintf(buf, sizeof buf, fmt, ap);
+	vredacted(buf, sizeof buf, secret, fmt, ap);
 	va_end(ap);
-	cs_redact(buf, sizeof buf, secret);
 	return cs_error(code, "%s", buf);
 }
 
+/* Tells the caller's log, with the secret redacted. */
 static void say(const struct cs_mbfetch_opts *o, const char *secret, int level,
 		const char *fmt, ...) __attribute__((format(printf, 4, 5)));
 static void say(const struct cs_mbfetch_opts *o, const char *secret, int level,
@@ -47,9 +57,8 @@ static void say(const struct cs_mbfetch_opts *o, const char *secret, int level,
 	char buf[1024];
 	va_list ap;
 	va_start(ap, fmt);
-	vsnprintf(buf, sizeof buf, fmt, ap);
+	vredacted(buf, sizeof buf, secret, fmt, ap);
 	va_end(ap);
-	cs_redact(buf, sizeof buf, secret);
 	o->log(o->log_user, level, buf);
 }
 

@@ -109,9 +109,10 @@ static int shell_intervals(const struct cs_scene *sc, cs_v3 o, cs_v3 d,
 	return n;
 }
 
-static double extinction_at(const struct cs_scene *sc, unsigned mask, cs_v3 p)
+static double extinction_at(const struct cs_scene *sc, unsigned mask, cs_v3 p,
+			    double alt)
 {
-	double alt = cs_scene_altitude(sc, p), sigma = 0.0;
+	double sigma = 0.0;
 	for (int i = 0; i < sc->nlayers; i++)
 		if (mask & (1u << i))
 			sigma += cs_cloud_extinction(&sc->layers[i], sc->noise, p.x,
@@ -409,6 +410,10 @@ void cs_render_ray(const struct cs_scene *sc, const struct cs_render_settings *s
 				th = (th < 2500.0 ? th : 2500.0) / s->steps;
 				dt0 = th < dt0 ? th : dt0;
 			}
+		const struct cs_cloud_layer *amb = NULL; /* for the ambient light */
+		for (int l = 0; l < sc->nlayers && amb == NULL; l++)
+			if (mask & (1u << l))
+				amb = &sc->layers[l];
 		double len = t1 - t0;
 		double steps = ceil(len / dt0);
 		int ns = steps < 1.0 ? 1 : steps > s->max_steps ? s->max_steps : (int)steps;
@@ -416,7 +421,8 @@ void cs_render_ray(const struct cs_scene *sc, const struct cs_render_settings *s
 		for (int j = 0; j < ns; j++) {
 			double t = t0 + (j + jitter_u) * dt;
 			cs_v3 p = v3_mad(o, d, t);
-			double sigma = extinction_at(sc, mask, p);
+			double alt = cs_scene_altitude(sc, p);
+			double sigma = extinction_at(sc, mask, p, alt);
 			st->density_samples++;
 			if (sigma <= 0.0)
 				continue;
@@ -439,14 +445,9 @@ void cs_render_ray(const struct cs_scene *sc, const struct cs_render_settings *s
 					S[k] += ss * sc->sun_illuminance[k] * w;
 			}
 			if (s->ambient) {
-				/* isotropic sky light, brighter toward the layer top */
-				double alt = cs_scene_altitude(sc, p), hb = 1.0;
-				for (int l = 0; l < sc->nlayers; l++)
-					if (mask & (1u << l)) {
-						const struct cs_cloud_layer *ly = &sc->layers[l];
-						hb = (alt - ly->base_m) / (ly->top_m - ly->base_m);
-						break;
-					}
+				/* isotropic sky light, brighter toward the top of
+				 * the (lowest) layer of this crossing */
+				double hb = (alt - amb->base_m) / (amb->top_m - amb->base_m);
 				hb = hb < 0.0 ? 0.0 : hb > 1.0 ? 1.0 : hb;
 				for (int k = 0; k < 3; k++)
 					S[k] += ss * (sc->ambient_up[k] * (0.4 + 0.6 * hb) +
