@@ -74,7 +74,6 @@ void cs_cloud_layer_init(struct cs_cloud_layer *l, const struct cs_wx_layer *wl,
 	 * for any date and wind. */
 	double travelled = wind_speed_m_s * factor * time_s;
 	l->offset_along_m = isfinite(travelled) ? travelled : 0.0;
-	l->offset_across_m = 0.0;
 	calibrate(l, noise);
 }
 
@@ -152,7 +151,7 @@ double cs_cloud_extinction(const struct cs_cloud_layer *l,
 	}
 	/* coordinates along and across the wind, moved by it */
 	double along = x * l->wind_x + y * l->wind_y - l->offset_along_m;
-	double across = -x * l->wind_y + y * l->wind_x - l->offset_across_m;
+	double across = -x * l->wind_y + y * l->wind_x;
 	return extinction_aw(l, noise, along, across, alt_m, h, thr);
 }
 

@@ -54,8 +54,7 @@ struct cs_cloud_layer {
 	double stretch, erosion, anvil, edge;
 	double ramp[4];
 	double wind_x, wind_y;    /* unit vector the wind blows toward (east, north) */
-	double offset_along_m;    /* how far the wind has carried the clouds, */
-	double offset_across_m;   /* reduced modulo the tile */
+	double offset_along_m;    /* how far the wind has carried the clouds */
 	/* Near and far weather: the layer belongs to the near site (site -1)
 	 * or to far site `site`; with far sites its coverage is scaled, point
 	 * by point, by its site's weight (see cs_cloud_site_weight). */

@@ -27,10 +27,6 @@ const char *cs_exr_message(exr_result_t code)
 	return exr_msg[0] ? exr_msg : exr_get_default_error_message(code);
 }
 
-void cs_exr_clear_error(void)
-{
-	exr_msg[0] = '\0';
-}
 
 static int64_t write_cb(exr_const_context_t ctxt, void *user, const void *buf,
 			uint64_t sz, uint64_t off, exr_stream_error_func_ptr_t err)

@@ -59,8 +59,7 @@ int cs_exr_read_float_channel(const void *data, size_t len, const char *name,
 			      const char *channel, int *width, int *height,
 			      float **pixels);
 
-/* The core's last message on this thread ("" after cs_exr_clear_error()). */
+/* The core's last message on this thread, or the default text of code. */
 const char *cs_exr_message(exr_result_t code);
-void cs_exr_clear_error(void);
 
 #endif

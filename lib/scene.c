@@ -33,7 +33,7 @@ cs_v3 cs_geo_to_world(double origin_lat_deg, double origin_lon_deg,
 		      double alt_m)
 {
 	double k = CS_PI / 180.0;
-	double la0 = origin_lat_deg * k, lo0 = origin_lon_deg * k;
+	double la0 = origin_lat_deg * k;
 	double la = lat_deg * k, dlo = (lon_deg - origin_lon_deg) * k;
 	double r = earth_radius_m + alt_m;
 	/* the point in an Earth-centred frame whose x axis is the origin's
@@ -42,7 +42,6 @@ cs_v3 cs_geo_to_world(double origin_lat_deg, double origin_lon_deg,
 	double e = py;
 	double n = -sin(la0) * px + cos(la0) * pz;
 	double u = cos(la0) * px + sin(la0) * pz;
-	(void)lo0;
 	return v3(e, n, u - earth_radius_m);
 }
 
