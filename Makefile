@@ -30,7 +30,7 @@ ALL_CFLAGS = -std=c17 -D_POSIX_C_SOURCE=200809L -DCS_VERSION='"$(VERSION)"' \
              $(WARN) $(CFLAGS) $(SANFLAGS) -pthread -iquote lib -iquote tools $(PKG_CFLAGS) -MMD -MP
 LDLIBS     = $(PKG_LIBS) -lm -pthread
 
-LIB_SRC   := $(wildcard lib/*.c)
+LIB_SRC   := $(wildcard lib/*/*.c)
 LIB_OBJ   := $(LIB_SRC:lib/%.c=$(B)/lib/%.o)
 CLI_OBJ   := $(B)/tools/cli.o
 BINS      := $(PROGRAMS:%=$(B)/bin/%)

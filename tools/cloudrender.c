@@ -1,10 +1,10 @@
 /* cloudrender - render a weather state as a physically based cloudscape. */
 #include "cli.h"
 
-#include "cloudrender.h"
-#include "err.h"
-#include "scene.h"
-#include "time.h"
+#include "apps/cloudrender_run.h"
+#include "core/err.h"
+#include "render/scene.h"
+#include "core/time.h"
 
 #include <getopt.h>
 #include <stdio.h>

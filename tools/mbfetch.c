@@ -1,8 +1,8 @@
 /* mbfetch - fetch an hourly forecast for a site, validate it, write it. */
 #include "cli.h"
 
-#include "err.h"
-#include "mbfetch.h"
+#include "core/err.h"
+#include "apps/mbfetch_run.h"
 
 #include <getopt.h>
 #include <math.h>

@@ -1,9 +1,9 @@
 /* noisebake - bake the seamless 3D noise volume the clouds are made of. */
 #include "cli.h"
 
-#include "err.h"
-#include "noisebake.h"
-#include "volume.h"
+#include "core/err.h"
+#include "apps/noisebake_run.h"
+#include "noise/volume.h"
 
 #include <getopt.h>
 #include <math.h>

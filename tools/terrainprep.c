@@ -1,8 +1,8 @@
 /* terrainprep - any DEM GDAL reads to a metric heightfield for cloudrender. */
 #include "cli.h"
 
-#include "err.h"
-#include "terrainprep.h"
+#include "core/err.h"
+#include "apps/terrainprep_run.h"
 
 #include <getopt.h>
 #include <stdio.h>

@@ -1,10 +1,10 @@
 /* wxinterp - describe the sky at a time from hourly provider forecasts. */
 #include "cli.h"
 
-#include "err.h"
-#include "time.h"
-#include "wxinterp.h"
-#include "wxset.h"
+#include "core/err.h"
+#include "core/time.h"
+#include "apps/wxinterp_run.h"
+#include "weather/wxset.h"
 
 #include <getopt.h>
 #include <stdio.h>

@@ -1,7 +1,7 @@
-#include "cloud.h"
+#include "render/cloud.h"
 #include "test.h"
-#include "vec.h"
-#include "volume.h"
+#include "core/vec.h"
+#include "noise/volume.h"
 
 static struct cs_volume noise;
 

@@ -1,6 +1,6 @@
-#include "err.h"
-#include "exr.h"
-#include "fileio.h"
+#include "core/err.h"
+#include "io/exr.h"
+#include "core/fileio.h"
 #include "test.h"
 
 #include <stdlib.h>

@@ -3,9 +3,9 @@
  * request URLs, the key's sources, and validation messages. */
 #include "test.h"
 
-#include "err.h"
-#include "fetch.h"
-#include "mbfetch.h"
+#include "core/err.h"
+#include "net/http.h"
+#include "apps/mbfetch_run.h"
 
 #include <math.h>
 #include <stdlib.h>

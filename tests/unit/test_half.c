@@ -1,4 +1,4 @@
-#include "half.h"
+#include "core/half.h"
 #include "test.h"
 
 #include <stdint.h>

@@ -1,4 +1,4 @@
-#include "hash.h"
+#include "core/hash.h"
 #include "test.h"
 
 /* Golden values computed independently (Python integer arithmetic) from the

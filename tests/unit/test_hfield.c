@@ -1,5 +1,5 @@
-#include "err.h"
-#include "hfield.h"
+#include "core/err.h"
+#include "terrain/heightfield.h"
 #include "test.h"
 
 #include <stdlib.h>

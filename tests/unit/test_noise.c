@@ -1,5 +1,5 @@
-#include "err.h"
-#include "noise.h"
+#include "core/err.h"
+#include "noise/noise.h"
 #include "test.h"
 
 /* Values printed by Ken Perlin's reference ImprovedNoise.java (2002),

@@ -1,8 +1,8 @@
-#include "err.h"
-#include "fileio.h"
-#include "provider.h"
+#include "core/err.h"
+#include "core/fileio.h"
+#include "weather/provider.h"
 #include "test.h"
-#include "time.h"
+#include "core/time.h"
 
 #include <stdlib.h>
 

@@ -1,11 +1,11 @@
-#include "cloud.h"
-#include "err.h"
-#include "render.h"
-#include "scene.h"
-#include "sky.h"
+#include "render/cloud.h"
+#include "core/err.h"
+#include "render/render.h"
+#include "render/scene.h"
+#include "render/sky.h"
 #include "test.h"
-#include "volume.h"
-#include "wx.h"
+#include "noise/volume.h"
+#include "weather/wx.h"
 
 #include <stdlib.h>
 

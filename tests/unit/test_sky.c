@@ -1,4 +1,4 @@
-#include "sky.h"
+#include "render/sky.h"
 #include "test.h"
 
 #define PI 3.14159265358979323846

@@ -1,8 +1,8 @@
-#include "sun.h"
+#include "render/sun.h"
 
-#include "err.h"
+#include "core/err.h"
 #include "test.h"
-#include "time.h"
+#include "core/time.h"
 
 #define RAD (3.14159265358979323846 / 180.0)
 

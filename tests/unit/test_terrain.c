@@ -1,14 +1,14 @@
 /* Heightfield files (terrain.c), DEM operations (dem.c) and terrainprep's
  * GDAL pipeline on GDAL's own test DEMs (../shared/data/dem, skipped when
  * absent). */
-#include "dem.h"
-#include "err.h"
-#include "exr.h"
-#include "fileio.h"
-#include "terrain.h"
-#include "terrainprep.h"
+#include "terrain/dem.h"
+#include "core/err.h"
+#include "io/exr.h"
+#include "core/fileio.h"
+#include "terrain/terrain.h"
+#include "apps/terrainprep_run.h"
 #include "test.h"
-#include "vec.h"
+#include "core/vec.h"
 
 #include <gdal.h>
 #include <gdal_utils.h>

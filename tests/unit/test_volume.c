@@ -1,9 +1,9 @@
-#include "err.h"
-#include "fileio.h"
-#include "half.h"
-#include "noisebake.h"
+#include "core/err.h"
+#include "core/fileio.h"
+#include "core/half.h"
+#include "apps/noisebake_run.h"
 #include "test.h"
-#include "volume.h"
+#include "noise/volume.h"
 
 #include <openexr.h>
 

@@ -1,7 +1,7 @@
-#include "err.h"
+#include "core/err.h"
 #include "test.h"
-#include "time.h"
-#include "wx.h"
+#include "core/time.h"
+#include "weather/wx.h"
 
 #include <ctype.h>
 #include <stdlib.h>

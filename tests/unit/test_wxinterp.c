@@ -1,10 +1,10 @@
-#include "cloud.h"
-#include "err.h"
-#include "fileio.h"
+#include "render/cloud.h"
+#include "core/err.h"
+#include "core/fileio.h"
 #include "test.h"
-#include "time.h"
-#include "wxinterp.h"
-#include "wxset.h"
+#include "core/time.h"
+#include "apps/wxinterp_run.h"
+#include "weather/wxset.h"
 
 #include <cjson/cJSON.h>
 #include <stdlib.h>

@@ -1,8 +1,8 @@
 /* Each genus rule of man 1 wxinterp (GENUS RULES) on a crafted
  * observation, with the thresholds on both sides. */
-#include "cloud.h"
+#include "render/cloud.h"
 #include "test.h"
-#include "wxrules.h"
+#include "weather/genus_rules.h"
 
 /* A clear, dry night with good visibility. */
 static struct cs_wx_obs night(void)

@@ -1,0 +1,279 @@
+#include "apps/cloudrender_run.h"
+
+#include "core/err.h"
+#include "io/exr.h"
+#include "io/image.h"
+#include "terrain/heightfield.h"
+#include "render/scene.h"
+#include "terrain/terrain.h"
+#include "render/sun.h"
+#include "core/time.h"
+#include "noise/volume.h"
+
+#include <ctype.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include <strings.h>
+#include <time.h>
+
+void cs_cloudrender_defaults(struct cs_cloudrender_opts *o)
+{
+	memset(o, 0, sizeof *o);
+	o->noise_size = 64;
+	o->width = 640;
+	o->height = 360;
+	o->quality = "medium";
+	cs_render_quality("medium", &o->settings);
+}
+
+int cs_output_kind(const char *path)
+{
+	if (strcmp(path, "-") == 0)
+		return 'p';
+	const char *dot = strrchr(path, '.');
+	if (dot && strcasecmp(dot, ".png") == 0)
+		return 'p';
+	if (dot && strcasecmp(dot, ".exr") == 0)
+		return 'e';
+	return 0;
+}
+
+static double now_s(void)
+{
+	struct timespec ts;
+	clock_gettime(CLOCK_MONOTONIC, &ts);
+	return (double)ts.tv_sec + ts.tv_nsec * 1e-9;
+}
+
+static int write_outputs(struct cs_cloudrender_opts *o, const float *px)
+{
+	size_t n = (size_t)o->width * o->height;
+	uint8_t *rgb = NULL;
+	int rc = CS_OK;
+	if (o->exposure_auto)
+		o->exposure_ev = cs_auto_exposure_ev(px, 5, n);
+	for (int i = 0; i < o->noutputs && rc == CS_OK; i++) {
+		if (cs_output_kind(o->outputs[i]) == 'e') {
+			const struct cs_exr_channel ch[5] = {
+				{"R", 0, px + 0, 5}, {"G", 0, px + 1, 5}, {"B", 0, px + 2, 5},
+				{"A", 0, px + 3, 5}, {"Z", 1, px + 4, 5},
+			};
+			char when[32];
+			cs_time_format(o->wx.time_utc, when, sizeof when);
+			const struct cs_exr_attr attrs[] = {
+				{"cloudscapeTimeUTC", CS_EXR_STRING, {0, 0, 0}, when, 0},
+				{"cloudscapeQuality", CS_EXR_STRING, {0, 0, 0}, o->quality, 0},
+				{"cloudscapeUnits", CS_EXR_STRING, {0, 0, 0},
+				 "RGB: radiance in kcd/m^2, linear sRGB; A: 1 - cloud transmittance; Z: metres", 0},
+			};
+			rc = cs_exr_write(o->outputs[i], o->width, o->height, ch, 5, attrs, 3);
+		} else {
+			if (rgb == NULL) {
+				rgb = malloc(n * 3);
+				if (rgb == NULL)
+					return cs_error(CS_ENOMEM, "out of memory");
+				cs_tonemap_srgb8(px, 5, n, o->exposure_ev, rgb);
+			}
+			rc = cs_png_write(o->outputs[i], o->width, o->height, 3, rgb);
+		}
+	}
+	free(rgb);
+	return rc;
+}
+
+/* Distance on the sphere between two places, km (haversine). */
+static double great_circle_km(double lat1, double lon1, double lat2, double lon2)
+{
+	double k = CS_PI / 180.0;
+	double a = sin((lat2 - lat1) * k / 2), b = sin((lon2 - lon1) * k / 2);
+	double h = a * a + cos(lat1 * k) * cos(lat2 * k) * b * b;
+	return 2.0 * CS_EARTH_RADIUS_M / 1000.0 * asin(sqrt(h < 1.0 ? h : 1.0));
+}
+
+/* Places the heightfield: three corners' geographic positions on the
+ * sphere fix the affine map from world to grid. */
+static int place_terrain(const struct cs_scene *sc, const struct cs_wx *wx,
+			 const struct cs_terrain *t, struct cs_hfield *hf)
+{
+	static const int corner[3] = {0, 1, 3}; /* upper-left, upper-right, lower-left */
+	double col[3] = {0, t->width - 1, 0}, row[3] = {0, 0, t->height - 1}, x[3], y[3];
+	for (int k = 0; k < 3; k++) {
+		cs_v3 p = cs_geo_to_world(wx->site.lat_deg, wx->site.lon_deg, sc->earth_radius_m,
+					  t->corner_lat[corner[k]], t->corner_lon[corner[k]], 0.0);
+		x[k] = p.x, y[k] = p.y;
+	}
+	double a[3], b[3];
+	int rc = cs_hfield_place(col, row, x, y, a, b);
+	if (rc == CS_OK)
+		rc = cs_hfield_init(hf, t->h, t->width, t->height, a, b, sc->earth_radius_m);
+	return rc;
+}
+
+int cs_cloudrender_run(struct cs_cloudrender_opts *o)
+{
+	int rc;
+	o->scene = NULL;
+	if (o->noutputs < 1)
+		return cs_error(CS_EINVAL, "no output: give -o FILE.png or -o FILE.exr");
+	for (int i = 0; i < o->noutputs; i++)
+		if (cs_output_kind(o->outputs[i]) == 0)
+			return cs_error(CS_EINVAL, "output '%s': the name must end in .png or .exr",
+					o->outputs[i]);
+	if (o->width < 1 || o->height < 1 || o->width > 16384 || o->height > 16384 ||
+	    (double)o->width * o->height > 1e8)
+		return cs_error(CS_EINVAL, "image size %dx%d is impossible (1..16384 a side, 10^8 pixels)",
+				o->width, o->height);
+	rc = cs_render_settings_check(&o->settings);
+	if (rc != CS_OK)
+		return rc;
+	const struct cs_view *view = NULL;
+	if (o->view && (view = cs_view_find(o->view)) == NULL)
+		return cs_error(CS_EINVAL, "unknown view '%s' (see --list-views)", o->view);
+
+	/* the weather, and the time */
+	if (o->wx_path) {
+		rc = cs_wx_read(o->wx_path, &o->wx);
+		if (rc != CS_OK)
+			return rc;
+	} else {
+		cs_wx_default(&o->wx);
+	}
+	if (o->have_time)
+		o->wx.time_utc = o->time_utc;
+
+	/* the noise */
+	double t0 = now_s();
+	struct cs_volume noise;
+	if (o->noise_path) {
+		rc = cs_volume_read_exr(o->noise_path, &noise);
+	} else {
+		rc = cs_volume_new(&noise, o->noise_size, o->noise_size);
+		if (rc == CS_OK)
+			rc = cs_volume_bake(&noise, o->threads, NULL, NULL);
+	}
+	if (rc != CS_OK)
+		return rc;
+	o->t_noise_s = now_s() - t0;
+
+	/* the scene, the terrain and the camera */
+	t0 = now_s();
+	struct cs_terrain terrain;
+	struct cs_hfield hf;
+	int have_terrain = 0, have_hf = 0;
+	uint8_t *drape = NULL;
+	memset(&terrain, 0, sizeof terrain);
+	memset(&hf, 0, sizeof hf);
+	struct cs_scene *sc = malloc(sizeof *sc);
+	float *px = malloc((size_t)o->width * o->height * 5 * sizeof(float));
+	if (sc == NULL || px == NULL) {
+		rc = cs_error(CS_ENOMEM, "out of memory for a %dx%d image", o->width, o->height);
+		goto done;
+	}
+	rc = cs_scene_build(sc, &o->wx, o->wx.time_utc, &noise);
+	if (rc != CS_OK)
+		goto done;
+	o->scene = sc;
+	if (o->terrain_path) {
+		rc = cs_terrain_read(o->terrain_path, &terrain);
+		if (rc != CS_OK)
+			goto done;
+		have_terrain = 1;
+		rc = place_terrain(sc, &o->wx, &terrain, &hf);
+		if (rc != CS_OK)
+			goto done;
+		have_hf = 1;
+		sc->terrain = &hf;
+		sc->effects |= CS_FX_TERRAIN;
+		if (o->terrain_color_path) {
+			rc = cs_png_read_rgb8(o->terrain_color_path, &drape, &sc->terrain_color_w,
+					      &sc->terrain_color_h);
+			if (rc != CS_OK)
+				goto done;
+			sc->terrain_color = drape;
+		}
+	} else if (o->terrain_color_path) {
+		rc = cs_error(CS_EINVAL, "--terrain-color needs --terrain");
+		goto done;
+	}
+	double lat = o->wx.site.lat_deg, lon = o->wx.site.lon_deg;
+	double alt = o->wx.site.alt_m + 2.0, az = 160.0, el = 8.0, fov = 70.0;
+	if (view) {
+		lat = view->lat_deg, lon = view->lon_deg, alt = view->alt_m;
+		az = view->azimuth_deg, el = view->elevation_deg, fov = view->fov_deg;
+	}
+	if (o->have_camera)
+		lat = o->cam_lat_deg, lon = o->cam_lon_deg, alt = o->cam_alt_m;
+	if (o->have_look)
+		az = o->look_az_deg, el = o->look_el_deg;
+	if (o->fov_deg > 0.0)
+		fov = o->fov_deg;
+	cs_v3 pos = cs_geo_to_world(o->wx.site.lat_deg, o->wx.site.lon_deg,
+				    sc->earth_radius_m, lat, lon, alt);
+	double ground = sc->ground_alt_m, th;
+	int over_terrain = have_hf && cs_hfield_height(&hf, pos.x, pos.y, &th);
+	if (over_terrain) {
+		ground = th;
+		if (!view && !o->have_camera) { /* the default eye stands on the terrain */
+			alt = th + 2.0;
+			pos = cs_geo_to_world(o->wx.site.lat_deg, o->wx.site.lon_deg,
+					      sc->earth_radius_m, lat, lon, alt);
+		}
+	}
+	if (alt < ground) {
+		rc = cs_error(CS_EINVAL, "the camera at %.1f m is below the %s (%.1f m)",
+			      alt, over_terrain ? "terrain" : "ground", ground);
+		goto done;
+	}
+	struct cs_camera cam;
+	rc = cs_camera_init(&cam, sc, pos, o->wx.site.lat_deg, az, el, fov, o->width, o->height);
+	if (rc != CS_OK)
+		goto done;
+	o->camera_site_km = great_circle_km(lat, lon, o->wx.site.lat_deg, o->wx.site.lon_deg);
+	o->camera_terrain_km = have_terrain ? great_circle_km(lat, lon, terrain.center_lat,
+							      terrain.center_lon)
+					    : -1.0;
+	struct cs_sun sun;
+	if (cs_sun_position(o->wx.time_utc, o->wx.site.lat_deg, o->wx.site.lon_deg, &sun) == CS_OK) {
+		o->sun_azimuth_deg = sun.azimuth_deg;
+		o->sun_elevation_deg = sun.apparent_elevation_deg;
+	}
+	o->t_scene_s = now_s() - t0;
+
+	t0 = now_s();
+	rc = cs_render_image(sc, &cam, &o->settings, o->threads, o->progress,
+			     o->progress_user, px, &o->stats);
+	o->t_render_s = now_s() - t0;
+	if (rc != CS_OK)
+		goto done;
+	t0 = now_s();
+	rc = write_outputs(o, px);
+	o->t_write_s = now_s() - t0;
+done:
+	free(px);
+	free(drape);
+	if (have_hf)
+		cs_hfield_free(&hf);
+	if (have_terrain)
+		cs_terrain_free(&terrain);
+	if (o->scene) { /* what it pointed to is gone */
+		o->scene->terrain = NULL;
+		o->scene->terrain_color = NULL;
+	}
+	if (rc != CS_OK) {
+		free(sc);
+		o->scene = NULL;
+	}
+	/* the scene points at the noise: keep the statistics and volume only
+	 * for as long as the run needs them */
+	if (o->scene)
+		o->scene->noise = NULL;
+	cs_volume_free(&noise);
+	return rc;
+}
+
+void cs_cloudrender_free(struct cs_cloudrender_opts *o)
+{
+	free(o->scene);
+	o->scene = NULL;
+}

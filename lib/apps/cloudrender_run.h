@@ -1,0 +1,58 @@
+/* cloudrender.h - the cloudrender program as a library call. */
+#ifndef CS_CLOUDRENDER_H
+#define CS_CLOUDRENDER_H
+
+#include "render/render.h"
+#include "weather/wx.h"
+
+#define CS_RENDER_MAX_OUTPUTS 4
+
+struct cs_cloudrender_opts {
+	const char *wx_path;      /* cloudwx JSON or "-", or NULL: built-in */
+	const char *noise_path;   /* noise volume, or NULL: baked in memory */
+	const char *terrain_path; /* heightfield from terrainprep, or NULL: flat */
+	const char *terrain_color_path; /* PNG draped over the terrain, or NULL */
+	int noise_size;           /* in-memory bake size (default 64) */
+	int have_time;
+	double time_utc;          /* overrides the weather state's time */
+	const char *view;         /* named viewpoint, or NULL */
+	int have_camera;          /* explicit position */
+	double cam_lat_deg, cam_lon_deg, cam_alt_m;
+	int have_look;
+	double look_az_deg, look_el_deg;
+	double fov_deg;           /* 0: the view's, or 70 */
+	int width, height;
+	struct cs_render_settings settings;
+	const char *quality;      /* the preset name, for reports */
+	double exposure_ev;
+	int exposure_auto;        /* choose exposure_ev from the image */
+	int threads;
+	const char *outputs[CS_RENDER_MAX_OUTPUTS]; /* .png or .exr ("-": PNG to stdout) */
+	int noutputs;
+	cs_progress_fn progress;
+	void *progress_user;
+
+	/* filled in by the run, for --stats */
+	struct cs_render_stats stats;
+	double t_noise_s, t_scene_s, t_render_s, t_write_s;
+	struct cs_wx wx;
+	struct cs_scene *scene;   /* valid until cs_cloudrender_free() */
+	double sun_azimuth_deg, sun_elevation_deg;
+	double camera_site_km;    /* from the camera to the weather site */
+	double camera_terrain_km; /* to the terrain's centre (-1 without terrain) */
+};
+
+/* Defaults: built-in weather, in-memory noise, the default camera at the
+ * weather site, 640x360, quality "medium", exposure 0, all threads. */
+void cs_cloudrender_defaults(struct cs_cloudrender_opts *o);
+
+/* Renders and writes every output.  Usage-type problems (a bad size, an
+ * unknown view, an output of unknown type) return CS_EINVAL; data problems
+ * CS_EDATA or CS_EIO.  Call cs_cloudrender_free() afterwards. */
+int cs_cloudrender_run(struct cs_cloudrender_opts *o);
+void cs_cloudrender_free(struct cs_cloudrender_opts *o);
+
+/* The output type of a file name: 'p' (.png or "-"), 'e' (.exr) or 0. */
+int cs_output_kind(const char *path);
+
+#endif

@@ -1,0 +1,63 @@
+/* terrainprep.h - the terrainprep program as a library call: any DEM GDAL
+ * reads -> a metric, north-up heightfield (see terrain.h), through GDAL's
+ * warp API. */
+#ifndef CS_TERRAINPREP_H
+#define CS_TERRAINPREP_H
+
+#include "terrain/terrain.h"
+#include "noise/volume.h" /* cs_progress_fn */
+
+#define CS_TERRAINPREP_MAX_INPUTS 4096
+#define CS_TERRAINPREP_MAX_SAMPLES ((long)1 << 28) /* 16384^2 */
+
+enum cs_fill { CS_FILL_NEAREST, CS_FILL_NONE, CS_FILL_VALUE };
+
+struct cs_terrainprep_opts {
+	const char **inputs;      /* DEM files, "-" = standard input (once) */
+	int ninputs;
+	const char *stdin_name;   /* name "-" is opened under (drivers such as
+				   * SRTMHGT take georeferencing from it) */
+	const char *output;       /* data file; the sidecar goes beside it */
+	enum cs_terrain_format format;
+	const char *s_srs, *t_srs;/* any form GDAL accepts (EPSG:n, WKT, PROJ) */
+	int have_center;
+	double center_lat, center_lon, radius_km;  /* square crop */
+	int have_bounds;
+	double bounds[4];         /* xmin, ymin, xmax, ymax */
+	const char *bounds_srs;   /* CRS of bounds; NULL: the target CRS */
+	double res_m;             /* > 0: pixel size */
+	int size_long;            /* > 0: samples along the longer side */
+	int size_w, size_h;       /* > 0: exactly these samples */
+	int size_unity;           /* square 2^n+1, 33..4097 (Unity terrain) */
+	const char *resampling;   /* NULL: bilinear, average when shrinking > 2x */
+	int have_src_nodata;
+	int src_nodata_none;      /* ignore the file's nodata */
+	double src_nodata;
+	enum cs_fill fill;
+	double fill_value;
+	double max_void_fraction; /* more voids than this is an error */
+	int r16_south_up;
+	const char *hillshade;    /* PNG path, or NULL */
+	double azimuth_deg, altitude_deg, z_factor, scale;
+	cs_progress_fn progress;
+	void *progress_user;
+
+	/* filled in by the run */
+	struct cs_terrain result;  /* freed by cs_terrainprep_free() */
+	long voids;
+	char resampling_used[16];
+	char warning[256];         /* GDAL's last warning, or "" */
+};
+
+/* Defaults: EXR, fill nearest, 50% voids allowed, stdin name "stdin",
+ * hillshade sun at azimuth 315, altitude 45, z-factor 1, scale 1. */
+void cs_terrainprep_defaults(struct cs_terrainprep_opts *o);
+
+/* Reads, mosaics, reprojects, crops, resamples, fills and writes.  Option
+ * mistakes (a bad CRS, crop or size) return CS_EINVAL; the data's
+ * problems (unreadable input, no CRS without s_srs, too many voids)
+ * CS_EDATA; the system's CS_EIO. */
+int cs_terrainprep_run(struct cs_terrainprep_opts *o);
+void cs_terrainprep_free(struct cs_terrainprep_opts *o);
+
+#endif

@@ -1,0 +1,682 @@
+#include "apps/wxinterp_run.h"
+
+#include "core/err.h"
+#include "core/fileio.h"
+#include "render/sun.h"
+#include "core/time.h"
+#include "core/vec.h"
+#include "weather/wxset.h"
+
+#include <errno.h>
+#include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#define MAX_FILE_BYTES ((size_t)64 << 20)
+
+/* Returns from the calling function on an error. */
+#define TRY(call)                                                             \
+	do {                                                                  \
+		int try_rc_ = (call);                                         \
+		if (try_rc_ != CS_OK)                                         \
+			return try_rc_;                                       \
+	} while (0)
+
+void cs_wxinterp_defaults(struct cs_wxinterp_opts *o)
+{
+	memset(o, 0, sizeof *o);
+	o->step_s = 3600;
+	o->max_gap_s = CS_WXINTERP_DEFAULT_GAP_S;
+	o->output = "-";
+}
+
+static const char *label(const char *path)
+{
+	return strcmp(path, "-") == 0 ? "standard input" : path;
+}
+
+int cs_series_read(const char *path, struct cs_series *s)
+{
+	unsigned char *data;
+	size_t len;
+	memset(s, 0, sizeof *s);
+	int rc = cs_read_all(path, MAX_FILE_BYTES, &data, &len);
+	if (rc != CS_OK)
+		return rc;
+	rc = cs_provider_parse((const char *)data, len, label(path), s);
+	free(data);
+	return rc;
+}
+
+void cs_series_range(const struct cs_series *s, char *buf, size_t size)
+{
+	char a[32], b[32];
+	if (s->n <= 0) {
+		snprintf(buf, size, "no hours");
+		return;
+	}
+	cs_time_format(s->time_utc[0], a, sizeof a);
+	cs_time_format(s->time_utc[s->n - 1], b, sizeof b);
+	snprintf(buf, size, "%s to %s", a, b);
+}
+
+/* ---- merging -------------------------------------------------------------- */
+
+static double distance_km(double lat1, double lon1, double lat2, double lon2)
+{
+	const double r = CS_PI / 180;
+	double s1 = sin((lat2 - lat1) * r / 2), s2 = sin((lon2 - lon1) * r / 2);
+	double h = s1 * s1 + cos(lat1 * r) * cos(lat2 * r) * s2 * s2;
+	return 2 * 6371.0 * asin(sqrt(h < 1 ? h : 1));
+}
+
+int cs_series_merge(struct cs_series *a, const struct cs_series *b,
+		    double *dist_km)
+{
+	double d = distance_km(a->lat_deg, a->lon_deg, b->lat_deg, b->lon_deg);
+	if (dist_km != NULL)
+		*dist_km = d;
+	if (!(fabs(a->lat_deg - b->lat_deg) <= CS_WXINTERP_MERGE_DEG &&
+	      fabs(a->lon_deg - b->lon_deg) <= CS_WXINTERP_MERGE_DEG))
+		return cs_error(CS_EDATA, "its site (%.4f, %.4f) is %.1f km "
+				"from the first file's (%.4f, %.4f): not the same "
+				"site (a distant site is given with --far)",
+				b->lat_deg, b->lon_deg, d, a->lat_deg, a->lon_deg);
+	if (a->n <= 0 || b->n <= 0)
+		return cs_error(CS_EDATA, "no hours to merge");
+	double shift = fmod(b->time_utc[0] - a->time_utc[0], 3600.0);
+	if (shift != 0)
+		return cs_error(CS_EDATA, "its hours fall %.0f min off the first "
+				"file's hours", fabs(shift) / 60);
+	double t0 = fmin(a->time_utc[0], b->time_utc[0]);
+	double t1 = fmax(a->time_utc[a->n - 1], b->time_utc[b->n - 1]);
+	double hours = (t1 - t0) / 3600 + 1;
+	if (hours > CS_WXINTERP_MAX_HOURS)
+		return cs_error(CS_EDATA, "together the files span %.0f hours, "
+				"more than %d", hours, CS_WXINTERP_MAX_HOURS);
+	int n = (int)hours;
+	int ia = (int)((a->time_utc[0] - t0) / 3600);
+	int ib = (int)((b->time_utc[0] - t0) / 3600);
+	struct cs_series m = *a;
+	m.n = n;
+	m.time_utc = malloc((size_t)n * sizeof *m.time_utc);
+	int fail = m.time_utc == NULL;
+	for (int k = 0; k < CS_VAR_COUNT; k++) {
+		m.v[k] = NULL;
+		if (fail || (a->v[k] == NULL && b->v[k] == NULL))
+			continue;
+		if ((m.v[k] = malloc((size_t)n * sizeof *m.v[k])) == NULL) {
+			fail = 1;
+			continue;
+		}
+		for (int i = 0; i < n; i++)
+			m.v[k][i] = NAN;
+		for (int i = 0; a->v[k] && i < a->n; i++)
+			m.v[k][ia + i] = a->v[k][i];
+		for (int i = 0; b->v[k] && i < b->n; i++)
+			if (!isnan(b->v[k][i]))
+				m.v[k][ib + i] = b->v[k][i];
+		if (m.key[k][0] == '\0')
+			memcpy(m.key[k], b->key[k], sizeof m.key[k]);
+	}
+	if (fail) {
+		cs_series_free(&m);
+		return cs_error(CS_ENOMEM, "out of memory merging");
+	}
+	for (int i = 0; i < n; i++)
+		m.time_utc[i] = t0 + 3600.0 * i;
+	cs_series_free(a);
+	*a = m;
+	return CS_OK;
+}
+
+/* ---- interpolation -------------------------------------------------------- */
+
+static double lerp(double a, double b, double f, int angle)
+{
+	if (!angle)
+		return a + f * (b - a);
+	/* the short way round: d in [-180, 180) */
+	double d = fmod(b - a + 540.0, 360.0) - 180.0;
+	double v = fmod(a + f * d + 360.0, 360.0);
+	return v >= 360.0 ? 0.0 : v;
+}
+
+struct when {
+	char s[32];
+};
+
+static struct when when(double t)
+{
+	struct when w;
+	cs_time_format(t, w.s, sizeof w.s);
+	return w;
+}
+
+int cs_series_value(const struct cs_series *s, enum cs_wxvar k, double t,
+		    double max_gap_s, double *out)
+{
+	if ((unsigned)k >= CS_VAR_COUNT || s->v[k] == NULL)
+		return cs_error(CS_EDATA, "no %s in the data",
+				cs_wxvar_name(k));
+	const char *name = cs_wxvar_name(k), *key = s->key[k];
+	int n = s->n;
+	if (n <= 0 || !(t >= s->time_utc[0] && t <= s->time_utc[n - 1])) {
+		char r[80];
+		cs_series_range(s, r, sizeof r);
+		return cs_error(CS_EDATA, "%s is outside the data (%s)",
+				when(t).s, r);
+	}
+	const double *v = s->v[k];
+	int angle = k == CS_VAR_WIND_FROM;
+	int i = (int)floor((t - s->time_utc[0]) / 3600.0);
+	if (i > n - 1)
+		i = n - 1;
+	double f = (t - s->time_utc[i]) / 3600.0;
+	if (f == 0 && !isnan(v[i])) {
+		*out = v[i];
+		return CS_OK;
+	}
+	if (f > 0 && i + 1 < n && !isnan(v[i]) && !isnan(v[i + 1])) {
+		*out = lerp(v[i], v[i + 1], f, angle);
+		return CS_OK;
+	}
+	/* a null: the nearest valid hours at or before t and after it */
+	int ja = i, jb = f > 0 || isnan(v[i]) ? i + 1 : i;
+	while (ja >= 0 && isnan(v[ja]))
+		ja--;
+	while (jb < n && isnan(v[jb]))
+		jb++;
+	if (ja < 0 && jb >= n)
+		return cs_error(CS_EDATA, "%s (%s) is null at every hour", name,
+				key);
+	if (ja < 0)
+		return cs_error(CS_EDATA, "%s (%s) has no value at %s: it is "
+				"null from the start of the data to %s, with no "
+				"valid hour before", name, key, when(t).s,
+				when(s->time_utc[jb - 1]).s);
+	if (jb >= n)
+		return cs_error(CS_EDATA, "%s (%s) has no value at %s: it is "
+				"null from %s to the end of the data, with no "
+				"valid hour after", name, key, when(t).s,
+				when(s->time_utc[ja + 1]).s);
+	double ta = s->time_utc[ja], tb = s->time_utc[jb];
+	if (tb - ta > max_gap_s)
+		return cs_error(CS_EDATA, "%s (%s) has no value at %s: the "
+				"nearest valid hours, %s and %s, are %g h apart "
+				"(at most %g h are bridged: --max-gap)", name,
+				key, when(t).s, when(ta).s, when(tb).s,
+				(tb - ta) / 3600, max_gap_s / 3600);
+	*out = lerp(v[ja], v[jb], (t - ta) / (tb - ta), angle);
+	return CS_OK;
+}
+
+/* An optional variable: NaN when the file lacks it. */
+static int optional(const struct cs_series *s, enum cs_wxvar k, double t,
+		    double gap, double *out)
+{
+	*out = NAN;
+	return s->v[k] == NULL ? CS_OK : cs_series_value(s, k, t, gap, out);
+}
+
+int cs_series_obs(const struct cs_series *s, double t, double gap,
+		  struct cs_wx_obs *o)
+{
+	double fog;
+	TRY(cs_series_value(s, CS_VAR_CLOUD_LOW, t, gap, &o->low));
+	TRY(cs_series_value(s, CS_VAR_CLOUD_MID, t, gap, &o->mid));
+	TRY(cs_series_value(s, CS_VAR_CLOUD_HIGH, t, gap, &o->high));
+	TRY(cs_series_value(s, CS_VAR_PRECIP, t, gap, &o->precipitation_mm_h));
+	TRY(optional(s, CS_VAR_CONV_PRECIP, t, gap, &o->convective_mm_h));
+	TRY(cs_series_value(s, CS_VAR_WIND_SPEED, t, gap, &o->wind_speed_m_s));
+	TRY(cs_series_value(s, CS_VAR_WIND_FROM, t, gap, &o->wind_from_deg));
+	TRY(optional(s, CS_VAR_VISIBILITY, t, gap, &o->visibility_m));
+	TRY(optional(s, CS_VAR_FOG_PROBABILITY, t, gap, &fog));
+	TRY(optional(s, CS_VAR_TEMPERATURE, t, gap, &o->temperature_c));
+	TRY(optional(s, CS_VAR_HUMIDITY, t, gap, &o->humidity_pct));
+	o->low /= 100;
+	o->mid /= 100;
+	o->high /= 100;
+	o->fog_probability = fog / 100;
+	/* no convective part given: none (the state's default) */
+	if (isnan(o->convective_mm_h))
+		o->convective_mm_h = 0;
+	if (o->convective_mm_h > o->precipitation_mm_h)
+		o->convective_mm_h = o->precipitation_mm_h;
+	struct cs_sun sun;
+	o->sun_elevation_deg = cs_sun_position(t, s->lat_deg, s->lon_deg, &sun)
+			       == CS_OK ? sun.elevation_deg : NAN;
+	return CS_OK;
+}
+
+/* ---- small parsers and formatters ------------------------------------------ */
+
+int cs_duration_parse(const char *s, double *seconds)
+{
+	char *end;
+	errno = 0;
+	double v = strtod(s, &end);
+	double unit = 1;
+	if (end != s && end[0] != '\0' && end[1] == '\0')
+		unit = end[0] == 's' ? 1 : end[0] == 'm' ? 60 : end[0] == 'h' ?
+		       3600 : end[0] == 'd' ? 86400 : 0;
+	else if (end == s || end[0] != '\0')
+		unit = 0;
+	if (unit == 0 || s[0] == '-' || s[0] == '+' || errno == ERANGE ||
+	    !(v * unit > 0) || !isfinite(v * unit))
+		return cs_error(CS_EINVAL, "'%s' is not a duration (a positive "
+				"number with s, m, h or d, e.g. 10m)", s);
+	*seconds = v * unit;
+	return CS_OK;
+}
+
+/* The index just past the container opening at s[i]; *flat when it holds
+ * no container. */
+static size_t container_end(const char *s, size_t i, int *flat)
+{
+	int depth = 0, str = 0;
+	*flat = 1;
+	for (; s[i] != '\0'; i++) {
+		char c = s[i];
+		if (str) {
+			if (c == '\\' && s[i + 1] != '\0')
+				i++;
+			else if (c == '"')
+				str = 0;
+		} else if (c == '"') {
+			str = 1;
+		} else if (c == '{' || c == '[') {
+			if (++depth > 1)
+				*flat = 0;
+		} else if ((c == '}' || c == ']') && --depth == 0) {
+			return i + 1;
+		}
+	}
+	return i;
+}
+
+static void indent(FILE *f, int depth)
+{
+	fputc('\n', f);
+	for (int d = 0; d < depth; d++)
+		fputs("  ", f);
+}
+
+int cs_json_pretty(const char *json, char **out)
+{
+	char *buf = NULL;
+	size_t size, flat_end = 0;
+	int depth = 0, str = 0;
+	FILE *f = open_memstream(&buf, &size);
+	if (f == NULL)
+		return cs_error(CS_ENOMEM, "out of memory");
+	for (size_t i = 0; json[i] != '\0'; i++) {
+		char c = json[i];
+		if (str) {
+			fputc(c, f);
+			if (c == '\\' && json[i + 1] != '\0')
+				fputc(json[++i], f);
+			else if (c == '"')
+				str = 0;
+		} else if (c == ' ' || c == '\t' || c == '\n' || c == '\r') {
+			continue;
+		} else {
+			int flat = 0;
+			if ((c == '{' || c == '[') && i >= flat_end) {
+				size_t e = container_end(json, i, &flat);
+				if (flat)
+					flat_end = e;
+			}
+			int inner = i < flat_end;
+			fputc(c, f);
+			if (c == '"')
+				str = 1;
+			else if (inner && (c == ',' || c == ':'))
+				fputc(' ', f);
+			else if (!inner && (c == '{' || c == '['))
+				indent(f, ++depth);
+			else if (!inner && c == ',')
+				indent(f, depth);
+			else if (!inner && c == ':')
+				fputc(' ', f);
+		}
+		/* before the closing bracket of a multi-line container */
+		if (!str && i + 1 >= flat_end && depth > 0 &&
+		    (json[i + 1] == '}' || json[i + 1] == ']'))
+			indent(f, --depth);
+	}
+	fputc('\n', f);
+	int bad = ferror(f);
+	if (fclose(f) != 0 || bad) {
+		free(buf);
+		return cs_error(CS_ENOMEM, "out of memory");
+	}
+	*out = buf;
+	return CS_OK;
+}
+
+/* ---- the program ---------------------------------------------------------- */
+
+struct run {
+	struct cs_wxinterp_opts *o;
+	struct cs_series main;
+	char main_label[256];
+	struct cs_wx_site site;
+	struct cs_series far[CS_WX_MAX_FAR];
+	struct cs_wx_site far_site[CS_WX_MAX_FAR];
+};
+
+static void note(const struct cs_wxinterp_opts *o, int level, const char *fmt,
+		 ...) __attribute__((format(printf, 3, 4)));
+
+static void note(const struct cs_wxinterp_opts *o, int level, const char *fmt,
+		 ...)
+{
+	if (o->note == NULL)
+		return;
+	char msg[1024];
+	va_list ap;
+	va_start(ap, fmt);
+	vsnprintf(msg, sizeof msg, fmt, ap);
+	va_end(ap);
+	o->note(o->note_user, level, msg);
+}
+
+/* The site of a series: name from the option, the file, or the file name
+ * without folder and extension. */
+static void site_of(const struct cs_series *s, const char *path,
+		    const char *name, struct cs_wx_site *site)
+{
+	memset(site, 0, sizeof *site);
+	if (name == NULL && s->name[0] != '\0')
+		name = s->name;
+	if (name != NULL) {
+		snprintf(site->name, sizeof site->name, "%s", name);
+	} else if (strcmp(path, "-") != 0) {
+		const char *b = strrchr(path, '/');
+		b = b ? b + 1 : path;
+		const char *dot = strrchr(b, '.');
+		int len = dot && dot != b ? (int)(dot - b) : (int)strlen(b);
+		snprintf(site->name, sizeof site->name, "%.*s",
+			 len < 63 ? len : 63, b);
+	}
+	site->lat_deg = s->lat_deg;
+	site->lon_deg = s->lon_deg;
+	site->alt_m = s->alt_m;
+}
+
+static void describe(const struct cs_wxinterp_opts *o, const char *path,
+		     const struct cs_series *s)
+{
+	char r[80];
+	cs_series_range(s, r, sizeof r);
+	note(o, 2, "%s: %s, %d hours, %s (UTC offset %+g h), site \"%s\" "
+	     "%.4f %.4f %.0f m", label(path), s->provider ==
+	     CS_PROVIDER_METEOBLUE ? "meteoblue" : "Open-Meteo", s->n, r,
+	     s->utc_offset_s / 3600, s->name, s->lat_deg, s->lon_deg, s->alt_m);
+}
+
+static int read_inputs(struct run *r)
+{
+	struct cs_wxinterp_opts *o = r->o;
+	TRY(cs_series_read(o->inputs[0], &r->main));
+	describe(o, o->inputs[0], &r->main);
+	snprintf(r->main_label, sizeof r->main_label, "%s%s",
+		 label(o->inputs[0]), o->ninputs > 1 ? " (merged)" : "");
+	for (int i = 1; i < o->ninputs; i++) {
+		struct cs_series b;
+		double km;
+		TRY(cs_series_read(o->inputs[i], &b));
+		describe(o, o->inputs[i], &b);
+		int rc = cs_series_merge(&r->main, &b, &km);
+		cs_series_free(&b);
+		if (rc != CS_OK)
+			return cs_error(rc, "%s: %s", label(o->inputs[i]),
+					cs_errmsg());
+		if (km > 1)
+			note(o, 1, "%s is %.1f km from %s; using the position "
+			     "of %s", label(o->inputs[i]), km,
+			     label(o->inputs[0]), label(o->inputs[0]));
+	}
+	site_of(&r->main, o->inputs[0], o->site_name, &r->site);
+	if (o->have_alt)
+		r->site.alt_m = o->alt_m;
+	for (int i = 0; i < o->nfar; i++) {
+		TRY(cs_series_read(o->far[i], &r->far[i]));
+		describe(o, o->far[i], &r->far[i]);
+		site_of(&r->far[i], o->far[i], o->far_name[i], &r->far_site[i]);
+	}
+	return CS_OK;
+}
+
+/* Both ends of the requested times inside every series. */
+static int covered(const struct run *r, double t0, double t1)
+{
+	const struct cs_wxinterp_opts *o = r->o;
+	for (int i = -1; i < o->nfar; i++) {
+		const struct cs_series *s = i < 0 ? &r->main : &r->far[i];
+		const char *name = i < 0 ? r->main_label : label(o->far[i]);
+		double bad = t0 < s->time_utc[0] ? t0 :
+			     t1 > s->time_utc[s->n - 1] ? t1 : NAN;
+		if (!isnan(bad)) {
+			char range[80];
+			cs_series_range(s, range, sizeof range);
+			return cs_error(CS_EDATA, "%s is outside the data: %s "
+					"covers %s", when(bad).s, name, range);
+		}
+	}
+	return CS_OK;
+}
+
+static void explain(const struct cs_wxinterp_opts *o, const struct cs_wx *wx,
+		    const struct cs_wx_obs *ob)
+{
+	enum cs_wx_rule rules[3];
+	static const char *const etage[3] = {"low", "mid", "high"};
+	const double cover[3] = {ob->low, ob->mid, ob->high};
+	char msg[900];
+	size_t k = 0;
+	cs_wx_rules(ob, rules);
+	k += (size_t)snprintf(msg, sizeof msg, "%s: sun %.1f deg, rain %g mm/h "
+			      "(convective %g)", when(wx->time_utc).s,
+			      ob->sun_elevation_deg, ob->precipitation_mm_h,
+			      ob->convective_mm_h);
+	for (int e = 0; e < 3 && k < sizeof msg; e++)
+		k += (size_t)snprintf(msg + k, sizeof msg - k, "; %s %g%%: %s",
+				      etage[e], cover[e] * 100,
+				      cs_wx_rule_text(rules[e]));
+	note(o, 2, "%s", msg);
+}
+
+/* Fills one far site (layers, rain, visibility) at time t. */
+static int far_state(const struct run *r, int i, double t, struct cs_wx_far *f)
+{
+	struct cs_wx_obs ob;
+	int rc = cs_series_obs(&r->far[i], t, r->o->max_gap_s, &ob);
+	if (rc != CS_OK)
+		return cs_error(rc, "%s: %s", label(r->o->far[i]), cs_errmsg());
+	f->site = r->far_site[i];
+	cs_wx_layers(&ob, f->site.alt_m, f->layers, &f->nlayers, NULL);
+	f->precipitation_mm_h = ob.precipitation_mm_h;
+	f->visibility_m = isnan(ob.visibility_m) ? CS_WX_DEFAULT_VIS_M :
+			  ob.visibility_m < 1 ? 1 : ob.visibility_m;
+	return CS_OK;
+}
+
+/* The state at time t, before the --set edits. */
+static int derive(const struct run *r, double t, struct cs_wx *wx)
+{
+	struct cs_wx_obs ob;
+	memset(wx, 0, sizeof *wx);
+	int rc = cs_series_obs(&r->main, t, r->o->max_gap_s, &ob);
+	if (rc != CS_OK)
+		return cs_error(rc, "%s: %s", r->main_label, cs_errmsg());
+	wx->time_utc = t;
+	wx->site = r->site;
+	cs_wx_layers(&ob, wx->site.alt_m, wx->layers, &wx->nlayers, NULL);
+	wx->precipitation_mm_h = ob.precipitation_mm_h;
+	wx->convective_mm_h = ob.convective_mm_h;
+	wx->wind_speed_m_s = ob.wind_speed_m_s;
+	wx->wind_from_deg = ob.wind_from_deg;
+	wx->visibility_m = isnan(ob.visibility_m) ? CS_WX_DEFAULT_VIS_M :
+			   ob.visibility_m < 1 ? 1 : ob.visibility_m;
+	wx->fog_probability = isnan(ob.fog_probability) ? 0 :
+			      ob.fog_probability;
+	explain(r->o, wx, &ob);
+	wx->nfar = r->o->nfar;
+	for (int i = 0; i < r->o->nfar; i++)
+		TRY(far_state(r, i, t, &wx->far[i]));
+	return CS_OK;
+}
+
+static int write_all(int fd, const char *s, size_t n, const char *dst)
+{
+	while (n > 0) {
+		ssize_t w = write(fd, s, n);
+		if (w < 0 && errno == EINTR)
+			continue;
+		if (w < 0)
+			return cs_error(CS_EIO, "cannot write %s: %s", dst,
+					strerror(errno));
+		s += w;
+		n -= (size_t)w;
+	}
+	return CS_OK;
+}
+
+/* Derives (or takes the template), edits, validates and writes one state. */
+static int one_state(struct run *r, double t, struct cs_outfile *of)
+{
+	struct cs_wxinterp_opts *o = r->o;
+	struct cs_wx wx;
+	if (o->template_state) {
+		cs_wx_default(&wx);
+		wx.time_utc = t;
+		if (o->site_name != NULL)
+			snprintf(wx.site.name, sizeof wx.site.name, "%s",
+				 o->site_name);
+		if (o->have_alt)
+			wx.site.alt_m = o->alt_m;
+	} else {
+		TRY(derive(r, t, &wx));
+		if (cs_wx_validate(&wx) != CS_OK)
+			return cs_error(CS_EDATA, "%s: the state at %s is invalid: "
+					"%s", r->main_label, when(t).s,
+					cs_errmsg());
+	}
+	for (int i = 0; i < o->nsets; i++)
+		TRY(cs_wx_set(&wx, o->sets[i]));
+	if (o->nsets > 0 && cs_wx_validate(&wx) != CS_OK)
+		return cs_error(CS_EINVAL, "after --set: %s", cs_errmsg());
+	char *json = NULL, *pretty = NULL;
+	TRY(cs_wx_to_json(&wx, &json));
+	int rc = CS_OK;
+	if (o->pretty)
+		rc = cs_json_pretty(json, &pretty);
+	if (rc == CS_OK && pretty == NULL) {
+		size_t n = strlen(json);
+		json[n] = '\n'; /* over the terminator: written by length */
+		rc = write_all(of->fd, json, n + 1, label(o->output));
+	} else if (rc == CS_OK) {
+		rc = write_all(of->fd, pretty, strlen(pretty), label(o->output));
+	}
+	free(json);
+	free(pretty);
+	o->nstates++;
+	return rc;
+}
+
+static int check_opts(const struct cs_wxinterp_opts *o)
+{
+	int stdin_uses = 0;
+	for (int i = 0; i < o->ninputs; i++)
+		stdin_uses += strcmp(o->inputs[i], "-") == 0;
+	for (int i = 0; i < o->nfar; i++)
+		stdin_uses += strcmp(o->far[i], "-") == 0;
+	if (stdin_uses > 1)
+		return cs_error(CS_EINVAL, "standard input ('-') can be read "
+				"only once");
+	if (o->template_state && (o->ninputs > 0 || o->nfar > 0))
+		return cs_error(CS_EINVAL, "--template takes no input files");
+	if (!o->template_state && o->ninputs == 0)
+		return cs_error(CS_EINVAL, "no input: give a provider file "
+				"('-' for standard input) or --template");
+	if (o->ninputs > CS_WXINTERP_MAX_INPUTS || o->nfar > CS_WX_MAX_FAR ||
+	    o->nsets > CS_WXINTERP_MAX_SETS || o->ninputs < 0 || o->nfar < 0)
+		return cs_error(CS_EINVAL, "too many inputs, far sites or edits");
+	if (o->have_at && (o->have_from || o->have_to))
+		return cs_error(CS_EINVAL, "--at gives one time; --from and --to "
+				"a series: not both");
+	if (o->template_state && o->have_from != o->have_to)
+		return cs_error(CS_EINVAL, "--template: a series needs both "
+				"--from and --to");
+	if (!(o->step_s >= 1) || !(o->max_gap_s >= 3600))
+		return cs_error(CS_EINVAL, "the step must be at least 1 s and "
+				"--max-gap at least 1 h");
+	if (o->have_alt && !(o->alt_m >= -500 && o->alt_m <= 9000))
+		return cs_error(CS_EINVAL, "--alt: outside -500..9000 m");
+	for (int i = 0; i < o->nsets; i++)
+		TRY(cs_wx_set_check(o->sets[i]));
+	return CS_OK;
+}
+
+static int run_times(struct run *r)
+{
+	struct cs_wxinterp_opts *o = r->o;
+	double t0, t1;
+	if (o->have_at) {
+		t0 = t1 = o->at_utc;
+	} else if (o->template_state && !o->have_from) {
+		struct cs_wx d;
+		cs_wx_default(&d);
+		t0 = t1 = d.time_utc;
+	} else {
+		t0 = o->have_from ? o->from_utc : r->main.time_utc[0];
+		t1 = o->have_to ? o->to_utc : r->main.time_utc[r->main.n - 1];
+	}
+	if (t1 < t0)
+		return cs_error(CS_EINVAL, "the series ends (%s) before it starts "
+				"(%s)", when(t1).s, when(t0).s);
+	double count = floor((t1 - t0) / o->step_s + 1e-9) + 1;
+	if (count > CS_WXINTERP_MAX_STATES)
+		return cs_error(CS_EINVAL, "%.0f states from %s to %s every %g s: "
+				"more than %d", count, when(t0).s, when(t1).s,
+				o->step_s, CS_WXINTERP_MAX_STATES);
+	if (o->pretty && count > 1)
+		return cs_error(CS_EINVAL, "--pretty writes one state, not a "
+				"series of %.0f (JSON Lines)", count);
+	if (!o->template_state)
+		TRY(covered(r, t0, t1));
+	struct cs_outfile of;
+	TRY(cs_outfile_open(&of, o->output));
+	int rc = CS_OK;
+	for (long k = 0; rc == CS_OK && k < (long)count; k++)
+		rc = one_state(r, t0 + (double)k * o->step_s, &of);
+	if (rc == CS_OK)
+		rc = cs_outfile_commit(&of);
+	cs_outfile_abort(&of);
+	return rc;
+}
+
+int cs_wxinterp_run(struct cs_wxinterp_opts *o)
+{
+	if (o == NULL)
+		return cs_error(CS_EINVAL, "cs_wxinterp_run: no options");
+	o->nstates = 0;
+	TRY(check_opts(o));
+	struct run *r = calloc(1, sizeof *r);
+	if (r == NULL)
+		return cs_error(CS_ENOMEM, "out of memory");
+	r->o = o;
+	int rc = o->template_state ? CS_OK : read_inputs(r);
+	if (rc == CS_OK)
+		rc = run_times(r);
+	cs_series_free(&r->main);
+	for (int i = 0; i < CS_WX_MAX_FAR; i++)
+		cs_series_free(&r->far[i]);
+	free(r);
+	return rc;
+}

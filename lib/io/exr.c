@@ -1,0 +1,433 @@
+#include "io/exr.h"
+
+#include "core/err.h"
+#include "core/fileio.h"
+#include "core/half.h"
+
+#include <errno.h>
+#include <stddef.h>
+#include <sys/stat.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+static _Thread_local char exr_msg[512];
+
+static void on_exr_error(exr_const_context_t ctxt, exr_result_t code,
+			 const char *msg)
+{
+	(void)ctxt;
+	snprintf(exr_msg, sizeof exr_msg, "%s (%s)", msg ? msg : "",
+		 exr_get_default_error_message(code));
+}
+
+const char *cs_exr_message(exr_result_t code)
+{
+	return exr_msg[0] ? exr_msg : exr_get_default_error_message(code);
+}
+
+
+static int64_t write_cb(exr_const_context_t ctxt, void *user, const void *buf,
+			uint64_t sz, uint64_t off, exr_stream_error_func_ptr_t err)
+{
+	struct cs_outfile *of = user;
+	const char *p = buf;
+	uint64_t left = sz;
+	while (left > 0) {
+		ssize_t w = pwrite(of->fd, p, left, (off_t)off);
+		if (w < 0 && errno == EINTR)
+			continue;
+		if (w <= 0) {
+			err(ctxt, EXR_ERR_WRITE_IO, "write failed: %s", strerror(errno));
+			return -1;
+		}
+		p += w;
+		off += (uint64_t)w;
+		left -= (uint64_t)w;
+	}
+	return (int64_t)sz;
+}
+
+static int64_t read_cb(exr_const_context_t ctxt, void *user, void *buf,
+		       uint64_t sz, uint64_t off, exr_stream_error_func_ptr_t err)
+{
+	(void)ctxt;
+	(void)err;
+	const struct cs_exr_mem *m = user;
+	if (off >= m->len)
+		return 0;
+	uint64_t n = m->len - off < sz ? m->len - off : sz;
+	memcpy(buf, m->data + off, n);
+	return (int64_t)n;
+}
+
+static int64_t size_cb(exr_const_context_t ctxt, void *user)
+{
+	(void)ctxt;
+	return (int64_t)((const struct cs_exr_mem *)user)->len;
+}
+
+void cs_exr_reader_init(exr_context_initializer_t *init, struct cs_exr_mem *src)
+{
+	exr_context_initializer_t def = EXR_DEFAULT_CONTEXT_INITIALIZER;
+	*init = def;
+	init->error_handler_fn = on_exr_error;
+	init->user_data = src;
+	init->read_fn = read_cb;
+	init->size_fn = size_cb;
+	init->flags = EXR_CONTEXT_FLAG_SILENT_HEADER_PARSE;
+	exr_msg[0] = '\0';
+}
+
+/* On failure: rc = code with "name: what: the core's message", goto label. */
+#define EXR_CHECK(call, code, what, label)                                   \
+	do {                                                                 \
+		exr_result_t r_ = (call);                                    \
+		if (r_ != EXR_ERR_SUCCESS) {                                 \
+			rc = cs_error(code, "%s: %s: %s", name, what,         \
+				      cs_exr_message(r_));                   \
+			goto label;                                          \
+		}                                                            \
+	} while (0)
+#define TRY(call, what) EXR_CHECK(call, CS_EIO, what, fail)
+
+static int set_attr(exr_context_t f, const struct cs_exr_attr *a)
+{
+	switch (a->type) {
+	case CS_EXR_INT:
+		return exr_attr_set_int(f, 0, a->name, a->i[0]);
+	case CS_EXR_STRING:
+		return exr_attr_set_string(f, 0, a->name, a->s);
+	case CS_EXR_DOUBLE:
+		return exr_attr_set_double(f, 0, a->name, a->d);
+	case CS_EXR_V3I: {
+		exr_attr_v3i_t v = {.x = a->i[0], .y = a->i[1], .z = a->i[2]};
+		return exr_attr_set_v3i(f, 0, a->name, &v);
+	}
+	}
+	return EXR_ERR_INVALID_ARGUMENT;
+}
+
+/* Writes the image once, with the given compression, into the (empty)
+ * temporary of. */
+static int write_once(struct cs_outfile *of, const char *name, int width,
+		      int height, const struct cs_exr_channel *ch, int nch,
+		      const struct cs_exr_attr *attrs, int nattrs,
+		      exr_compression_t compression)
+{
+	int rc = CS_OK;
+	exr_context_t f = NULL;
+	exr_encode_pipeline_t enc = EXR_ENCODE_PIPELINE_INITIALIZER;
+	int enc_live = 0;
+	void *scratch = NULL;
+
+	exr_msg[0] = '\0';
+	exr_context_initializer_t init = EXR_DEFAULT_CONTEXT_INITIALIZER;
+	init.error_handler_fn = on_exr_error;
+	init.user_data = of;
+	init.write_fn = write_cb;
+	TRY(exr_start_write(&f, name, EXR_WRITE_FILE_DIRECTLY, &init), "cannot start writing");
+	int part = 0;
+	TRY(exr_add_part(f, "image", EXR_STORAGE_SCANLINE, &part), "add part");
+	TRY(exr_initialize_required_attr_simple(f, part, width, height, compression),
+	    "header");
+	for (int c = 0; c < nch; c++)
+		TRY(exr_add_channel(f, part, ch[c].name,
+				    ch[c].is_float ? EXR_PIXEL_FLOAT : EXR_PIXEL_HALF,
+				    EXR_PERCEPTUALLY_LINEAR, 1, 1),
+		    "add channel");
+	for (int a = 0; a < nattrs; a++)
+		TRY(set_attr(f, &attrs[a]), "attribute");
+	TRY(exr_write_header(f), "cannot write header");
+
+	int32_t spc = 0;
+	TRY(exr_get_scanlines_per_chunk(f, part, &spc), "chunk size");
+	/* one planar row block per channel, converted from the caller's floats */
+	size_t block = (size_t)spc * (size_t)width;
+	scratch = malloc(block * (size_t)nch * sizeof(float));
+	if (scratch == NULL) {
+		rc = cs_error(CS_ENOMEM, "out of memory");
+		goto fail;
+	}
+	for (int y = 0; y < height; y += spc) {
+		exr_chunk_info_t ci;
+		TRY(exr_write_scanline_chunk_info(f, part, y, &ci), "chunk");
+		if (!enc_live)
+			TRY(exr_encoding_initialize(f, part, &ci, &enc), "encoder");
+		else
+			TRY(exr_encoding_update(f, part, &ci, &enc), "encoder");
+		size_t n = (size_t)ci.height * (size_t)width;
+		for (int k = 0; k < enc.channel_count; k++) {
+			exr_coding_channel_info_t *e = &enc.channels[k];
+			int c = 0;
+			while (c < nch && strcmp(ch[c].name, e->channel_name) != 0)
+				c++;
+			const float *src = ch[c].data + (size_t)ci.start_y * width * ch[c].stride;
+			unsigned char *dst = (unsigned char *)scratch + (size_t)c * block * sizeof(float);
+			if (ch[c].is_float) {
+				float *fd = (float *)dst;
+				for (size_t i = 0; i < n; i++)
+					fd[i] = src[i * ch[c].stride];
+				e->user_bytes_per_element = 4;
+				e->user_data_type = EXR_PIXEL_FLOAT;
+			} else {
+				uint16_t *hd = (uint16_t *)dst;
+				for (size_t i = 0; i < n; i++)
+					hd[i] = cs_float_to_half(src[i * ch[c].stride]);
+				e->user_bytes_per_element = 2;
+				e->user_data_type = EXR_PIXEL_HALF;
+			}
+			e->encode_from_ptr = dst;
+			e->user_pixel_stride = e->user_bytes_per_element;
+			e->user_line_stride = width * e->user_bytes_per_element;
+		}
+		if (!enc_live) {
+			TRY(exr_encoding_choose_default_routines(f, part, &enc), "encoder");
+			enc_live = 1;
+		}
+		TRY(exr_encoding_run(f, part, &enc), "cannot write pixels");
+	}
+	exr_encoding_destroy(f, &enc);
+	enc_live = 0;
+	TRY(exr_finish(&f), "cannot finish file");
+	free(scratch);
+	return CS_OK;
+fail:
+	if (enc_live)
+		exr_encoding_destroy(f, &enc);
+	if (f)
+		exr_finish(&f);
+	free(scratch);
+	return rc;
+}
+
+/* Reads the temporary back and compares every channel with what was meant
+ * to be written (half channels: with the rounding to half). */
+static int verify(const struct cs_outfile *of, const char *name, int width,
+		  int height, const struct cs_exr_channel *ch, int nch)
+{
+	struct stat st;
+	if (fstat(of->fd, &st) < 0 || st.st_size <= 0)
+		return cs_error(CS_EIO, "%s: cannot read back what was written", name);
+	size_t len = (size_t)st.st_size;
+	unsigned char *data = malloc(len);
+	if (data == NULL)
+		return cs_error(CS_ENOMEM, "out of memory");
+	int rc = CS_OK;
+	if (pread(of->fd, data, len, 0) != (ssize_t)len)
+		rc = cs_error(CS_EIO, "%s: cannot read back what was written", name);
+	const char *names[16];
+	for (int c = 0; c < nch; c++)
+		names[c] = ch[c].name;
+	int w = 0, h = 0;
+	float *px = NULL;
+	if (rc == CS_OK)
+		rc = cs_exr_read_channels(data, len, name, names, nch, &w, &h, &px);
+	if (rc == CS_OK && (w != width || h != height))
+		rc = CS_EDATA;
+	for (size_t i = 0; rc == CS_OK && i < (size_t)width * height; i++)
+		for (int c = 0; c < nch && rc == CS_OK; c++) {
+			float want = ch[c].data[i * ch[c].stride], got = px[i * nch + c];
+			if (!ch[c].is_float)
+				want = cs_half_to_float(cs_float_to_half(want));
+			if (memcmp(&want, &got, sizeof want) != 0 && !(want != want && got != got))
+				rc = CS_EDATA;
+		}
+	free(px);
+	free(data);
+	return rc;
+}
+
+int cs_exr_write(const char *path, int width, int height,
+		 const struct cs_exr_channel *ch, int nch,
+		 const struct cs_exr_attr *attrs, int nattrs)
+{
+	const char *name = strcmp(path, "-") == 0 ? "standard output" : path;
+	if (width < 1 || height < 1 || nch < 1 || nch > 16)
+		return cs_error(CS_EINVAL, "cannot write a %dx%d image of %d channels",
+				width, height, nch);
+	struct cs_outfile of;
+	int rc = cs_outfile_open(&of, path);
+	if (rc != CS_OK)
+		return rc;
+	/* OpenEXR 3.1's ZIP encoder can store a 16-scanline chunk that does not
+	 * compress as garbage (seen with smooth float heights), so every file
+	 * is read back and compared; if it is wrong, it is written again with
+	 * ZIPS (one scanline a chunk), which does not have the fault. */
+	static const exr_compression_t tries[2] = {EXR_COMPRESSION_ZIP, EXR_COMPRESSION_ZIPS};
+	for (int k = 0; k < 2; k++) {
+		if (ftruncate(of.fd, 0) < 0) {
+			rc = cs_error(CS_EIO, "%s: cannot write: %s", name, strerror(errno));
+			break;
+		}
+		rc = write_once(&of, name, width, height, ch, nch, attrs, nattrs, tries[k]);
+		if (rc != CS_OK)
+			break;
+		rc = verify(&of, name, width, height, ch, nch);
+		if (rc == CS_OK)
+			return cs_outfile_commit(&of);
+		if (rc != CS_EDATA)
+			break;
+		rc = cs_error(CS_EIO, "%s: the OpenEXR library wrote data that does not read back",
+			      name);
+	}
+	cs_outfile_abort(&of);
+	return rc;
+}
+
+#undef TRY
+#define TRY(call, what) EXR_CHECK(call, CS_EDATA, what, done)
+
+#define MAX_READ_PIXELS ((long)1 << 28) /* 1 GiB of floats */
+
+int cs_exr_read_channels(const void *data, size_t len, const char *name,
+			 const char *const *channels, int nch, int *width,
+			 int *height, float **pixels)
+{
+	int rc = CS_OK;
+	exr_context_t f = NULL;
+	exr_decode_pipeline_t dec = EXR_DECODE_PIPELINE_INITIALIZER;
+	int dec_live = 0;
+	float *px = NULL;
+	uint8_t *skip = NULL, *stage = NULL;
+	struct cs_exr_mem src = {data, len};
+	exr_context_initializer_t init;
+
+	*pixels = NULL;
+	cs_exr_reader_init(&init, &src);
+	TRY(exr_start_read(&f, name, &init), "not a readable OpenEXR file");
+	int parts = 0;
+	TRY(exr_get_count(f, &parts), "part count");
+	exr_storage_t st = EXR_STORAGE_LAST_TYPE;
+	if (parts == 1)
+		TRY(exr_get_storage(f, 0, &st), "storage");
+	if (parts != 1 || st != EXR_STORAGE_SCANLINE) {
+		rc = cs_error(CS_EDATA, "%s: expected a single-part scanline image", name);
+		goto done;
+	}
+	const exr_attr_chlist_t *chl = NULL;
+	TRY(exr_get_channels(f, 0, &chl), "channel list");
+	if (nch < 1 || nch > 16) {
+		rc = cs_error(CS_EINVAL, "%s: cannot read %d channels", name, nch);
+		goto done;
+	}
+	for (int c = 0; c < nch; c++) {
+		int found = 0;
+		for (int i = 0; i < chl->num_channels; i++) {
+			const exr_attr_chlist_entry_t *e = &chl->entries[i];
+			if (strcmp(e->name.str, channels[c]) != 0)
+				continue;
+			found = e->x_sampling == 1 && e->y_sampling == 1 &&
+				(e->pixel_type == EXR_PIXEL_FLOAT || e->pixel_type == EXR_PIXEL_HALF);
+			if (!found) {
+				rc = cs_error(CS_EDATA, "%s: channel %s is subsampled or not half/float",
+					      name, channels[c]);
+				goto done;
+			}
+		}
+		if (!found) {
+			rc = cs_error(CS_EDATA, "%s: no channel %s", name, channels[c]);
+			goto done;
+		}
+	}
+	exr_attr_box2i_t dw;
+	TRY(exr_get_data_window(f, 0, &dw), "data window");
+	long w = (long)dw.max.x - dw.min.x + 1, h = (long)dw.max.y - dw.min.y + 1;
+	if (dw.min.x != 0 || dw.min.y != 0 || w < 1 || h < 1 || w * h > MAX_READ_PIXELS) {
+		rc = cs_error(CS_EDATA, "%s: unsupported data window (%d,%d)-(%d,%d)",
+			      name, dw.min.x, dw.min.y, dw.max.x, dw.max.y);
+		goto done;
+	}
+	px = malloc((size_t)w * (size_t)h * (size_t)nch * sizeof *px);
+	if (px == NULL) {
+		rc = cs_error(CS_ENOMEM, "out of memory");
+		goto done;
+	}
+	int32_t spc = 0;
+	TRY(exr_get_scanlines_per_chunk(f, 0, &spc), "chunk size");
+	if (spc < 1 || spc > 256) {
+		rc = cs_error(CS_EDATA, "%s: unexpected %d scanlines per chunk", name, spc);
+		goto done;
+	}
+	size_t block = (size_t)w * (size_t)spc * 4; /* bytes: one channel, one chunk */
+	skip = malloc(block);
+	stage = malloc(block * (size_t)nch);
+	if (skip == NULL || stage == NULL) {
+		rc = cs_error(CS_ENOMEM, "out of memory");
+		goto done;
+	}
+	for (long y = 0; y < h; y += spc) {
+		exr_chunk_info_t ci;
+		TRY(exr_read_scanline_chunk_info(f, 0, (int)y, &ci),
+		    "truncated or corrupt pixel data");
+		if (ci.start_y != y || ci.height < 1 || y + ci.height > h || ci.width != w) {
+			rc = cs_error(CS_EDATA, "%s: inconsistent chunk at scanline %ld", name, y);
+			goto done;
+		}
+		if (!dec_live)
+			TRY(exr_decoding_initialize(f, 0, &ci, &dec), "decoder");
+		else
+			TRY(exr_decoding_update(f, 0, &ci, &dec), "decoder");
+		/* Each channel is decoded in its own type into a planar staging
+		 * block (the wanted ones) or a scratch block (the others), and
+		 * converted here: OpenEXR 3.1's converting unpacker garbles
+		 * interleaved half-to-float output and crashes on a NULL
+		 * destination. */
+		for (int k = 0; k < dec.channel_count; k++) {
+			exr_coding_channel_info_t *c = &dec.channels[k];
+			int want = 0;
+			while (want < nch && strcmp(c->channel_name, channels[want]) != 0)
+				want++;
+			c->decode_to_ptr = want < nch ? stage + (size_t)want * block : skip;
+			c->user_bytes_per_element = c->bytes_per_element;
+			c->user_data_type = c->data_type;
+			c->user_pixel_stride = c->bytes_per_element;
+			c->user_line_stride = (int32_t)w * c->bytes_per_element;
+		}
+		if (!dec_live) {
+			TRY(exr_decoding_choose_default_routines(f, 0, &dec), "decoder");
+			dec_live = 1;
+		}
+		TRY(exr_decoding_run(f, 0, &dec), "truncated or corrupt pixel data");
+		for (int k = 0; k < dec.channel_count; k++) {
+			const exr_coding_channel_info_t *c = &dec.channels[k];
+			if (c->decode_to_ptr == skip)
+				continue;
+			int want = (int)((c->decode_to_ptr - stage) / (ptrdiff_t)block);
+			size_t n = (size_t)ci.height * (size_t)w;
+			float *dst = px + (size_t)y * w * nch + want;
+			for (size_t i = 0; i < n; i++) {
+				float v;
+				if (c->bytes_per_element == 2) {
+					uint16_t hv;
+					memcpy(&hv, c->decode_to_ptr + i * 2, 2);
+					v = cs_half_to_float(hv);
+				} else {
+					memcpy(&v, c->decode_to_ptr + i * 4, 4);
+				}
+				dst[i * (size_t)nch] = v;
+			}
+		}
+	}
+	*width = (int)w;
+	*height = (int)h;
+	*pixels = px;
+	px = NULL;
+done:
+	if (dec_live)
+		exr_decoding_destroy(f, &dec);
+	if (f)
+		exr_finish(&f);
+	free(px);
+	free(skip);
+	free(stage);
+	return rc;
+}
+
+int cs_exr_read_float_channel(const void *data, size_t len, const char *name,
+			      const char *channel, int *width, int *height,
+			      float **pixels)
+{
+	return cs_exr_read_channels(data, len, name, &channel, 1, width, height, pixels);
+}

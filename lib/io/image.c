@@ -1,0 +1,118 @@
+#include "io/image.h"
+
+#include "core/err.h"
+#include "core/fileio.h"
+
+#include <png.h>
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+int cs_png_write(const char *path, int width, int height, int channels,
+		 const uint8_t *pixels)
+{
+	static const png_uint_32 formats[5] = {0, PNG_FORMAT_GRAY, 0,
+					       PNG_FORMAT_RGB, PNG_FORMAT_RGBA};
+	if (width < 1 || height < 1 || channels < 1 || channels > 4 ||
+	    channels == 2)
+		return cs_error(CS_EINVAL, "cannot write a %dx%d PNG with %d channels",
+				width, height, channels);
+	struct cs_outfile of;
+	int rc = cs_outfile_open(&of, path);
+	if (rc != CS_OK)
+		return rc;
+	const char *name = strcmp(path, "-") == 0 ? "standard output" : path;
+	int fd = dup(of.fd);
+	FILE *fp = fd >= 0 ? fdopen(fd, "wb") : NULL;
+	if (fp == NULL) {
+		if (fd >= 0)
+			close(fd);
+		cs_outfile_abort(&of);
+		return cs_error(CS_EIO, "%s: cannot open stream", name);
+	}
+	png_image img;
+	memset(&img, 0, sizeof img);
+	img.version = PNG_IMAGE_VERSION;
+	img.width = (png_uint_32)width;
+	img.height = (png_uint_32)height;
+	img.format = formats[channels];
+	int ok = png_image_write_to_stdio(&img, fp, 0, pixels,
+					  width * channels, NULL);
+	int closed = fclose(fp) == 0;
+	if (!ok || !closed) {
+		rc = cs_error(CS_EIO, "%s: cannot write PNG: %s", name,
+			      ok ? "write failed" : img.message);
+		png_image_free(&img);
+		cs_outfile_abort(&of);
+		return rc;
+	}
+	return cs_outfile_commit(&of);
+}
+
+int cs_png_read_rgb8(const char *path, uint8_t **rgb, int *width, int *height)
+{
+	png_image img;
+	memset(&img, 0, sizeof img);
+	img.version = PNG_IMAGE_VERSION;
+	*rgb = NULL;
+	if (!png_image_begin_read_from_file(&img, path))
+		return cs_error(CS_EDATA, "%s: not a readable PNG: %s", path, img.message);
+	if (img.width < 1 || img.height < 1 || (double)img.width * img.height > 1e8) {
+		png_image_free(&img);
+		return cs_error(CS_EDATA, "%s: a %ux%u image is too large", path,
+				img.width, img.height);
+	}
+	img.format = PNG_FORMAT_RGB;
+	uint8_t *buf = malloc(PNG_IMAGE_SIZE(img));
+	if (buf == NULL) {
+		png_image_free(&img);
+		return cs_error(CS_ENOMEM, "out of memory reading %s", path);
+	}
+	if (!png_image_finish_read(&img, NULL, buf, 0, NULL)) {
+		free(buf);
+		return cs_error(CS_EDATA, "%s: %s", path, img.message);
+	}
+	*rgb = buf;
+	*width = (int)img.width;
+	*height = (int)img.height;
+	return CS_OK;
+}
+
+static double aces(double x)
+{
+	double y = (x * (2.51 * x + 0.03)) / (x * (2.43 * x + 0.59) + 0.14);
+	return y < 0.0 ? 0.0 : y > 1.0 ? 1.0 : y;
+}
+
+static double srgb_oetf(double v)
+{
+	return v <= 0.0031308 ? 12.92 * v : 1.055 * pow(v, 1.0 / 2.4) - 0.055;
+}
+
+double cs_auto_exposure_ev(const float *px, size_t stride, size_t n)
+{
+	double sum = 0.0;
+	for (size_t i = 0; i < n; i++) {
+		const float *p = px + i * stride;
+		double y = 0.2126 * p[0] + 0.7152 * p[1] + 0.0722 * p[2];
+		sum += log(isfinite(y) && y > 1e-9 ? y : 1e-9);
+	}
+	double avg = n ? exp(sum / (double)n) : 1.0;
+	/* x = L 2^ev / 16 = 0.25 at L = avg */
+	return log2(0.25 * 16.0 / avg);
+}
+
+void cs_tonemap_srgb8(const float *px, size_t stride, size_t n,
+		      double exposure_ev, uint8_t *rgb)
+{
+	double k = pow(2.0, exposure_ev) / 16.0;
+	for (size_t i = 0; i < n; i++)
+		for (int c = 0; c < 3; c++) {
+			double x = px[i * stride + c] * k;
+			x = isfinite(x) && x > 0.0 ? x : 0.0;
+			rgb[i * 3 + c] = (uint8_t)lrint(255.0 * srgb_oetf(aces(x)));
+		}
+}

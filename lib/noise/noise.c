@@ -1,0 +1,276 @@
+#include "noise/noise.h"
+
+#include "core/err.h"
+#include "core/hash.h"
+
+#include <math.h>
+
+/* Perlin's permutation table from his reference ImprovedNoise.java. */
+static const uint8_t perm[256] = {
+	151, 160, 137, 91,  90,  15,  131, 13,  201, 95,  96,  53,  194, 233, 7,
+	225, 140, 36,  103, 30,  69,  142, 8,   99,  37,  240, 21,  10,  23,  190,
+	6,   148, 247, 120, 234, 75,  0,   26,  197, 62,  94,  252, 219, 203, 117,
+	35,  11,  32,  57,  177, 33,  88,  237, 149, 56,  87,  174, 20,  125, 136,
+	171, 168, 68,  175, 74,  165, 71,  134, 139, 48,  27,  166, 77,  146, 158,
+	231, 83,  111, 229, 122, 60,  211, 133, 230, 220, 105, 92,  41,  55,  46,
+	245, 40,  244, 102, 143, 54,  65,  25,  63,  161, 1,   216, 80,  73,  209,
+	76,  132, 187, 208, 89,  18,  169, 200, 196, 135, 130, 116, 188, 159, 86,
+	164, 100, 109, 198, 173, 186, 3,   64,  52,  217, 226, 250, 124, 123, 5,
+	202, 38,  147, 118, 126, 255, 82,  85,  212, 207, 206, 59,  227, 47,  16,
+	58,  17,  182, 189, 28,  42,  223, 183, 170, 213, 119, 248, 152, 2,   44,
+	154, 163, 70,  221, 153, 101, 155, 167, 43,  172, 9,   129, 22,  39,  253,
+	19,  98,  108, 110, 79,  113, 224, 232, 178, 185, 112, 104, 218, 246, 97,
+	228, 251, 34,  242, 193, 238, 210, 144, 12,  191, 179, 162, 241, 81,  51,
+	145, 235, 249, 14,  239, 107, 49,  192, 214, 31,  181, 199, 106, 157, 184,
+	84,  204, 176, 115, 121, 50,  45,  127, 4,   150, 254, 138, 236, 205, 93,
+	222, 114, 67,  29,  24,  72,  243, 141, 128, 195, 78,  66,  215, 61,  156,
+	180,
+};
+
+static inline int P(int i)
+{
+	return perm[i & 255];
+}
+
+static inline double fade(double t)
+{
+	return t * t * t * (t * (t * 6.0 - 15.0) + 10.0);
+}
+
+static inline double lerp(double t, double a, double b)
+{
+	return a + t * (b - a);
+}
+
+/* Dot product with one of the 12 cube-edge directions (16 cases, four
+ * repeated), exactly as in Perlin 2002, section 4. */
+static inline double grad(int hash, double x, double y, double z)
+{
+	int h = hash & 15;
+	double u = h < 8 ? x : y;
+	double v = h < 4 ? y : (h == 12 || h == 14) ? x : z;
+	return ((h & 1) ? -u : u) + ((h & 2) ? -v : v);
+}
+
+/* The interpolation shared by both variants: (x,y,z) is the position inside
+ * the cell, h[] the gradient hashes of its corners, bit 0 = +x, 1 = +y,
+ * 2 = +z. */
+static double perlin_cell(double x, double y, double z, const int h[8])
+{
+	double u = fade(x), v = fade(y), w = fade(z);
+	double x1 = x - 1.0, y1 = y - 1.0, z1 = z - 1.0;
+	return lerp(w,
+		    lerp(v, lerp(u, grad(h[0], x, y, z), grad(h[1], x1, y, z)),
+			 lerp(u, grad(h[2], x, y1, z), grad(h[3], x1, y1, z))),
+		    lerp(v, lerp(u, grad(h[4], x, y, z1), grad(h[5], x1, y, z1)),
+			 lerp(u, grad(h[6], x, y1, z1),
+			      grad(h[7], x1, y1, z1))));
+}
+
+double cs_perlin3(double x, double y, double z)
+{
+	if (!isfinite(x) || !isfinite(y) || !isfinite(z))
+		return 0.0;
+	double fx = floor(x), fy = floor(y), fz = floor(z);
+	/* The table repeats every 256 cells, so reducing first keeps the int
+	 * conversion defined for any finite coordinate. */
+	int X = (int)(fx - 256.0 * floor(fx / 256.0)) & 255;
+	int Y = (int)(fy - 256.0 * floor(fy / 256.0)) & 255;
+	int Z = (int)(fz - 256.0 * floor(fz / 256.0)) & 255;
+	int A = P(X) + Y, AA = P(A) + Z, AB = P(A + 1) + Z;
+	int B = P(X + 1) + Y, BA = P(B) + Z, BB = P(B + 1) + Z;
+	int h[8] = {P(AA),     P(BA),     P(AB),     P(BB),
+		    P(AA + 1), P(BA + 1), P(AB + 1), P(BB + 1)};
+	return perlin_cell(x - fx, y - fy, z - fz, h);
+}
+
+/* Splits a coordinate into a lattice index and the position inside the cell.
+ * Periodic axes are reduced into [0, period) first (a true modulo, correct
+ * for negative and huge coordinates); other axes are clamped to a range
+ * where the conversion to int is defined. */
+static inline int split(double x, int period, double *frac)
+{
+	if (period > 0) {
+		x -= (double)period * floor(x / (double)period);
+		if (!(x >= 0.0 && x <= (double)period)) /* was NaN or infinite */
+			x = 0.0;
+	} else if (!(fabs(x) < 1e9)) {
+		x = x > 0 ? 1e9 : -1e9; /* also maps NaN to -1e9 */
+	}
+	double f = floor(x);
+	*frac = x - f;
+	int i = (int)f;
+	if (period > 0 && i >= period) /* x just below period rounded up */
+		i -= period;
+	return i;
+}
+
+static inline int wrap(int i, int period)
+{
+	if (period <= 0)
+		return i;
+	int m = i % period;
+	return m < 0 ? m + period : m;
+}
+
+double cs_perlin3p(double x, double y, double z, const int period[3],
+		   uint32_t seed)
+{
+	double fx, fy, fz;
+	int X = split(x, period[0], &fx);
+	int Y = split(y, period[1], &fy);
+	int Z = split(z, period[2], &fz);
+	int h[8];
+	for (int c = 0; c < 8; c++) {
+		int cx = wrap(X + (c & 1), period[0]);
+		int cy = wrap(Y + ((c >> 1) & 1), period[1]);
+		int cz = wrap(Z + ((c >> 2) & 1), period[2]);
+		h[c] = (int)(cs_hash3i(cx, cy, cz, seed) & 15u);
+	}
+	return perlin_cell(fx, fy, fz, h);
+}
+
+void cs_worley_feature(int cx, int cy, int cz, const int period[3],
+		       uint32_t seed, double out[3])
+{
+	uint32_t h = cs_hash3i(wrap(cx, period[0]), wrap(cy, period[1]),
+			       wrap(cz, period[2]), seed);
+	out[0] = cs_hash_unit(h);
+	out[1] = cs_hash_unit(cs_hash_u32(h ^ 0x68bc21ebu));
+	out[2] = cs_hash_unit(cs_hash_u32(h ^ 0x02e5be93u));
+}
+
+/* Squared distance from the query (fx,fy,fz inside cell X,Y,Z) to the
+ * feature point of the cell at offset (dx,dy,dz). */
+static inline double feature_d2(int X, int Y, int Z, int dx, int dy, int dz,
+				double fx, double fy, double fz,
+				const int period[3], uint32_t seed)
+{
+	double p[3];
+	cs_worley_feature(X + dx, Y + dy, Z + dz, period, seed, p);
+	double ex = dx + p[0] - fx, ey = dy + p[1] - fy, ez = dz + p[2] - fz;
+	return ex * ex + ey * ey + ez * ez;
+}
+
+/* Lower bound of the squared distance from position f in [0,1) to the cell
+ * at offset d along one axis. */
+static inline double gap2(int d, double f)
+{
+	double g = d > 0 ? d - f : d < 0 ? f - (d + 1) : 0.0;
+	return g * g;
+}
+
+double cs_worley3p(double x, double y, double z, const int period[3],
+		   uint32_t seed)
+{
+	double fx, fy, fz;
+	int X = split(x, period[0], &fx);
+	int Y = split(y, period[1], &fy);
+	int Z = split(z, period[2], &fz);
+
+	/* Why this is exact: the feature point of the query's own cell is
+	 * closer than sqrt(3).  A cell at offset k along some axis is at least
+	 * |k| - 1 cells away, so a cell with |k| >= 3 is at least 2 > sqrt(3)
+	 * away and can never win.  Offsets -2..2 are therefore enough; cells
+	 * whose nearest face is farther than the best point so far are
+	 * skipped, which is what keeps this fast. */
+	double best = feature_d2(X, Y, Z, 0, 0, 0, fx, fy, fz, period, seed);
+	for (int r = 1; r <= 2; r++) {
+		/* every cell of the outer shell is at least 1 away */
+		if (r == 2 && best <= 1.0)
+			break;
+		for (int dz = -r; dz <= r; dz++) {
+			double gz = gap2(dz, fz);
+			if (gz >= best)
+				continue;
+			for (int dy = -r; dy <= r; dy++) {
+				double gy = gz + gap2(dy, fy);
+				if (gy >= best)
+					continue;
+				for (int dx = -r; dx <= r; dx++) {
+					/* only the shell at Chebyshev radius r */
+					if (dx > -r && dx < r && dy > -r &&
+					    dy < r && dz > -r && dz < r)
+						continue;
+					if (gy + gap2(dx, fx) >= best)
+						continue;
+					double d2 = feature_d2(X, Y, Z, dx, dy,
+							       dz, fx, fy, fz,
+							       period, seed);
+					if (d2 < best)
+						best = d2;
+				}
+			}
+		}
+	}
+	return sqrt(best);
+}
+
+enum basis { PERLIN, INVERTED_WORLEY };
+
+/* The fractal sum shared by both bases: octave i at frequency
+ * lacunarity^i (and period times that), amplitude gain^i, seed + i,
+ * divided by the sum of the amplitudes. */
+static double fbm3p(enum basis basis, double x, double y, double z,
+		    const int period[3], uint32_t seed, const struct cs_fbm *fbm)
+{
+	double sum = 0.0, norm = 0.0, amp = 1.0;
+	long freq = 1;
+	for (int i = 0; i < fbm->octaves; i++) {
+		int p[3];
+		for (int a = 0; a < 3; a++)
+			p[a] = period[a] > 0 ? (int)(period[a] * freq) : 0;
+		double fx = x * (double)freq, fy = y * (double)freq, fz = z * (double)freq;
+		double n;
+		if (basis == PERLIN) {
+			n = cs_perlin3p(fx, fy, fz, p, seed + (uint32_t)i);
+		} else {
+			double f1 = cs_worley3p(fx, fy, fz, p, seed + (uint32_t)i);
+			n = 1.0 - (f1 < 1.0 ? f1 : 1.0);
+		}
+		sum += amp * n;
+		norm += amp;
+		amp *= fbm->gain;
+		freq *= fbm->lacunarity;
+	}
+	return sum / norm;
+}
+
+double cs_perlin_fbm3p(double x, double y, double z, const int period[3],
+		       uint32_t seed, const struct cs_fbm *fbm)
+{
+	/* Improved Perlin noise slightly exceeds [-1, 1] at rare points (see
+	 * noise.h); the clamp makes the documented range exact. */
+	double v = fbm3p(PERLIN, x, y, z, period, seed, fbm);
+	return v < -1.0 ? -1.0 : v > 1.0 ? 1.0 : v;
+}
+
+double cs_worley_fbm3p(double x, double y, double z, const int period[3],
+		       uint32_t seed, const struct cs_fbm *fbm)
+{
+	return fbm3p(INVERTED_WORLEY, x, y, z, period, seed, fbm);
+}
+
+double cs_perlin_worley3p(double x, double y, double z, const int period[3],
+			  uint32_t seed, const struct cs_fbm *perlin,
+			  const struct cs_fbm *worley)
+{
+	double p = 0.5 + 0.5 * cs_perlin_fbm3p(x, y, z, period, seed, perlin);
+	p = p < 0.0 ? 0.0 : p > 1.0 ? 1.0 : p;
+	double w = cs_worley_fbm3p(x, y, z, period, seed ^ 0x5bd1e995u, worley);
+	return (p - w + 1.0) / (2.0 - w);
+}
+
+int cs_fbm_check(const struct cs_fbm *fbm)
+{
+	if (fbm->octaves < 1 || fbm->octaves > 16)
+		return cs_error(CS_EINVAL, "octaves must be 1..16, not %d",
+				fbm->octaves);
+	if (fbm->lacunarity < 2 || fbm->lacunarity > 8)
+		return cs_error(CS_EINVAL, "lacunarity must be an integer 2..8, not %d",
+				fbm->lacunarity);
+	if (!(fbm->gain > 0.0 && fbm->gain <= 1.0))
+		return cs_error(CS_EINVAL, "gain must be in (0, 1], not %g",
+				fbm->gain);
+	return CS_OK;
+}

@@ -1,0 +1,282 @@
+#include "noise/volume.h"
+
+#include "core/err.h"
+#include "core/hash.h"
+#include "noise/noise.h"
+
+#include <math.h>
+#include <pthread.h>
+#include <stdatomic.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+#include <unistd.h>
+
+static const char chan_names[4] = {'R', 'G', 'B', 'A'};
+
+void cs_noise_recipe_default(struct cs_noise_recipe *r)
+{
+	static const struct cs_noise_recipe def = {
+		.seed = 0,
+		.freq = {4, 4, 8, 16},
+		.octaves = {4, 3, 3, 3},
+		.worley_octaves = 3,
+		.gain = 0.5,
+	};
+	*r = def;
+}
+
+int cs_noise_recipe_check(const struct cs_noise_recipe *r)
+{
+	if (r->seed > 2147483647u)
+		return cs_error(CS_EINVAL, "seed must be 0..2147483647");
+	for (int c = 0; c < 4; c++) {
+		if (r->freq[c] < 1 || r->freq[c] > 256)
+			return cs_error(CS_EINVAL,
+					"frequency of channel %c must be 1..256 cells, not %d",
+					chan_names[c], r->freq[c]);
+		if (r->octaves[c] < 1 || r->octaves[c] > 12)
+			return cs_error(CS_EINVAL,
+					"octaves of channel %c must be 1..12, not %d",
+					chan_names[c], r->octaves[c]);
+	}
+	if (r->worley_octaves < 1 || r->worley_octaves > 12)
+		return cs_error(CS_EINVAL, "Worley octaves of channel R must be 1..12, not %d",
+				r->worley_octaves);
+	if (!(r->gain > 0.0 && r->gain <= 1.0))
+		return cs_error(CS_EINVAL, "gain must be in (0, 1], not %g", r->gain);
+	return CS_OK;
+}
+
+int cs_noise_recipe_format(const struct cs_noise_recipe *r, char *buf,
+			   size_t size)
+{
+	/* the shortest of %.15g and %.17g that reads back exactly */
+	char gain[32];
+	snprintf(gain, sizeof gain, "%.15g", r->gain);
+	if (strtod(gain, NULL) != r->gain)
+		snprintf(gain, sizeof gain, "%.17g", r->gain);
+	return snprintf(buf, size,
+			"R=perlin-worley:%d:%d:%d;G=worley-fbm:%d:%d;"
+			"B=worley-fbm:%d:%d;A=worley-fbm:%d:%d;gain=%s",
+			r->freq[0], r->octaves[0], r->worley_octaves, r->freq[1],
+			r->octaves[1], r->freq[2], r->octaves[2], r->freq[3],
+			r->octaves[3], gain);
+}
+
+int cs_noise_recipe_parse(const char *s, struct cs_noise_recipe *r)
+{
+	struct cs_noise_recipe t = *r;
+	int used = 0;
+	int n = sscanf(s,
+		       "R=perlin-worley:%d:%d:%d;G=worley-fbm:%d:%d;"
+		       "B=worley-fbm:%d:%d;A=worley-fbm:%d:%d;gain=%lf%n",
+		       &t.freq[0], &t.octaves[0], &t.worley_octaves, &t.freq[1],
+		       &t.octaves[1], &t.freq[2], &t.octaves[2], &t.freq[3],
+		       &t.octaves[3], &t.gain, &used);
+	if (n != 10 || s[used] != '\0')
+		return cs_error(CS_EDATA, "unrecognised noise recipe \"%.200s\"", s);
+	int rc = cs_noise_recipe_check(&t);
+	if (rc != CS_OK)
+		return cs_error(CS_EDATA, "bad noise recipe: %s", cs_errmsg());
+	*r = t;
+	return CS_OK;
+}
+
+void cs_noise_period(const struct cs_noise_recipe *r, int c, int nx, int nz,
+		     int period[3])
+{
+	int f = r->freq[c];
+	long pz = lround((double)f * nz / nx);
+	period[0] = period[1] = f;
+	period[2] = pz < 1 ? 1 : (int)pz;
+}
+
+int cs_volume_new(struct cs_volume *v, int nx, int nz)
+{
+	memset(v, 0, sizeof *v);
+	if (nx < 1 || nx > CS_VOLUME_MAX_DIM || nz < 1 || nz > CS_VOLUME_MAX_DIM)
+		return cs_error(CS_EINVAL, "volume size %dx%dx%d out of range 1..%d",
+				nx, nx, nz, CS_VOLUME_MAX_DIM);
+	size_t n = (size_t)nx * (size_t)nx * (size_t)nz * 4u;
+	v->data = calloc(n, sizeof(float));
+	if (v->data == NULL)
+		return cs_error(CS_ENOMEM, "out of memory for a %dx%dx%d volume",
+				nx, nx, nz);
+	v->nx = v->ny = nx;
+	v->nz = nz;
+	cs_noise_recipe_default(&v->recipe);
+	return CS_OK;
+}
+
+void cs_volume_free(struct cs_volume *v)
+{
+	free(v->data);
+	memset(v, 0, sizeof *v);
+}
+
+/* One voxel's four channels.  Voxel centres sit at (i + 0.5) / n of the
+ * period so that no channel is sampled exactly on its lattice. */
+static void bake_voxel(const struct cs_volume *v, const int period[4][3],
+		       int x, int y, int z, float out[4])
+{
+	const struct cs_noise_recipe *r = &v->recipe;
+	double u = (x + 0.5) / v->nx, w = (y + 0.5) / v->ny, t = (z + 0.5) / v->nz;
+	for (int c = 0; c < 4; c++) {
+		const int *p = period[c];
+		double px = u * p[0], py = w * p[1], pz = t * p[2];
+		/* one independent stream per channel, fixed by the recipe seed */
+		uint32_t seed = cs_hash3i((int32_t)r->seed, c, 0, 0x6e6f6973u);
+		struct cs_fbm f = {r->octaves[c], 2, r->gain};
+		if (c == 0) {
+			struct cs_fbm wf = {r->worley_octaves, 2, r->gain};
+			out[c] = (float)cs_perlin_worley3p(px, py, pz, p, seed,
+							   &f, &wf);
+		} else {
+			out[c] = (float)cs_worley_fbm3p(px, py, pz, p, seed, &f);
+		}
+	}
+}
+
+struct bake_job {
+	struct cs_volume *v;
+	int period[4][3];
+	atomic_int next_slice;
+	atomic_int slices_done;
+	atomic_int cancel;
+};
+
+static void *bake_worker(void *arg)
+{
+	struct bake_job *job = arg;
+	struct cs_volume *v = job->v;
+	for (;;) {
+		if (atomic_load(&job->cancel))
+			break;
+		int z = atomic_fetch_add(&job->next_slice, 1);
+		if (z >= v->nz)
+			break;
+		for (int y = 0; y < v->ny; y++)
+			for (int x = 0; x < v->nx; x++)
+				bake_voxel(v, (const int(*)[3])job->period, x, y, z,
+					   v->data + (((size_t)z * v->ny + y) * v->nx + x) * 4);
+		atomic_fetch_add(&job->slices_done, 1);
+	}
+	return NULL;
+}
+
+int cs_volume_bake(struct cs_volume *v, int nthreads, cs_progress_fn progress,
+		   void *user)
+{
+	int rc = cs_noise_recipe_check(&v->recipe);
+	if (rc != CS_OK)
+		return rc;
+	if (v->data == NULL)
+		return cs_error(CS_EINVAL, "volume is not allocated");
+	if (nthreads <= 0) {
+		long n = sysconf(_SC_NPROCESSORS_ONLN);
+		nthreads = n > 0 ? (int)n : 1;
+	}
+	if (nthreads > v->nz)
+		nthreads = v->nz;
+	if (nthreads > 256)
+		nthreads = 256;
+
+	struct bake_job job = {.v = v};
+	for (int c = 0; c < 4; c++)
+		cs_noise_period(&v->recipe, c, v->nx, v->nz, job.period[c]);
+	atomic_init(&job.next_slice, 0);
+	atomic_init(&job.slices_done, 0);
+	atomic_init(&job.cancel, 0);
+
+	pthread_t tid[256];
+	int started = 0;
+	for (; started < nthreads; started++)
+		if (pthread_create(&tid[started], NULL, bake_worker, &job) != 0)
+			break;
+	if (started == 0) {
+		bake_worker(&job); /* no thread could start: work here */
+	} else if (progress) {
+		/* The calling thread reports progress while the workers run. */
+		while (atomic_load(&job.slices_done) < v->nz && !atomic_load(&job.cancel)) {
+			if (progress(user, (double)atomic_load(&job.slices_done) / v->nz))
+				atomic_store(&job.cancel, 1);
+			struct timespec ts = {0, 20 * 1000 * 1000};
+			nanosleep(&ts, NULL);
+		}
+	}
+	for (int i = 0; i < started; i++)
+		pthread_join(tid[i], NULL);
+	if (atomic_load(&job.cancel))
+		return cs_error(CS_EINVAL, "baking cancelled");
+	if (progress)
+		progress(user, 1.0);
+	return CS_OK;
+}
+
+static inline int wrapi(long i, int n)
+{
+	long m = i % n;
+	return (int)(m < 0 ? m + n : m);
+}
+
+/* The eight voxels around (u, v, w) and the trilinear weights: voxel
+ * centres are at (i + 0.5) / n, as baked, and every axis wraps. */
+struct corners {
+	size_t off[8]; /* float offsets of the voxels' channel 0; bit 0 = +x, 1 = +y, 2 = +z */
+	float tx, ty, tz;
+};
+
+static void corners(const struct cs_volume *v, double u, double vv, double w,
+		    struct corners *c)
+{
+	double gx = u * v->nx - 0.5, gy = vv * v->ny - 0.5, gz = w * v->nz - 0.5;
+	double fx = floor(gx), fy = floor(gy), fz = floor(gz);
+	c->tx = (float)(gx - fx), c->ty = (float)(gy - fy), c->tz = (float)(gz - fz);
+	/* reduce first so the conversion to long is defined for any finite input */
+	long ix = (long)(fx - v->nx * floor(fx / v->nx));
+	long iy = (long)(fy - v->ny * floor(fy / v->ny));
+	long iz = (long)(fz - v->nz * floor(fz / v->nz));
+	size_t xs[2] = {(size_t)wrapi(ix, v->nx), (size_t)wrapi(ix + 1, v->nx)};
+	size_t ys[2] = {(size_t)wrapi(iy, v->ny), (size_t)wrapi(iy + 1, v->ny)};
+	size_t zs[2] = {(size_t)wrapi(iz, v->nz), (size_t)wrapi(iz + 1, v->nz)};
+	size_t sy = (size_t)v->nx, sz = (size_t)v->nx * v->ny;
+	for (int k = 0; k < 8; k++)
+		c->off[k] = (zs[k >> 2] * sz + ys[(k >> 1) & 1] * sy + xs[k & 1]) * 4;
+}
+
+static inline float trilinear(const float *d, const struct corners *c)
+{
+	const size_t *o = c->off;
+	float c00 = d[o[0]] + c->tx * (d[o[1]] - d[o[0]]);
+	float c10 = d[o[2]] + c->tx * (d[o[3]] - d[o[2]]);
+	float c01 = d[o[4]] + c->tx * (d[o[5]] - d[o[4]]);
+	float c11 = d[o[6]] + c->tx * (d[o[7]] - d[o[6]]);
+	float c0 = c00 + c->ty * (c10 - c00);
+	float c1 = c01 + c->ty * (c11 - c01);
+	return c0 + c->tz * (c1 - c0);
+}
+
+void cs_volume_sample4(const struct cs_volume *v, double u, double vv,
+		       double w, float out[4])
+{
+	if (!isfinite(u) || !isfinite(vv) || !isfinite(w)) {
+		out[0] = out[1] = out[2] = out[3] = 0.0f;
+		return;
+	}
+	struct corners c;
+	corners(v, u, vv, w, &c);
+	for (int k = 0; k < 4; k++)
+		out[k] = trilinear(v->data + k, &c);
+}
+
+float cs_volume_sample(const struct cs_volume *v, int channel, double u,
+		       double vv, double w)
+{
+	if (!isfinite(u) || !isfinite(vv) || !isfinite(w))
+		return 0.0f;
+	struct corners c;
+	corners(v, u, vv, w, &c);
+	return trilinear(v->data + (channel & 3), &c);
+}

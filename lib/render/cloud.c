@@ -1,0 +1,230 @@
+#include "render/cloud.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* Extinction of cloud: liquid water clouds have 10..100 droplets per cm^3,
+ * giving 0.01..0.1 /m in the visible (mean free paths of 10..100 m); ice
+ * clouds are 10..100 times thinner.  Tile sizes set the size of cells: a
+ * base tile holds 4 lattice cells of the default noise recipe.  The base
+ * tile is tall (tile_z several times the layer) so that the base shape is
+ * nearly a 2D coverage map through the layer: coverage is then the
+ * fraction of the sky covered, and the height profile rounds the tops. */
+static const struct cs_genus_preset presets[CS_GENUS_COUNT] = {
+	[CS_CIRRUS] = {0.005, 20000, 60000, 2500, 0.45, 6.0,
+		       {0.0, 0.3, 0.5, 1.0}, 0.0, 0.4, 8000, 10000},
+	[CS_CIRROCUMULUS] = {0.004, 4000, 30000, 800, 0.35, 1.2,
+			     {0.0, 0.3, 0.7, 1.0}, 0.0, 0.3, 7000, 7600},
+	[CS_CIRROSTRATUS] = {0.0008, 40000, 80000, 6000, 0.15, 2.0,
+			     {0.0, 0.15, 0.85, 1.0}, 0.0, 0.8, 7500, 9000},
+	[CS_ALTOCUMULUS] = {0.02, 6000, 30000, 1200, 0.35, 1.3,
+			    {0.0, 0.25, 0.6, 1.0}, 0.0, 0.2, 3000, 3800},
+	[CS_ALTOSTRATUS] = {0.006, 30000, 60000, 5000, 0.1, 1.5,
+			    {0.0, 0.1, 0.9, 1.0}, 0.0, 0.7, 3000, 5000},
+	[CS_NIMBOSTRATUS] = {0.025, 30000, 60000, 4000, 0.08, 1.2,
+			     {0.0, 0.05, 0.85, 1.0}, 0.0, 0.5, 800, 4000},
+	[CS_STRATOCUMULUS] = {0.03, 9000, 30000, 1500, 0.25, 1.3,
+			      {0.0, 0.2, 0.65, 1.0}, 0.0, 0.25, 800, 1500},
+	[CS_STRATUS] = {0.02, 30000, 60000, 3000, 0.08, 1.2,
+			{0.0, 0.1, 0.9, 1.0}, 0.0, 0.6, 300, 800},
+	[CS_CUMULUS] = {0.05, 8000, 20000, 1500, 0.35, 1.0,
+			{0.0, 0.06, 0.45, 1.0}, 0.0, 0.12, 1500, 2700},
+	[CS_CUMULONIMBUS] = {0.07, 40000, 80000, 4000, 0.15, 1.0,
+			     {0.0, 0.03, 0.92, 1.0}, 0.35, 0.1, 1000, 11000},
+};
+
+const struct cs_genus_preset *cs_genus_preset(enum cs_genus g)
+{
+	return (unsigned)g < CS_GENUS_COUNT ? &presets[g] : &presets[CS_CUMULUS];
+}
+
+static void calibrate(struct cs_cloud_layer *l, const struct cs_volume *noise);
+
+void cs_cloud_layer_init(struct cs_cloud_layer *l, const struct cs_wx_layer *wl,
+			 const struct cs_volume *noise, double wind_speed_m_s,
+			 double wind_from_deg, double ground_alt_m, double time_s)
+{
+	const struct cs_genus_preset *p = cs_genus_preset(wl->genus);
+	memset(l, 0, sizeof *l);
+	l->kind = CS_LAYER_CLOUD;
+	l->site = -1;
+	l->genus = wl->genus;
+	l->base_m = wl->base_m;
+	l->top_m = wl->top_m;
+	l->coverage = wl->coverage;
+	l->extinction_per_m = p->extinction_per_m;
+	l->inv_tile = 1.0 / p->tile_m;
+	l->inv_tile_z = 1.0 / p->tile_z_m;
+	l->inv_detail = 1.0 / p->detail_tile_m;
+	l->stretch = p->stretch;
+	l->erosion = p->erosion;
+	l->anvil = p->anvil;
+	l->edge = p->edge;
+	memcpy(l->ramp, p->ramp, sizeof l->ramp);
+
+	double from = wind_from_deg * (CS_PI / 180.0);
+	l->wind_x = -sin(from); /* blowing toward the opposite direction */
+	l->wind_y = -cos(from);
+	double mid = 0.5 * (wl->base_m + wl->top_m) - ground_alt_m;
+	double factor = pow(fmax(mid, 10.0) / 10.0, 1.0 / 7.0);
+	factor = factor > 3.0 ? 3.0 : factor;
+	/* Not reduced modulo a tile: base and detail tiles need not share a
+	 * period.  In double precision the offset stays exact to centimetres
+	 * for any date and wind. */
+	double travelled = wind_speed_m_s * factor * time_s;
+	l->offset_along_m = isfinite(travelled) ? travelled : 0.0;
+	calibrate(l, noise);
+}
+
+static inline double smooth01(double x)
+{
+	x = x < 0.0 ? 0.0 : x > 1.0 ? 1.0 : x;
+	return x * x * (3.0 - 2.0 * x);
+}
+
+/* The genus height profile: a smooth trapezoid over the relative height. */
+static inline double profile(const double r[4], double h)
+{
+	double up = r[1] > r[0] ? smooth01((h - r[0]) / (r[1] - r[0])) : 1.0;
+	double down = r[3] > r[2] ? 1.0 - smooth01((h - r[2]) / (r[3] - r[2])) : 1.0;
+	return up * down;
+}
+
+/* The extinction at coordinates along and across the wind (already moved
+ * by it), at altitude alt_m and relative height h in [0, 1]. */
+static double extinction_aw(const struct cs_cloud_layer *l,
+			    const struct cs_volume *noise, double along,
+			    double across, double alt_m, double h, double thr)
+{
+	double u = along / l->stretch * l->inv_tile, v = across * l->inv_tile;
+	double w = alt_m * l->inv_tile_z;
+
+	double shape = cs_volume_sample(noise, 0, u, v, w) * profile(l->ramp, h);
+	/* an anvil spreads the top fifth: the threshold drops there */
+	if (l->anvil > 0.0 && h > 0.78)
+		thr -= l->anvil * 0.3 * smooth01((h - 0.78) / 0.1) * (1.0 - thr);
+	if (shape <= thr)
+		return 0.0;
+	double d = (shape - thr) / (1.0 - thr); /* 0 at the edge, 1 at the core */
+
+	/* Erosion by the detail fBm carves the edge into billows: the cloud's
+	 * surface is where d equals the local erosion, not where d is 0. */
+	double du = along / l->stretch * l->inv_detail, dv = across * l->inv_detail;
+	double dw = alt_m * l->inv_detail;
+	float g[4];
+	cs_volume_sample4(noise, du, dv, dw, g);
+	double detail = 0.625 * g[1] + 0.25 * g[2] + 0.125 * g[3];
+	double e = l->erosion * detail;
+	d = (d - e) / (1.0 - e + 1e-9);
+	if (d <= 0.0)
+		return 0.0;
+	/* then the density rises over a band of width edge: narrow for
+	 * sharp-edged heaps, wide for veils */
+	d /= l->edge;
+	d = d < 1.0 ? d : 1.0;
+	return d * l->extinction_per_m;
+}
+
+double cs_cloud_extinction(const struct cs_cloud_layer *l,
+			   const struct cs_volume *noise, double x, double y,
+			   double alt_m)
+{
+	double h = (alt_m - l->base_m) / (l->top_m - l->base_m);
+	if (!(h >= 0.0 && h <= 1.0))
+		return 0.0;
+	if (l->kind == CS_LAYER_HOMOGENEOUS) {
+		double dx = x - l->homog_x, dy = y - l->homog_y;
+		if (l->homog_radius_m > 0.0 &&
+		    dx * dx + dy * dy > l->homog_radius_m * l->homog_radius_m)
+			return 0.0;
+		return fmax(0.0, l->homog_a + l->homog_b * h);
+	}
+	double thr = l->threshold;
+	if (l->nfar > 0) { /* blended with other sites: the coverage here */
+		double w = cs_cloud_site_weight(l, x, y) * CS_BLEND_LEVELS;
+		if (w <= 0.0)
+			return 0.0;
+		int k = (int)w;
+		thr = k >= CS_BLEND_LEVELS ? l->thr_table[CS_BLEND_LEVELS]
+					   : l->thr_table[k] + (w - k) * (l->thr_table[k + 1] - l->thr_table[k]);
+	}
+	/* coordinates along and across the wind, moved by it */
+	double along = x * l->wind_x + y * l->wind_y - l->offset_along_m;
+	double across = -x * l->wind_y + y * l->wind_x;
+	return extinction_aw(l, noise, along, across, alt_m, h, thr);
+}
+
+/* Fraction of a grid over one whole base tile (the field's period), at the
+ * middle of the profile's plateau, that is cloud. */
+enum { CAL_N = 48 };
+static double covered_fraction(const struct cs_cloud_layer *l,
+			       const struct cs_volume *noise, double thr)
+{
+	double h = 0.5 * (l->ramp[1] + l->ramp[2]);
+	double alt = l->base_m + h * (l->top_m - l->base_m);
+	int in = 0;
+	for (int j = 0; j < CAL_N; j++)
+		for (int i = 0; i < CAL_N; i++)
+			in += extinction_aw(l, noise, (i + 0.5) / CAL_N * l->stretch / l->inv_tile,
+					    (j + 0.5) / CAL_N / l->inv_tile, alt, h, thr) > 0.0;
+	return (double)in / (CAL_N * CAL_N);
+}
+
+/* Coverage c is the fraction of the layer's core that is cloud: the
+ * threshold is found by bisection (the covered fraction falls as the
+ * threshold rises), after erosion, so what the forecast says is what is
+ * drawn.  At c = 0 the threshold is above any value: no cloud at all. */
+static double calibrate_coverage(const struct cs_cloud_layer *l,
+				 const struct cs_volume *noise, double coverage)
+{
+	if (coverage <= 0.0 || noise == NULL)
+		return 2.0;
+	double lo = -3.0, hi = 1.0; /* fraction(lo) ~ 1, fraction(hi) = 0 */
+	for (int it = 0; it < 24; it++) {
+		double mid = 0.5 * (lo + hi);
+		if (covered_fraction(l, noise, mid) > coverage)
+			lo = mid;
+		else
+			hi = mid;
+	}
+	return lo; /* the last threshold covering at least the coverage */
+}
+
+static void calibrate(struct cs_cloud_layer *l, const struct cs_volume *noise)
+{
+	l->threshold = calibrate_coverage(l, noise, l->coverage);
+}
+
+void cs_cloud_layer_blend(struct cs_cloud_layer *l, const struct cs_volume *noise,
+			  int site, int nfar, const double *far_x, const double *far_y)
+{
+	l->site = site;
+	l->nfar = nfar < CS_WX_MAX_FAR ? nfar : CS_WX_MAX_FAR;
+	for (int f = 0; f < l->nfar; f++) {
+		double d2 = far_x[f] * far_x[f] + far_y[f] * far_y[f];
+		d2 = d2 > 1.0 ? d2 : 1.0;
+		l->far_ux[f] = far_x[f] / d2;
+		l->far_uy[f] = far_y[f] / d2;
+	}
+	for (int k = 0; k <= CS_BLEND_LEVELS; k++)
+		l->thr_table[k] = k == CS_BLEND_LEVELS
+					  ? l->threshold
+					  : calibrate_coverage(l, noise, l->coverage * k / CS_BLEND_LEVELS);
+}
+
+double cs_cloud_site_weight(const struct cs_cloud_layer *l, double x, double y)
+{
+	if (l->nfar <= 0)
+		return 1.0;
+	double w[CS_WX_MAX_FAR], sum = 0.0;
+	for (int f = 0; f < l->nfar; f++) {
+		double p = x * l->far_ux[f] + y * l->far_uy[f];
+		w[f] = p < 0.0 ? 0.0 : p > 1.0 ? 1.0 : p;
+		sum += w[f];
+	}
+	double scale = sum > 1.0 ? 1.0 / sum : 1.0;
+	if (l->site < 0)
+		return 1.0 - sum * scale;
+	return w[l->site] * scale;
+}

@@ -1,0 +1,97 @@
+/* cloud.h - cloud genera and the density field of a cloud layer.
+ *
+ * A layer is a spherical shell between two altitudes.  Its density is the
+ * noise volume's base shape (channel R) scaled by the genus height profile,
+ * thresholded by coverage, eroded by the detail channels (G, B, A) and
+ * moved by the wind; it is multiplied by the genus extinction to give an
+ * extinction coefficient in 1/m. */
+#ifndef CS_CLOUD_H
+#define CS_CLOUD_H
+
+#include "core/vec.h"
+#include "noise/volume.h"
+#include "weather/wx.h"
+
+#define CS_BLEND_LEVELS 16
+
+/* The look of a genus (see man 1 cloudrender, GENERA). */
+struct cs_genus_preset {
+	double extinction_per_m;  /* at density 1 */
+	double tile_m;            /* horizontal size of one base-noise tile */
+	double tile_z_m;          /* vertical size of one base-noise tile */
+	double detail_tile_m;     /* size of one detail-noise tile */
+	double erosion;           /* 0..1: how much detail eats the edges */
+	double stretch;           /* >= 1: elongation along the wind (streaks) */
+	double ramp[4];           /* height profile: 0 below ramp[0], rising to 1
+				     at ramp[1], 1 until ramp[2], 0 at ramp[3]
+				     (fractions of the layer's thickness) */
+	double anvil;             /* 0..1: spreading of the top (cumulonimbus) */
+	double edge;              /* 0..1: width of the density ramp above the
+				     coverage threshold (small = sharp edges) */
+	double base_m, top_m;     /* typical altitudes (WMO etage), m */
+};
+
+const struct cs_genus_preset *cs_genus_preset(enum cs_genus g);
+
+enum cs_layer_kind {
+	CS_LAYER_CLOUD,       /* noise clouds, as described above */
+	CS_LAYER_HOMOGENEOUS, /* extinction a + b * (relative height), within
+				 homog_radius_m of (homog_x, homog_y) if that
+				 is > 0: analytic cases for tests */
+};
+
+/* A layer ready to be sampled.  Plain data: the per-sample code reads it and
+ * the noise volume only. */
+struct cs_cloud_layer {
+	enum cs_layer_kind kind;
+	enum cs_genus genus;
+	double base_m, top_m;     /* altitude above sea level */
+	double coverage;          /* 0..1 */
+	double threshold;         /* base-shape value below which there is no cloud
+				     (calibrated from the coverage) */
+	double extinction_per_m;
+	double inv_tile, inv_tile_z, inv_detail; /* 1 / tile sizes, 1/m */
+	double stretch, erosion, anvil, edge;
+	double ramp[4];
+	double wind_x, wind_y;    /* unit vector the wind blows toward (east, north) */
+	double offset_along_m;    /* how far the wind has carried the clouds */
+	/* Near and far weather: the layer belongs to the near site (site -1)
+	 * or to far site `site`; with far sites its coverage is scaled, point
+	 * by point, by its site's weight (see cs_cloud_site_weight). */
+	int site, nfar;
+	double far_ux[CS_WX_MAX_FAR], far_uy[CS_WX_MAX_FAR]; /* far position / |position|^2 */
+	double thr_table[CS_BLEND_LEVELS + 1]; /* threshold at coverage * k / CS_BLEND_LEVELS */
+	double homog_a, homog_b;  /* CS_LAYER_HOMOGENEOUS only */
+	double homog_radius_m, homog_x, homog_y;
+};
+
+/* Sets up a layer from a weather layer: its genus preset, coverage and the
+ * wind (speed at 10 m, direction it blows from) acting for time_s seconds.
+ * Wind aloft is taken as the 10-m wind times (altitude above ground /
+ * 10 m)^(1/7), at most 3 times it (a power-law profile).  The coverage
+ * threshold is calibrated on the noise so that a fraction coverage of the
+ * layer's core is cloud (about 5 ms). */
+void cs_cloud_layer_init(struct cs_cloud_layer *l, const struct cs_wx_layer *wl,
+			 const struct cs_volume *noise, double wind_speed_m_s,
+			 double wind_from_deg, double ground_alt_m, double time_s);
+
+/* Makes the layer part of a near/far blend: it belongs to site (-1 near,
+ * else the far index) among nfar far sites at world positions (far_x,
+ * far_y) (the near site is at the origin).  Calibrates a threshold table
+ * (about 80 ms). */
+void cs_cloud_layer_blend(struct cs_cloud_layer *l, const struct cs_volume *noise,
+			  int site, int nfar, const double *far_x, const double *far_y);
+
+/* The weight of the layer's site at (x, y): far site f weighs
+ * w_f = clamp(projection of (x, y) on the line from the near site to f, as
+ * a fraction of that line, 0, 1); the far weights are scaled to sum to at
+ * most 1 and the near site has the rest.  1 without far sites. */
+double cs_cloud_site_weight(const struct cs_cloud_layer *l, double x, double y);
+
+/* Extinction coefficient (1/m) at local position (x east, y north, metres)
+ * and altitude alt_m.  Zero outside the layer.  No allocation, no state. */
+double cs_cloud_extinction(const struct cs_cloud_layer *l,
+			   const struct cs_volume *noise, double x, double y,
+			   double alt_m);
+
+#endif

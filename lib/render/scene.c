@@ -1,0 +1,158 @@
+#include "render/scene.h"
+
+#include "core/err.h"
+#include "render/sky.h"
+#include "render/sun.h"
+
+#include <math.h>
+#include <string.h>
+
+static const struct cs_view views[] = {
+	{"gurten", 46.91722, 7.44361, 883.0, 12.0, -1.0, 60.0,
+	 "Gurten summit (858 m), from its tower at 25 m, looking north over Bern toward Solothurn"},
+	{"bantiger", 46.97917, 7.52916, 972.0, 235.5, -1.0, 60.0,
+	 "Bantiger (947 m), from the tower's platform at 25 m, looking south-west over Bern toward Fribourg"},
+};
+
+const struct cs_view *cs_views(int *count)
+{
+	*count = (int)(sizeof views / sizeof views[0]);
+	return views;
+}
+
+const struct cs_view *cs_view_find(const char *name)
+{
+	for (size_t i = 0; i < sizeof views / sizeof views[0]; i++)
+		if (strcmp(views[i].name, name) == 0)
+			return &views[i];
+	return NULL;
+}
+
+cs_v3 cs_geo_to_world(double origin_lat_deg, double origin_lon_deg,
+		      double earth_radius_m, double lat_deg, double lon_deg,
+		      double alt_m)
+{
+	double k = CS_PI / 180.0;
+	double la0 = origin_lat_deg * k;
+	double la = lat_deg * k, dlo = (lon_deg - origin_lon_deg) * k;
+	double r = earth_radius_m + alt_m;
+	/* the point in an Earth-centred frame whose x axis is the origin's
+	 * meridian, then rotated into east-north-up at the origin */
+	double px = r * cos(la) * cos(dlo), py = r * cos(la) * sin(dlo), pz = r * sin(la);
+	double e = py;
+	double n = -sin(la0) * px + cos(la0) * pz;
+	double u = cos(la0) * px + sin(la0) * pz;
+	return v3(e, n, u - earth_radius_m);
+}
+
+/* Genera that rain (and drizzle), when the weather says it rains. */
+static int rains(enum cs_genus g, int convective)
+{
+	switch (g) {
+	case CS_NIMBOSTRATUS:
+	case CS_CUMULONIMBUS:
+	case CS_ALTOSTRATUS:
+	case CS_STRATOCUMULUS:
+	case CS_STRATUS:
+		return 1;
+	case CS_CUMULUS:
+		return convective;
+	default:
+		return 0;
+	}
+}
+
+int cs_scene_build(struct cs_scene *sc, const struct cs_wx *wx, double time_utc,
+		   const struct cs_volume *noise)
+{
+	int rc = cs_wx_validate(wx);
+	if (rc != CS_OK)
+		return rc;
+	memset(sc, 0, sizeof *sc);
+	sc->earth_radius_m = CS_EARTH_RADIUS_M;
+	sc->ground_alt_m = wx->site.alt_m;
+	sc->ground_albedo[0] = 0.10, sc->ground_albedo[1] = 0.14, sc->ground_albedo[2] = 0.07;
+	sc->noise = noise;
+	sc->albedo = 0.99;
+	sc->g_forward = 0.8, sc->g_back = -0.3, sc->w_forward = 0.75;
+	sc->effects = CS_FX_SKY | CS_FX_GROUND;
+
+	/* clouds: only layers that have any; the wind moves them with time
+	 * counted from 2000-01-01 so that successive times move consistently */
+	double t_wind = time_utc - 946684800.0;
+	for (int i = 0; i < wx->nlayers; i++) {
+		if (wx->layers[i].coverage <= 0.0)
+			continue;
+		cs_cloud_layer_init(&sc->layers[sc->nlayers++], &wx->layers[i], noise,
+				    wx->wind_speed_m_s, wx->wind_from_deg,
+				    wx->site.alt_m, t_wind);
+	}
+	/* far sites: their layers join the scene, and every layer's coverage
+	 * is weighted by how far along the line to each far site a point is */
+	if (wx->nfar > 0) {
+		double fx[CS_WX_MAX_FAR], fy[CS_WX_MAX_FAR];
+		int near = sc->nlayers;
+		for (int f = 0; f < wx->nfar; f++) {
+			cs_v3 p = cs_geo_to_world(wx->site.lat_deg, wx->site.lon_deg,
+						  sc->earth_radius_m, wx->far[f].site.lat_deg,
+						  wx->far[f].site.lon_deg, 0.0);
+			fx[f] = p.x, fy[f] = p.y;
+		}
+		for (int i = 0; i < near; i++)
+			cs_cloud_layer_blend(&sc->layers[i], noise, -1, wx->nfar, fx, fy);
+		for (int f = 0; f < wx->nfar; f++)
+			for (int i = 0; i < wx->far[f].nlayers && sc->nlayers < CS_SCENE_MAX_LAYERS; i++) {
+				if (wx->far[f].layers[i].coverage <= 0.0)
+					continue;
+				struct cs_cloud_layer *l = &sc->layers[sc->nlayers++];
+				cs_cloud_layer_init(l, &wx->far[f].layers[i], noise,
+						    wx->wind_speed_m_s, wx->wind_from_deg,
+						    wx->far[f].site.alt_m, t_wind);
+				cs_cloud_layer_blend(l, noise, f, wx->nfar, fx, fy);
+			}
+	}
+	if (sc->nlayers > 0)
+		sc->effects |= CS_FX_CLOUDS;
+
+	struct cs_sun sun;
+	rc = cs_sun_position(time_utc, wx->site.lat_deg, wx->site.lon_deg, &sun);
+	if (rc != CS_OK)
+		return rc;
+	double sd[3];
+	cs_sun_direction_enu(&sun, sd);
+	sc->sun_dir = v3_norm(v3(sd[0], sd[1], sd[2]));
+	cs_sky_init(&sc->sky, sd, cs_turbidity_from_visibility(wx->visibility_m));
+	memcpy(sc->sun_illuminance, sc->sky.sun_illuminance, sizeof sc->sun_illuminance);
+	memcpy(sc->ambient_up, sc->sky.ambient_up, sizeof sc->ambient_up);
+	memcpy(sc->ambient_down, sc->sky.ambient_down, sizeof sc->ambient_down);
+	if (sun.apparent_elevation_deg > -0.8 &&
+	    sc->sun_illuminance[1] > 0.0) /* disk still partly above the horizon */
+		sc->effects |= CS_FX_SUN;
+	if ((sc->effects & CS_FX_SUN) && sc->nlayers > 0)
+		sc->effects |= CS_FX_CLOUD_SHADOWS;
+
+	/* haze: Koschmieder's extinction 3.912 / visibility at the ground,
+	 * falling off with a 1.2 km scale height */
+	sc->haze_scale_height_m = 1200.0;
+	sc->haze_beta0_per_m = 3.912 / wx->visibility_m * exp(wx->site.alt_m / 1200.0);
+	sc->effects |= CS_FX_HAZE;
+
+	/* rain: below the lowest raining layer; extinction 0.25 R^0.63 per km
+	 * (R in mm/h), scaled by the raining layer's coverage */
+	if (wx->precipitation_mm_h > 0.0) {
+		int convective = wx->convective_mm_h > 0.5 * wx->precipitation_mm_h;
+		double top = INFINITY, cover = 0.0;
+		for (int i = 0; i < sc->nlayers; i++)
+			if (rains(sc->layers[i].genus, convective) && sc->layers[i].base_m < top) {
+				top = sc->layers[i].base_m;
+				cover = sc->layers[i].coverage;
+			}
+		if (isfinite(top) && top > sc->ground_alt_m) {
+			sc->rain_top_m = top;
+			sc->rain_extinction_per_m =
+				0.25e-3 * pow(wx->precipitation_mm_h, 0.63) * cover;
+			sc->effects |= CS_FX_RAIN;
+		}
+	}
+	return CS_OK;
+}

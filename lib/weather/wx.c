@@ -1,0 +1,475 @@
+#include "weather/wx.h"
+
+#include "core/err.h"
+#include "core/fileio.h"
+#include "core/time.h"
+
+#include <cjson/cJSON.h>
+
+#include <math.h>
+#include <stddef.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <strings.h>
+
+#define MAX_FILE_BYTES ((size_t)16 << 20)
+
+static const char *const genus_names[CS_GENUS_COUNT] = {
+	"cirrus", "cirrocumulus", "cirrostratus", "altocumulus", "altostratus",
+	"nimbostratus", "stratocumulus", "stratus", "cumulus", "cumulonimbus",
+};
+
+const char *cs_genus_name(enum cs_genus g)
+{
+	return (unsigned)g < CS_GENUS_COUNT ? genus_names[g] : "unknown";
+}
+
+int cs_genus_from_name(const char *name)
+{
+	for (int g = 0; name != NULL && g < CS_GENUS_COUNT; g++)
+		if (strcasecmp(name, genus_names[g]) == 0)
+			return g;
+	return -1;
+}
+
+void cs_wx_default(struct cs_wx *wx)
+{
+	static const struct cs_wx_layer fair[2] = {
+		{CS_CUMULUS, 0.35, 1500, 2700},
+		{CS_CIRRUS, 0.2, 9000, 9600},
+	};
+	memset(wx, 0, sizeof *wx);
+	wx->time_utc = cs_days_from_civil(2021, 6, 14) * 86400.0 + 14 * 3600.0;
+	snprintf(wx->site.name, sizeof wx->site.name, "Bern");
+	wx->site.lat_deg = 46.95;
+	wx->site.lon_deg = 7.44;
+	wx->site.alt_m = 540;
+	wx->nlayers = 2;
+	memcpy(wx->layers, fair, sizeof fair);
+	wx->wind_speed_m_s = 4;
+	wx->wind_from_deg = 250;
+	wx->visibility_m = 30000;
+}
+
+/* A number as the shortest of %.15g and %.17g that reads back to the same
+ * double; %.17g always does (IEEE 754 binary64). */
+struct num {
+	char s[32];
+};
+
+static struct num num(double v)
+{
+	struct num n;
+	snprintf(n.s, sizeof n.s, "%.15g", v);
+	if (strtod(n.s, NULL) != v)
+		snprintf(n.s, sizeof n.s, "%.17g", v);
+	return n;
+}
+
+/* Returns from the calling function on an error. */
+#define TRY(call)                                                             \
+	do {                                                                  \
+		int try_rc_ = (call);                                         \
+		if (try_rc_ != CS_OK)                                         \
+			return try_rc_;                                       \
+	} while (0)
+
+/* A number member of a struct: its JSON key, default and range. */
+struct field {
+	const char *key;
+	size_t off;
+	int required;
+	double def, lo, hi;
+};
+
+#define F(type, member, req, def, lo, hi) \
+	{#member, offsetof(type, member), req, def, lo, hi}
+#define COUNT(a) (sizeof (a) / sizeof *(a))
+
+static const struct field site_fields[] = {
+	F(struct cs_wx_site, lat_deg, 1, 0, -90, 90),
+	F(struct cs_wx_site, lon_deg, 1, 0, -180, 180),
+	F(struct cs_wx_site, alt_m, 0, 0, -500, 9000),
+};
+static const struct field layer_fields[] = {
+	F(struct cs_wx_layer, coverage, 1, 0, 0, 1),
+	F(struct cs_wx_layer, base_m, 1, 0, -500, 20000),
+	F(struct cs_wx_layer, top_m, 1, 0, -500, 20000),
+};
+static const struct field wx_fields[] = {
+	F(struct cs_wx, precipitation_mm_h, 0, 0, 0, 500),
+	F(struct cs_wx, convective_mm_h, 0, 0, 0, 500),
+	F(struct cs_wx, visibility_m, 0, 30000, 1, 1e6),
+	F(struct cs_wx, fog_probability, 0, 0, 0, 1),
+};
+/* Required only inside a "wind" object (a speed without a direction is no
+ * wind); no object at all is calm. */
+static const struct field wind_fields[] = {
+	{"speed_m_s", offsetof(struct cs_wx, wind_speed_m_s), 1, 0, 0, 100},
+	{"from_deg", offsetof(struct cs_wx, wind_from_deg), 1, 0, 0, 360},
+};
+static const struct field far_fields[] = {
+	F(struct cs_wx_far, precipitation_mm_h, 0, 0, 0, 500),
+	F(struct cs_wx_far, visibility_m, 0, 30000, 1, 1e6),
+};
+
+/* ---- validation: ranges of the struct ---------------------------------- */
+
+/* Written as !(in range) so that NaN fails too. */
+static int check(const char *pre, const char *key, double v, double lo,
+		 double hi)
+{
+	if (v >= lo && v <= hi)
+		return CS_OK;
+	return cs_error(CS_EDATA, "%s%s: %s is outside %s..%s", pre, key,
+			num(v).s, num(lo).s, num(hi).s);
+}
+
+static int check_fields(const char *pre, const struct field *f, size_t n,
+			const void *base)
+{
+	for (size_t i = 0; i < n; i++)
+		TRY(check(pre, f[i].key,
+			  *(const double *)((const char *)base + f[i].off),
+			  f[i].lo, f[i].hi));
+	return CS_OK;
+}
+
+static int check_site(const char *pre, const struct cs_wx_site *s)
+{
+	if (memchr(s->name, '\0', sizeof s->name) == NULL)
+		return cs_error(CS_EDATA, "%sname: not terminated", pre);
+	return check_fields(pre, site_fields, COUNT(site_fields), s);
+}
+
+static int check_layers(const char *pre, int n, const struct cs_wx_layer *l)
+{
+	if (n < 0 || n > CS_WX_MAX_LAYERS)
+		return cs_error(CS_EDATA, "%slayers: %d layers, at most %d",
+				pre, n, CS_WX_MAX_LAYERS);
+	for (int i = 0; i < n; i++) {
+		char p[48];
+		snprintf(p, sizeof p, "%slayers[%d].", pre, i);
+		if ((unsigned)l[i].genus >= CS_GENUS_COUNT)
+			return cs_error(CS_EDATA, "%sgenus: %d is not a genus", p,
+					(int)l[i].genus);
+		TRY(check_fields(p, layer_fields, COUNT(layer_fields), &l[i]));
+		/* thinner than 10 m is no cloud a renderer can march */
+		if (!(l[i].top_m >= l[i].base_m + 10))
+			return cs_error(CS_EDATA, "%stop_m: %s is not at least "
+					"10 m above base_m %s", p,
+					num(l[i].top_m).s, num(l[i].base_m).s);
+	}
+	return CS_OK;
+}
+
+int cs_wx_validate(const struct cs_wx *wx)
+{
+	if (wx == NULL)
+		return cs_error(CS_EINVAL, "cs_wx_validate: no state");
+	/* four-digit years, so that the time reads back (cs_time_parse) */
+	if (!(wx->time_utc >= cs_days_from_civil(0, 1, 1) * 86400.0 &&
+	      wx->time_utc < cs_days_from_civil(10000, 1, 1) * 86400.0))
+		return cs_error(CS_EDATA, "time_utc: %s s is outside years "
+				"0000..9999", num(wx->time_utc).s);
+	TRY(check_site("site.", &wx->site));
+	TRY(check_layers("", wx->nlayers, wx->layers));
+	TRY(check_fields("", wx_fields, COUNT(wx_fields), wx));
+	TRY(check("", "convective_mm_h", wx->convective_mm_h, 0,
+		  wx->precipitation_mm_h));
+	TRY(check_fields("wind.", wind_fields, COUNT(wind_fields), wx));
+	if (wx->nfar < 0 || wx->nfar > CS_WX_MAX_FAR)
+		return cs_error(CS_EDATA, "far: %d sites, at most %d", wx->nfar,
+				CS_WX_MAX_FAR);
+	for (int i = 0; i < wx->nfar; i++) {
+		char p[32], ps[40];
+		snprintf(p, sizeof p, "far[%d].", i);
+		snprintf(ps, sizeof ps, "far[%d].site.", i);
+		TRY(check_site(ps, &wx->far[i].site));
+		TRY(check_layers(p, wx->far[i].nlayers, wx->far[i].layers));
+		TRY(check_fields(p, far_fields, COUNT(far_fields), &wx->far[i]));
+	}
+	return CS_OK;
+}
+
+/* ---- parsing: types and presence --------------------------------------- */
+
+/* The member key of obj, *out = NULL if absent.  Absent and required, or
+ * present with another type than kind (a cJSON type bit), is an error. */
+static int get(const cJSON *obj, const char *pre, const char *key, int kind,
+	       int required, const cJSON **out)
+{
+	const cJSON *it = cJSON_GetObjectItemCaseSensitive(obj, key);
+	*out = NULL;
+	if (it == NULL)
+		return required ? cs_error(CS_EDATA, "%s%s: missing (required)",
+					   pre, key) : CS_OK;
+	if ((it->type & 0xff) != kind)
+		return cs_error(CS_EDATA, "%s%s: expected %s", pre, key,
+				kind == cJSON_Number ? "a number" :
+				kind == cJSON_String ? "a string" :
+				kind == cJSON_Array ? "an array" : "an object");
+	*out = it;
+	return CS_OK;
+}
+
+/* Sets the fields of base from obj, or to their defaults where absent;
+ * obj NULL (an optional object left out) gives every default. */
+static int parse_fields(const cJSON *obj, const char *pre,
+			const struct field *f, size_t n, void *base)
+{
+	for (size_t i = 0; i < n; i++) {
+		const cJSON *it;
+		TRY(get(obj, pre, f[i].key, cJSON_Number,
+			f[i].required && obj != NULL, &it));
+		if (it != NULL && !isfinite(it->valuedouble))
+			return cs_error(CS_EDATA, "%s%s: expected a finite "
+					"number", pre, f[i].key);
+		*(double *)((char *)base + f[i].off) =
+			it != NULL ? it->valuedouble : f[i].def;
+	}
+	return CS_OK;
+}
+
+/* The member "site" of obj. */
+static int parse_site(const cJSON *obj, const char *pre, struct cs_wx_site *s)
+{
+	const cJSON *site, *name;
+	char p[40];
+	snprintf(p, sizeof p, "%ssite.", pre);
+	TRY(get(obj, pre, "site", cJSON_Object, 1, &site));
+	TRY(get(site, p, "name", cJSON_String, 0, &name));
+	if (name != NULL && strlen(name->valuestring) >= sizeof s->name)
+		return cs_error(CS_EDATA, "%sname: longer than %zu bytes", p,
+				sizeof s->name - 1);
+	snprintf(s->name, sizeof s->name, "%s", name ? name->valuestring : "");
+	return parse_fields(site, p, site_fields, COUNT(site_fields), s);
+}
+
+static int unknown_genus(const char *pre, const char *name)
+{
+	char list[160] = "";
+	for (int g = 0; g < CS_GENUS_COUNT; g++)
+		snprintf(list + strlen(list), sizeof list - strlen(list), "%s%s",
+			 g ? ", " : "", genus_names[g]);
+	return cs_error(CS_EDATA, "%sgenus: unknown genus \"%.40s\" (expected "
+			"one of %s)", pre, name, list);
+}
+
+/* The member "layers" of obj. */
+static int parse_layers(const cJSON *obj, const char *pre, int *n,
+			struct cs_wx_layer *layers)
+{
+	const cJSON *arr, *el, *genus;
+	TRY(get(obj, pre, "layers", cJSON_Array, 1, &arr));
+	if (cJSON_GetArraySize(arr) > CS_WX_MAX_LAYERS)
+		return cs_error(CS_EDATA, "%slayers: %d layers, at most %d", pre,
+				cJSON_GetArraySize(arr), CS_WX_MAX_LAYERS);
+	*n = 0;
+	cJSON_ArrayForEach(el, arr) {
+		char p[48];
+		snprintf(p, sizeof p, "%slayers[%d]", pre, *n);
+		if (!cJSON_IsObject(el))
+			return cs_error(CS_EDATA, "%s: expected an object", p);
+		strcat(p, ".");
+		TRY(get(el, p, "genus", cJSON_String, 1, &genus));
+		int g = cs_genus_from_name(genus->valuestring);
+		if (g < 0)
+			return unknown_genus(p, genus->valuestring);
+		layers[*n].genus = (enum cs_genus)g;
+		TRY(parse_fields(el, p, layer_fields, COUNT(layer_fields),
+				 &layers[(*n)++]));
+	}
+	return CS_OK;
+}
+
+static int parse_far(const cJSON *root, struct cs_wx *wx)
+{
+	const cJSON *arr, *el;
+	TRY(get(root, "", "far", cJSON_Array, 0, &arr));
+	if (cJSON_GetArraySize(arr) > CS_WX_MAX_FAR)
+		return cs_error(CS_EDATA, "far: %d sites, at most %d",
+				cJSON_GetArraySize(arr), CS_WX_MAX_FAR);
+	cJSON_ArrayForEach(el, arr) {
+		struct cs_wx_far *f = &wx->far[wx->nfar];
+		char p[32];
+		snprintf(p, sizeof p, "far[%d]", wx->nfar++);
+		if (!cJSON_IsObject(el))
+			return cs_error(CS_EDATA, "%s: expected an object", p);
+		strcat(p, ".");
+		TRY(parse_site(el, p, &f->site));
+		TRY(parse_layers(el, p, &f->nlayers, f->layers));
+		TRY(parse_fields(el, p, far_fields, COUNT(far_fields), f));
+	}
+	return CS_OK;
+}
+
+/* Fills *wx from the parsed document; the ranges are checked after. */
+static int parse_root(const cJSON *root, struct cs_wx *wx)
+{
+	const cJSON *it;
+	if (!cJSON_IsObject(root))
+		return cs_error(CS_EDATA, "expected a JSON object");
+	TRY(get(root, "", "schema", cJSON_String, 1, &it));
+	if (strcmp(it->valuestring, CS_WX_SCHEMA) != 0)
+		return cs_error(CS_EDATA, "schema: unsupported version \"%.40s\" "
+				"(this program reads \"%s\")", it->valuestring,
+				CS_WX_SCHEMA);
+	TRY(get(root, "", "time_utc", cJSON_String, 1, &it));
+	if (cs_time_parse(it->valuestring, &wx->time_utc) != CS_OK)
+		return cs_error(CS_EDATA, "time_utc: %s", cs_errmsg());
+	TRY(parse_site(root, "", &wx->site));
+	TRY(parse_layers(root, "", &wx->nlayers, wx->layers));
+	TRY(parse_fields(root, "", wx_fields, COUNT(wx_fields), wx));
+	TRY(get(root, "", "wind", cJSON_Object, 0, &it));
+	TRY(parse_fields(it, "wind.", wind_fields, COUNT(wind_fields), wx));
+	wx->nfar = 0;
+	return parse_far(root, wx);
+}
+
+/* "what at byte offset N near "excerpt"": the excerpt starts a little
+ * before N (cJSON sometimes reports one byte past the fault) and stops at a
+ * control character, so that the message stays on one line. */
+static int syntax_error(const char *what, const char *s, size_t len, size_t at)
+{
+	size_t from = at, to = at;
+	while (from > 0 && at - from < 10 && (unsigned char)s[from - 1] >= 0x20)
+		from--;
+	while (to < len && to - at < 20 && (unsigned char)s[to] >= 0x20)
+		to++;
+	return cs_error(CS_EDATA, "%s at byte offset %zu near \"%.*s\"%s", what,
+			at, (int)(to - from), s + from,
+			at + 1 >= len ? " (end of input)" : "");
+}
+
+/* lines: JSON Lines, so text after the first object's line is ignored. */
+static int parse_text(const char *json, size_t len, struct cs_wx *wx,
+		      int lines)
+{
+	if (json == NULL || wx == NULL)
+		return cs_error(CS_EINVAL, "cs_wx_parse: no input or no state");
+	const char *nul = memchr(json, '\0', len), *end = NULL;
+	if (nul != NULL)
+		return cs_error(CS_EDATA, "NUL byte at byte offset %zu",
+				(size_t)(nul - json));
+	size_t at = 0;
+	while (at < len && strchr(" \t\r\n", json[at]))
+		at++;
+	if (at == len)
+		return cs_error(CS_EDATA, "empty input: no JSON object");
+	/* return_parse_end, not cJSON_GetErrorPtr(): that one is a global */
+	cJSON *root = cJSON_ParseWithLengthOpts(json, len, &end, 0);
+	if (root == NULL)
+		return syntax_error("malformed JSON", json, len,
+				    end ? (size_t)(end - json) : 0);
+	at = (size_t)(end - json);
+	while (at < len && strchr(lines ? " \t\r" : " \t\r\n", json[at]))
+		at++;
+	if (at < len && !(lines && json[at] == '\n')) {
+		cJSON_Delete(root);
+		return syntax_error("unexpected text after the JSON object",
+				    json, len, at);
+	}
+	struct cs_wx w;
+	memset(&w, 0, sizeof w);
+	int rc = parse_root(root, &w);
+	cJSON_Delete(root);
+	if (rc == CS_OK)
+		rc = cs_wx_validate(&w);
+	if (rc == CS_OK)
+		*wx = w;
+	return rc;
+}
+
+int cs_wx_parse(const char *json, size_t len, struct cs_wx *wx)
+{
+	return parse_text(json, len, wx, 0);
+}
+
+int cs_wx_read(const char *path, struct cs_wx *wx)
+{
+	unsigned char *data;
+	size_t len;
+	if (path == NULL || wx == NULL)
+		return cs_error(CS_EINVAL, "cs_wx_read: no path or no state");
+	int rc = cs_read_all(path, MAX_FILE_BYTES, &data, &len);
+	if (rc != CS_OK)
+		return rc;
+	rc = parse_text((const char *)data, len, wx, 1);
+	free(data);
+	if (rc != CS_OK)
+		rc = cs_error(rc, "%s: %s",
+			      strcmp(path, "-") == 0 ? "standard input" : path,
+			      cs_errmsg());
+	return rc;
+}
+
+/* ---- writing ------------------------------------------------------------ */
+
+static void put_site(FILE *f, const struct cs_wx_site *s)
+{
+	fputs("\"site\":{\"name\":\"", f);
+	for (const unsigned char *c = (const unsigned char *)s->name; *c; c++)
+		if (*c == '"' || *c == '\\')
+			fprintf(f, "\\%c", *c);
+		else if (*c < 0x20)
+			fprintf(f, "\\u%04x", *c);
+		else
+			fputc(*c, f);
+	fprintf(f, "\",\"lat_deg\":%s,\"lon_deg\":%s,\"alt_m\":%s}",
+		num(s->lat_deg).s, num(s->lon_deg).s, num(s->alt_m).s);
+}
+
+static void put_layers(FILE *f, int n, const struct cs_wx_layer *l)
+{
+	fputs(",\"layers\":[", f);
+	for (int i = 0; i < n; i++)
+		fprintf(f, "%s{\"genus\":\"%s\",\"coverage\":%s,\"base_m\":%s,"
+			"\"top_m\":%s}", i ? "," : "", cs_genus_name(l[i].genus),
+			num(l[i].coverage).s, num(l[i].base_m).s,
+			num(l[i].top_m).s);
+	fputc(']', f);
+}
+
+int cs_wx_to_json(const struct cs_wx *wx, char **json)
+{
+	if (json == NULL)
+		return cs_error(CS_EINVAL, "cs_wx_to_json: nowhere to put it");
+	*json = NULL;
+	int rc = cs_wx_validate(wx);
+	if (rc != CS_OK)
+		return rc;
+	char t[40], *buf = NULL;
+	size_t size;
+	FILE *f = open_memstream(&buf, &size);
+	if (f == NULL)
+		return cs_error(CS_ENOMEM, "out of memory writing the state");
+	cs_time_format(wx->time_utc, t, sizeof t);
+	fprintf(f, "{\"schema\":\"%s\",\"time_utc\":\"%s\",", CS_WX_SCHEMA, t);
+	put_site(f, &wx->site);
+	put_layers(f, wx->nlayers, wx->layers);
+	fprintf(f, ",\"precipitation_mm_h\":%s,\"convective_mm_h\":%s,"
+		"\"wind\":{\"speed_m_s\":%s,\"from_deg\":%s},\"visibility_m\":%s,"
+		"\"fog_probability\":%s", num(wx->precipitation_mm_h).s,
+		num(wx->convective_mm_h).s, num(wx->wind_speed_m_s).s,
+		num(wx->wind_from_deg).s, num(wx->visibility_m).s,
+		num(wx->fog_probability).s);
+	for (int i = 0; i < wx->nfar; i++) {
+		fputs(i ? ",{" : ",\"far\":[{", f);
+		put_site(f, &wx->far[i].site);
+		put_layers(f, wx->far[i].nlayers, wx->far[i].layers);
+		fprintf(f, ",\"precipitation_mm_h\":%s,\"visibility_m\":%s}%s",
+			num(wx->far[i].precipitation_mm_h).s,
+			num(wx->far[i].visibility_m).s,
+			i == wx->nfar - 1 ? "]" : "");
+	}
+	fputc('}', f);
+	int bad = ferror(f);
+	if (fclose(f) != 0 || bad) {
+		free(buf);
+		return cs_error(CS_ENOMEM, "out of memory writing the state");
+	}
+	*json = buf;
+	return CS_OK;
+}
