@@ -12,6 +12,12 @@ enum cs_status {
 	CS_EIO = -2,    /* the operating system refused: open, write, rename... */
 	CS_EDATA = -3,  /* a file or stream has bad or inconsistent contents */
 	CS_ENOMEM = -4, /* allocation failed */
+	CS_ECANCELED = -5, /* the caller's progress callback asked to stop */
+	/* fetching (net/): what a provider or the network answered */
+	CS_EAUTH = -20,    /* the provider refused the credentials, or none */
+	CS_EREQUEST = -21, /* the provider refused the request (HTTP 400, 404...) */
+	CS_ERATE = -22,    /* a rate limit (HTTP 429) */
+	CS_ENET = -23,     /* no answer: connect, DNS, timeout, cut transfer, 5xx */
 };
 
 /* Records a printf-style message for this thread and returns code. */

@@ -6,15 +6,9 @@
 #ifndef CS_FETCH_H
 #define CS_FETCH_H
 
-#include <stddef.h>
+#include "core/err.h" /* CS_EAUTH, CS_EREQUEST, CS_ERATE, CS_ENET */
 
-/* Status codes of the fetching modules, beside the CS_E* of err.h. */
-enum {
-	CS_EAUTH = -20,    /* the provider refused the credentials, or none */
-	CS_EREQUEST = -21, /* the provider refused the request (HTTP 400, 404...) */
-	CS_ERATE = -22,    /* a rate limit (HTTP 429) */
-	CS_ENET = -23,     /* no answer: connect, DNS, timeout, cut transfer, 5xx */
-};
+#include <stddef.h>
 
 /* What cs_fetch_get replaces a secret with in every text it hands out. */
 #define CS_REDACTED "REDACTED"

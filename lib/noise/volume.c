@@ -209,7 +209,7 @@ int cs_volume_bake(struct cs_volume *v, int nthreads, cs_progress_fn progress,
 	for (int i = 0; i < started; i++)
 		pthread_join(tid[i], NULL);
 	if (atomic_load(&job.cancel))
-		return cs_error(CS_EINVAL, "baking cancelled");
+		return cs_error(CS_ECANCELED, "baking cancelled");
 	if (progress)
 		progress(user, 1.0);
 	return CS_OK;
