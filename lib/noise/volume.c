@@ -5,13 +5,9 @@
 #include "noise/noise.h"
 
 #include <math.h>
-#include <pthread.h>
-#include <stdatomic.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
-#include <unistd.h>
 
 static const char chan_names[4] = {'R', 'G', 'B', 'A'};
 
@@ -142,28 +138,17 @@ static void bake_voxel(const struct cs_volume *v, const int period[4][3],
 struct bake_job {
 	struct cs_volume *v;
 	int period[4][3];
-	atomic_int next_slice;
-	atomic_int slices_done;
-	atomic_int cancel;
 };
 
-static void *bake_worker(void *arg)
+static void bake_slice(void *user, int z, int worker)
 {
-	struct bake_job *job = arg;
+	(void)worker;
+	struct bake_job *job = user;
 	struct cs_volume *v = job->v;
-	for (;;) {
-		if (atomic_load(&job->cancel))
-			break;
-		int z = atomic_fetch_add(&job->next_slice, 1);
-		if (z >= v->nz)
-			break;
-		for (int y = 0; y < v->ny; y++)
-			for (int x = 0; x < v->nx; x++)
-				bake_voxel(v, (const int(*)[3])job->period, x, y, z,
-					   v->data + (((size_t)z * v->ny + y) * v->nx + x) * 4);
-		atomic_fetch_add(&job->slices_done, 1);
-	}
-	return NULL;
+	for (int y = 0; y < v->ny; y++)
+		for (int x = 0; x < v->nx; x++)
+			bake_voxel(v, (const int(*)[3])job->period, x, y, z,
+				   v->data + (((size_t)z * v->ny + y) * v->nx + x) * 4);
 }
 
 int cs_volume_bake(struct cs_volume *v, int nthreads, cs_progress_fn progress,
@@ -174,45 +159,13 @@ int cs_volume_bake(struct cs_volume *v, int nthreads, cs_progress_fn progress,
 		return rc;
 	if (v->data == NULL)
 		return cs_error(CS_EINVAL, "volume is not allocated");
-	if (nthreads <= 0) {
-		long n = sysconf(_SC_NPROCESSORS_ONLN);
-		nthreads = n > 0 ? (int)n : 1;
-	}
-	if (nthreads > v->nz)
-		nthreads = v->nz;
-	if (nthreads > 256)
-		nthreads = 256;
-
 	struct bake_job job = {.v = v};
 	for (int c = 0; c < 4; c++)
 		cs_noise_period(&v->recipe, c, v->nx, v->nz, job.period[c]);
-	atomic_init(&job.next_slice, 0);
-	atomic_init(&job.slices_done, 0);
-	atomic_init(&job.cancel, 0);
-
-	pthread_t tid[256];
-	int started = 0;
-	for (; started < nthreads; started++)
-		if (pthread_create(&tid[started], NULL, bake_worker, &job) != 0)
-			break;
-	if (started == 0) {
-		bake_worker(&job); /* no thread could start: work here */
-	} else if (progress) {
-		/* The calling thread reports progress while the workers run. */
-		while (atomic_load(&job.slices_done) < v->nz && !atomic_load(&job.cancel)) {
-			if (progress(user, (double)atomic_load(&job.slices_done) / v->nz))
-				atomic_store(&job.cancel, 1);
-			struct timespec ts = {0, 20 * 1000 * 1000};
-			nanosleep(&ts, NULL);
-		}
-	}
-	for (int i = 0; i < started; i++)
-		pthread_join(tid[i], NULL);
-	if (atomic_load(&job.cancel))
+	rc = cs_pool_run(v->nz, nthreads, bake_slice, &job, progress, user, NULL);
+	if (rc == CS_ECANCELED)
 		return cs_error(CS_ECANCELED, "baking cancelled");
-	if (progress)
-		progress(user, 1.0);
-	return CS_OK;
+	return rc;
 }
 
 static inline int wrapi(long i, int n)

@@ -5,6 +5,8 @@
 #ifndef CS_VOLUME_H
 #define CS_VOLUME_H
 
+#include "core/pool.h"
+
 #include <stddef.h>
 #include <stdint.h>
 
@@ -51,12 +53,10 @@ void cs_noise_period(const struct cs_noise_recipe *r, int c, int nx, int nz,
 int cs_volume_new(struct cs_volume *v, int nx, int nz);
 void cs_volume_free(struct cs_volume *v);
 
-/* Called by cs_volume_bake() from the calling thread with the fraction done
- * (0..1).  Returns nonzero to cancel. */
-typedef int (*cs_progress_fn)(void *user, double fraction);
-
 /* Fills v (already allocated) from its recipe using nthreads threads (<= 0:
- * all online processors).  The result does not depend on nthreads. */
+ * all online processors) of the CPU pool, one z slice a task; progress is
+ * called from the calling thread and may cancel (CS_ECANCELED).  The result
+ * does not depend on nthreads. */
 int cs_volume_bake(struct cs_volume *v, int nthreads, cs_progress_fn progress,
 		   void *user);
 

@@ -41,6 +41,23 @@ const struct cs_genus_preset *cs_genus_preset(enum cs_genus g)
 
 static void calibrate(struct cs_cloud_layer *l, const struct cs_volume *noise);
 
+/* The period of a genus's field along the wind, m: stretch times the least
+ * common multiple of the base and detail tiles, or 0 when a tile is not a
+ * whole number of metres (then the offset is not reduced). */
+static double wind_period_m(const struct cs_genus_preset *p)
+{
+	double a = p->tile_m, b = p->detail_tile_m;
+	if (a != floor(a) || b != floor(b) || a < 1.0 || b < 1.0 || a > 1e9 || b > 1e9)
+		return 0.0;
+	long x = (long)a, y = (long)b;
+	while (y != 0) {
+		long r = x % y;
+		x = y;
+		y = r;
+	}
+	return p->stretch * (a / (double)x * b);
+}
+
 void cs_cloud_layer_init(struct cs_cloud_layer *l, const struct cs_wx_layer *wl,
 			 const struct cs_volume *noise, double wind_speed_m_s,
 			 double wind_from_deg, double ground_alt_m, double time_s)
@@ -69,11 +86,14 @@ void cs_cloud_layer_init(struct cs_cloud_layer *l, const struct cs_wx_layer *wl,
 	double mid = 0.5 * (wl->base_m + wl->top_m) - ground_alt_m;
 	double factor = pow(fmax(mid, 10.0) / 10.0, 1.0 / 7.0);
 	factor = factor > 3.0 ? 3.0 : factor;
-	/* Not reduced modulo a tile: base and detail tiles need not share a
-	 * period.  In double precision the offset stays exact to centimetres
-	 * for any date and wind. */
+	/* Reduced modulo the field's period along the wind, the least common
+	 * multiple of the base and detail tiles (whole metres), stretched: the
+	 * field is the same, and the coordinates the per-sample code sees stay
+	 * small, so a float build keeps its precision on any date. */
 	double travelled = wind_speed_m_s * factor * time_s;
-	l->offset_along_m = isfinite(travelled) ? travelled : 0.0;
+	double period = wind_period_m(p);
+	travelled = isfinite(travelled) ? travelled : 0.0;
+	l->offset_along_m = period > 0.0 ? fmod(travelled, period) : travelled;
 	calibrate(l, noise);
 }
 

@@ -1,13 +1,22 @@
-/* render.h - the integrator: rays through spherical cloud shells, light
- * marched toward the sun, tiles on all cores.
+/* render.h - the renderer's interface: quality settings, the scene it
+ * renders, one ray, one frame.
+ *
+ * Where things are (all in lib/render/): the presets in quality.c, the
+ * camera in camera.c, phase functions in phase.h, the march through the
+ * cloud shells and the integrator in integrator.c, the light march toward
+ * the sun in light_march.c, aerial perspective in haze.c, ground and
+ * terrain shading in ground.c, a whole frame over the CPU pool in frame.c.
  *
  * World frame: east-north-up at sea level below the scene origin, metres;
- * the Earth is a sphere centred at (0, 0, -earth_radius_m).  Radiance is in
- * kcd/m^2 per linear-sRGB channel (see sky.h). */
+ * the Earth is a sphere centred at (0, 0, -earth_radius_m) (core/sphere.h).
+ * Radiance is in kcd/m^2 per linear-sRGB channel (see sky.h). */
 #ifndef CS_RENDER_H
 #define CS_RENDER_H
 
+#include "core/pool.h"
+#include "render/camera.h"
 #include "render/cloud.h"
+#include "render/phase.h"
 #include "terrain/heightfield.h"
 #include "render/sky.h"
 #include "core/vec.h"
@@ -71,10 +80,6 @@ struct cs_scene {
 	unsigned effects;
 };
 
-/* Henyey-Greenstein phase function (1/sr) for the cosine of the angle
- * between the light's and the view's directions of travel. */
-double cs_phase_hg(double cos_theta, double g);
-
 struct cs_render_stats {
 	uint64_t pixels, density_samples, light_samples, rays_terminated_early,
 		layer_crossings, terrain_cells;
@@ -82,7 +87,7 @@ struct cs_render_stats {
 
 /* Transmittance of the clouds from p toward the sun (1 without clouds or
  * sun): what makes cloud shadows on the ground. */
-double cs_render_sun_transmittance(const struct cs_scene *sc,
+CS_HD double cs_render_sun_transmittance(const struct cs_scene *sc,
 				   const struct cs_render_settings *s, cs_v3 p,
 				   struct cs_render_stats *st);
 
@@ -94,36 +99,19 @@ struct cs_ray_result {
 
 /* Radiance along one ray from origin o in unit direction d.  jitter_u in
  * [0, 1) offsets the samples (0.5 = midpoints).  Never NaN or Inf. */
-void cs_render_ray(const struct cs_scene *sc, const struct cs_render_settings *s,
+CS_HD void cs_render_ray(const struct cs_scene *sc, const struct cs_render_settings *s,
 		   cs_v3 o, cs_v3 d, double jitter_u, struct cs_render_stats *st,
 		   struct cs_ray_result *out);
 
-struct cs_camera {
-	int width, height;      /* pixels */
-	cs_v3 pos;              /* world position */
-	cs_v3 fwd, right, up;   /* orthonormal: view direction, image right, image up */
-	double tan_half_fov;    /* horizontal */
-};
-
-/* A camera at world position pos looking at azimuth (deg from north,
- * clockwise) and elevation (deg) in the local frame at pos, with a
- * horizontal field of view in degrees.  origin_lat_deg fixes the direction
- * of north.  0 or CS_EINVAL. */
-int cs_camera_init(struct cs_camera *c, const struct cs_scene *sc, cs_v3 pos,
-		   double origin_lat_deg, double azimuth_deg, double elevation_deg,
-		   double fov_deg, int width, int height);
-
-/* The world ray through the centre of pixel (i, j), j = 0 at the top. */
-cs_v3 cs_camera_ray(const struct cs_camera *c, int i, int j);
-
 /* Renders the image into out: 5 floats per pixel (R, G, B, alpha, Z), rows
- * top to bottom.  Deterministic for any nthreads (<= 0: all processors). */
+ * top to bottom, on the CPU pool.  Deterministic for any nthreads (<= 0:
+ * all processors).  progress may cancel: CS_ECANCELED. */
 int cs_render_image(const struct cs_scene *sc, const struct cs_camera *cam,
 		    const struct cs_render_settings *s, int nthreads,
 		    cs_progress_fn progress, void *user, float *out,
 		    struct cs_render_stats *stats);
 
 /* Altitude above sea level of a world point. */
-double cs_scene_altitude(const struct cs_scene *sc, cs_v3 p);
+CS_HD double cs_scene_altitude(const struct cs_scene *sc, cs_v3 p);
 
 #endif

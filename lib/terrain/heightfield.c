@@ -1,6 +1,7 @@
 #include "terrain/heightfield.h"
 
 #include "core/err.h"
+#include "core/sphere.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -125,8 +126,7 @@ cs_v3 cs_hfield_normal(const struct cs_hfield *f, double x, double y)
 
 double cs_hfield_altitude(const struct cs_hfield *f, cs_v3 p)
 {
-	cs_v3 q = v3(p.x, p.y, p.z + f->earth_radius_m);
-	return v3_len(q) - f->earth_radius_m;
+	return cs_altitude(p, f->earth_radius_m);
 }
 
 /* Height of the surface minus the altitude, along the ray: > 0 above. */
@@ -162,9 +162,8 @@ static double alt_lower_bound(const struct cs_hfield *f, cs_v3 o, cs_v3 d,
 {
 	cs_v3 p = v3_mad(o, d, t0);
 	cs_v3 q = v3(p.x, p.y, p.z + f->earth_radius_m);
-	double r = v3_len(q);
-	double slope = v3_dot(d, q) / r;
-	double a0 = r - f->earth_radius_m;
+	double slope = v3_dot(d, q) / v3_len(q);
+	double a0 = cs_altitude(p, f->earth_radius_m);
 	double a1 = a0 + slope * (t1 - t0);
 	return a0 < a1 ? a0 : a1;
 }
@@ -207,18 +206,9 @@ int cs_hfield_intersect(const struct cs_hfield *f, cs_v3 o, cs_v3 d, double tmax
 	if (!slab(c0, cd, 0.0, f->w - 1, &t0, &t1) || !slab(r0, rd, 0.0, f->h - 1, &t0, &t1))
 		return 0;
 	{
-		cs_v3 oc = v3(o.x, o.y, o.z + R);
-		double dist = v3_len(oc), rr = R + f->max_m;
-		double b = v3_dot(oc, d), c = (dist - rr) * (dist + rr), disc = b * b - c;
-		if (!(disc >= 0.0))
+		double e0, e1;
+		if (!cs_sphere_hit(o, d, R, R + f->max_m, &e0, &e1))
 			return 0;
-		double sq = sqrt(disc), q = -b - (b >= 0.0 ? sq : -sq);
-		double e0 = q, e1 = q != 0.0 ? c / q : 0.0;
-		if (e0 > e1) {
-			double s = e0;
-			e0 = e1;
-			e1 = s;
-		}
 		t0 = e0 > t0 ? e0 : t0;
 		t1 = e1 < t1 ? e1 : t1;
 		if (!(t0 <= t1))

@@ -41,6 +41,44 @@ static void wind_moves_clouds_consistently_in_time(void)
 	}
 }
 
+static long gcd(long a, long b)
+{
+	return b == 0 ? a : gcd(b, a % b);
+}
+
+/* The wind offset is kept small (reduced modulo the field's period along
+ * the wind, for a float port), and the reduction is by a true period: the
+ * field equals the one with the whole offset, wind x the documented power
+ * law x time, computed here.  A period off by any factor shows. */
+static void wind_offset_is_reduced_by_a_true_period(void)
+{
+	static const enum cs_genus gs[] = {CS_CUMULUS, CS_CIRRUS, CS_STRATOCUMULUS,
+					   CS_ALTOSTRATUS};
+	double speed = 9.0, t = 1.796e9; /* 2026, seconds since 1970 */
+	double factor = pow((2100.0 - 540.0) / 10.0, 1.0 / 7.0);
+	for (size_t k = 0; k < sizeof gs / sizeof gs[0]; k++) {
+		const struct cs_genus_preset *p = cs_genus_preset(gs[k]);
+		long a = (long)p->tile_m, b = (long)p->detail_tile_m;
+		double period = p->stretch * (double)(a / gcd(a, b) * b);
+		struct cs_cloud_layer l, m;
+		layer(&l, gs[k], 0.5, speed, 250, t);
+		CHECK(fabs(l.offset_along_m) < period);
+		m = l;
+		m.offset_along_m = speed * factor * t;
+		unsigned st = 5;
+		int nonzero = 0;
+		for (int i = 0; i < 1000; i++) {
+			double x = t_uniform(&st, -3e4, 3e4), y = t_uniform(&st, -3e4, 3e4);
+			double z = t_uniform(&st, 1500, 2700);
+			double dl = cs_cloud_extinction(&l, &noise, x, y, z);
+			CHECK_NEAR(cs_cloud_extinction(&m, &noise, x, y, z), dl,
+				   1e-3 * l.extinction_per_m);
+			nonzero += dl > 0.0;
+		}
+		CHECK(nonzero > 50);
+	}
+}
+
 static void coverage_zero_is_no_cloud_anywhere(void)
 {
 	struct cs_cloud_layer l;
@@ -153,6 +191,7 @@ int main(void)
 	if (cs_volume_new(&noise, 32, 32) != 0 || cs_volume_bake(&noise, 0, NULL, NULL) != 0)
 		return 1;
 	RUN(wind_moves_clouds_consistently_in_time);
+	RUN(wind_offset_is_reduced_by_a_true_period);
 	RUN(coverage_zero_is_no_cloud_anywhere);
 	RUN(covered_fraction_follows_coverage);
 	RUN(density_is_zero_outside_the_layer_and_finite_inside);

@@ -1,0 +1,30 @@
+/* hd.h - what the per-sample code needs to compile for a CPU and a GPU from
+ * one source, the way pbrt-v4 does it with PBRT_CPU_GPU.
+ *
+ * The hot path (noise sampling, cloud density, phase functions, the light
+ * march and the integrator's step) is written as CS_HD functions over plain
+ * structs: no libc I/O, no allocation, no globals, no callbacks.  Tables it
+ * reads are CS_CONST.  In C both annotations are empty; a CUDA build
+ * (nvcc defines __CUDACC__) makes them host+device functions and constant
+ * memory.  cs_real is the scalar of the hot path: double today, so CPU
+ * renders stay bit for bit what they were; a GPU build may choose float,
+ * which is why the code avoids the float traps (altitudes computed without
+ * cancellation, wind offsets reduced modulo the noise period). */
+#ifndef CS_HD_H
+#define CS_HD_H
+
+#if defined(__CUDACC__)
+#define CS_HD __host__ __device__
+#define CS_CONST __constant__
+#else
+#define CS_HD
+#define CS_CONST
+#endif
+
+#ifndef CS_REAL_FLOAT
+typedef double cs_real;
+#else
+typedef float cs_real;
+#endif
+
+#endif

@@ -1,0 +1,126 @@
+/* ground.c - the light leaving the ground: flat ground or the terrain's
+ * heightfield, lit by the sun (through the clouds: their shadows) and the
+ * sky, with the terrain's own soft shadows and horizon occlusion. */
+#include "render/march.h"
+
+#include "terrain/heightfield.h"
+
+#include <math.h>
+
+/* the distances of the horizon search for ambient occlusion */
+static CS_CONST const double ao_dist_m[3] = {40.0, 150.0, 600.0};
+/* albedos of the made-up land cover where no colour image is given */
+static CS_CONST const double grass[3] = {0.10, 0.14, 0.06};
+static CS_CONST const double rock[3] = {0.22, 0.20, 0.18};
+static CS_CONST const double snow[3] = {0.80, 0.82, 0.88};
+
+/* Soft shadow of the terrain on itself toward the sun: the smallest ratio
+ * of clearance to distance along the way (a penumbra cone of about 1/8
+ * radian), 0 when the path is blocked. */
+CS_HD static double terrain_shadow(const struct cs_hfield *f, cs_v3 p, cs_v3 sun)
+{
+	double res = 1.0, t = 2.0;
+	for (int k = 0; k < 48 && t < 20000.0; k++) {
+		cs_v3 q = v3_mad(p, sun, t);
+		double alt = cs_hfield_altitude(f, q), h;
+		if (alt > f->max_m || !cs_hfield_height(f, q.x, q.y, &h))
+			break;
+		double gap = alt - h;
+		if (gap <= 0.0)
+			return 0.0;
+		double r = 8.0 * gap / t;
+		res = r < res ? r : res;
+		t += gap * 0.5 < 2.0 ? 2.0 : gap * 0.5 > 400.0 ? 400.0 : gap * 0.5;
+	}
+	return res;
+}
+
+/* Ambient occlusion from the terrain's horizon: the mean over 8 directions
+ * of the sine of the highest elevation seen within 600 m. */
+CS_HD static double terrain_ao(const struct cs_hfield *f, cs_v3 p, double h0)
+{
+	double occ = 0.0;
+	for (int k = 0; k < 8; k++) {
+		double a = k * (CS_PI / 4.0), best = 0.0;
+		for (int i = 0; i < 3; i++) {
+			double h;
+			cs_hfield_height(f, p.x + ao_dist_m[i] * cos(a), p.y + ao_dist_m[i] * sin(a), &h);
+			double s = (h - h0) / sqrt((h - h0) * (h - h0) + ao_dist_m[i] * ao_dist_m[i]);
+			best = s > best ? s : best;
+		}
+		occ += best;
+	}
+	return 1.0 - occ / 8.0;
+}
+
+CS_HD static double srgb_to_linear(double c)
+{
+	return c <= 0.04045 ? c / 12.92 : pow((c + 0.055) / 1.055, 2.4);
+}
+
+/* Ground colour of the terrain: from the colour image when there is one,
+ * else grass, rock on steep slopes and snow high up. */
+CS_HD static void terrain_albedo(const struct cs_scene *sc, double x, double y,
+			   double h, cs_v3 n, double alb[3])
+{
+	const struct cs_hfield *f = sc->terrain;
+	if (sc->terrain_color) {
+		double col = f->a[0] + f->a[1] * x + f->a[2] * y;
+		double row = f->b[0] + f->b[1] * x + f->b[2] * y;
+		int i = (int)(col / (f->w - 1) * (sc->terrain_color_w - 1) + 0.5);
+		int j = (int)(row / (f->h - 1) * (sc->terrain_color_h - 1) + 0.5);
+		i = i < 0 ? 0 : i >= sc->terrain_color_w ? sc->terrain_color_w - 1 : i;
+		j = j < 0 ? 0 : j >= sc->terrain_color_h ? sc->terrain_color_h - 1 : j;
+		const uint8_t *px = sc->terrain_color + ((size_t)j * sc->terrain_color_w + i) * 3;
+		for (int k = 0; k < 3; k++)
+			alb[k] = srgb_to_linear(px[k] / 255.0);
+		return;
+	}
+	double steep = n.z < 0.7 ? 1.0 : n.z > 0.85 ? 0.0 : (0.85 - n.z) / 0.15;
+	double high = h < 2400.0 ? 0.0 : h > 2900.0 ? 1.0 : (h - 2400.0) / 500.0;
+	high *= n.z > 0.6 ? 1.0 : 0.0; /* snow does not stick to cliffs */
+	for (int k = 0; k < 3; k++) {
+		double g = grass[k] + steep * (rock[k] - grass[k]);
+		alb[k] = g + high * (snow[k] - g);
+	}
+}
+
+CS_HD void cs_ground_light(const struct cs_scene *sc,
+			 const struct cs_render_settings *s, cs_v3 p,
+			 int on_terrain, struct cs_render_stats *st, double rgb[3])
+{
+	cs_v3 up = v3_norm(v3(p.x, p.y, p.z + sc->earth_radius_m));
+	cs_v3 n = up;
+	double alb[3] = {sc->ground_albedo[0], sc->ground_albedo[1], sc->ground_albedo[2]};
+	double ao = 1.0, self = 1.0;
+	if (on_terrain) {
+		double h;
+		cs_hfield_height(sc->terrain, p.x, p.y, &h);
+		n = cs_hfield_normal(sc->terrain, p.x, p.y);
+		terrain_albedo(sc, p.x, p.y, h, n, alb);
+		ao = terrain_ao(sc->terrain, p, h);
+	}
+	if (sc->noise && !(on_terrain && sc->terrain_color)) {
+		/* fields and woods: the albedo varies over ~1 km and ~150 m, which
+		 * also shows the eye how far away the ground is */
+		double v = 0.6 * cs_volume_sample(sc->noise, 1, p.x / 4000.0, p.y / 4000.0, 0.3) +
+			   0.4 * cs_volume_sample(sc->noise, 3, p.x / 600.0, p.y / 600.0, 0.7);
+		double k = 0.4 + 1.2 * v;
+		for (int c = 0; c < 3; c++)
+			alb[c] *= k;
+	}
+
+	double cosi = v3_dot(n, sc->sun_dir);
+	double direct = 0.0;
+	if ((sc->effects & CS_FX_SUN) && cosi > 0.0) {
+		if (on_terrain)
+			self = terrain_shadow(sc->terrain, p, sc->sun_dir);
+		double T = (sc->effects & CS_FX_CLOUD_SHADOWS) && self > 0.0
+				   ? cs_render_sun_transmittance(sc, s, p, st)
+				   : 1.0;
+		direct = cosi * T * self / CS_PI;
+	}
+	for (int k = 0; k < 3; k++)
+		rgb[k] = alb[k] * (sc->sun_illuminance[k] * direct +
+				   ((sc->effects & CS_FX_SKY) ? sc->ambient_up[k] * ao : 0.0));
+}

@@ -1,0 +1,282 @@
+/* integrator.c - one ray through the scene: where it meets the ground, the
+ * intervals it spends in each cloud layer and in the rain, the march
+ * through them (single scattering of sun and sky light, multiple-scattering
+ * octaves), then the aerial perspective and the background (ground, sky,
+ * sun disk) behind what the clouds let through. */
+#include "render/march.h"
+
+#include "core/sphere.h"
+#include "terrain/heightfield.h"
+
+#include <math.h>
+
+struct interval {
+	double t0, t1;
+	unsigned mask; /* layers; 0 = the rain shaft */
+};
+
+/* What the ray has gathered so far. */
+struct path {
+	double L[3];     /* radiance toward the eye */
+	double T;        /* transmittance to the eye, rain included */
+	double Tcloud;   /* through the clouds only */
+	double depth;    /* first cloud sample with density, or CS_SKY_DEPTH_M */
+	int terminated;  /* T fell below the settings' minimum */
+};
+
+/* The per-ray constants of the march. */
+struct ray_ctx {
+	const struct cs_scene *sc;
+	const struct cs_render_settings *s;
+	cs_v3 o, d;
+	double jitter_u;
+	double phase[4]; /* the phase of each multiple-scattering octave */
+	struct cs_render_stats *st;
+};
+
+/* The ground along the ray: the terrain inside its grid, the flat ground
+ * sphere outside it; INFINITY when the ray meets neither. */
+CS_HD static double find_ground(const struct cs_scene *sc, cs_v3 o, cs_v3 d,
+				int *on_terrain, struct cs_render_stats *st)
+{
+	double tg = INFINITY, g0, g1;
+	*on_terrain = 0;
+	if ((sc->effects & CS_FX_GROUND) &&
+	    cs_sphere_hit(o, d, sc->earth_radius_m, sc->earth_radius_m + sc->ground_alt_m,
+			  &g0, &g1) &&
+	    g1 >= 0.0) {
+		tg = g0 > 0.0 ? g0 : 0.0;
+		double hh;
+		cs_v3 p = v3_mad(o, d, tg);
+		if (sc->terrain && cs_hfield_height(sc->terrain, p.x, p.y, &hh))
+			tg = INFINITY; /* inside the grid the terrain is the ground */
+	}
+	if (sc->terrain) {
+		double tt;
+		unsigned long cells = 0;
+		if (cs_hfield_intersect(sc->terrain, o, d, isfinite(tg) ? tg : 1e7, &tt, &cells)) {
+			tg = tt;
+			*on_terrain = 1;
+		}
+		st->terrain_cells += cells;
+	}
+	return tg;
+}
+
+/* The intervals of [0, tmax] the ray spends in each layer and in the rain,
+ * in order along the ray. */
+CS_HD static int gather_intervals(const struct cs_scene *sc, cs_v3 o, cs_v3 d,
+				  double tmax, struct interval *iv)
+{
+	double R = sc->earth_radius_m;
+	int n = 0;
+	for (int i = 0; i < sc->nlayers; i++) {
+		double a[2][2];
+		int k = cs_shell_intervals(sc, o, d, R + sc->layers[i].base_m,
+					   R + sc->layers[i].top_m, tmax, a);
+		for (int j = 0; j < k; j++)
+			iv[n++] = (struct interval){a[j][0], a[j][1], 1u << i};
+	}
+	if (sc->effects & CS_FX_RAIN) {
+		double a[2][2];
+		int k = cs_shell_intervals(sc, o, d, R + sc->ground_alt_m - 1.0,
+					   R + sc->rain_top_m, tmax, a);
+		for (int j = 0; j < k; j++)
+			iv[n++] = (struct interval){a[j][0], a[j][1], 0u};
+	}
+	/* insertion sort: n is tiny */
+	for (int i = 1; i < n; i++)
+		for (int j = i; j > 0 && iv[j].t0 < iv[j - 1].t0; j--) {
+			struct interval tmp = iv[j];
+			iv[j] = iv[j - 1];
+			iv[j - 1] = tmp;
+		}
+	return n;
+}
+
+/* Rain: grey, homogeneous, lit by the sky. */
+CS_HD static void march_rain(const struct cs_scene *sc, const struct interval *iv,
+			     struct path *P)
+{
+	double tr = exp(-sc->rain_extinction_per_m * (iv->t1 - iv->t0));
+	for (int k = 0; k < 3; k++)
+		P->L[k] += P->T * (1.0 - tr) * 0.9 * sc->ambient_up[k];
+	P->T *= tr;
+}
+
+/* The light scattered toward the eye per unit length at a cloud sample of
+ * scattering coefficient ss: the sun through the light march, with the
+ * multiple-scattering octaves (Wrenninge 2013: scattering a^k, extinction
+ * b^k, eccentricity c^k, a = b = c = 0.5), and isotropic sky light,
+ * brighter toward the top of the (lowest) layer of this crossing. */
+CS_HD static void sample_source(const struct ray_ctx *c, cs_v3 p, double alt,
+				unsigned mask, const struct cs_cloud_layer *amb,
+				double ss, double S[3])
+{
+	const struct cs_scene *sc = c->sc;
+	S[0] = S[1] = S[2] = 0.0;
+	if (sc->effects & CS_FX_SUN) {
+		double tau = cs_light_depth(sc, c->s, p, mask, c->st);
+		double w = 0.0, a = 1.0, b = 1.0;
+		for (int k = 0; k < c->s->ms_octaves; k++) {
+			w += a * exp(-b * tau) * c->phase[k];
+			a *= 0.5;
+			b *= 0.5;
+		}
+		for (int k = 0; k < 3; k++)
+			S[k] += ss * sc->sun_illuminance[k] * w;
+	}
+	if (c->s->ambient) {
+		double hb = (alt - amb->base_m) / (amb->top_m - amb->base_m);
+		hb = hb < 0.0 ? 0.0 : hb > 1.0 ? 1.0 : hb;
+		for (int k = 0; k < 3; k++)
+			S[k] += ss * (sc->ambient_up[k] * (0.4 + 0.6 * hb) +
+				      sc->ambient_down[k] * (1.0 - hb) * 0.5);
+	}
+}
+
+/* The step of a crossing of the layers in mask: a layer's thickness over
+ * the steps, with thick layers (towering cumulonimbus) sampled as if 2.5 km
+ * thick so that their dense cores are not undersampled. */
+CS_HD static double crossing_step(const struct cs_scene *sc,
+				  const struct cs_render_settings *s, unsigned mask)
+{
+	double dt0 = INFINITY;
+	for (int l = 0; l < sc->nlayers; l++)
+		if (mask & (1u << l)) {
+			double th = sc->layers[l].top_m - sc->layers[l].base_m;
+			th = (th < 2500.0 ? th : 2500.0) / s->steps;
+			dt0 = th < dt0 ? th : dt0;
+		}
+	return dt0;
+}
+
+/* One crossing of [t0, t1] through the layers of mask (overlapping layers
+ * are marched together), at most max_steps samples. */
+CS_HD static void march_crossing(const struct ray_ctx *c, double t0, double t1,
+				 unsigned mask, struct path *P)
+{
+	const struct cs_scene *sc = c->sc;
+	c->st->layer_crossings++;
+	const struct cs_cloud_layer *amb = NULL; /* for the ambient light */
+	for (int l = 0; l < sc->nlayers && amb == NULL; l++)
+		if (mask & (1u << l))
+			amb = &sc->layers[l];
+	double len = t1 - t0;
+	double steps = ceil(len / crossing_step(sc, c->s, mask));
+	int ns = steps < 1.0 ? 1 : steps > c->s->max_steps ? c->s->max_steps : (int)steps;
+	double dt = len / ns;
+	for (int j = 0; j < ns; j++) {
+		double t = t0 + (j + c->jitter_u) * dt;
+		cs_v3 p = v3_mad(c->o, c->d, t);
+		double alt = cs_scene_altitude(sc, p);
+		double sigma = cs_extinction_at(sc, mask, p, alt);
+		c->st->density_samples++;
+		if (sigma <= 0.0)
+			continue;
+		if (P->depth == CS_SKY_DEPTH_M)
+			P->depth = t0 + j * dt;
+		double S[3];
+		sample_source(c, p, alt, mask, amb, sc->albedo * sigma, S);
+		/* Energy-conserving step (Hillaire 2015): the source is
+		 * integrated against the transmittance over the step,
+		 * S (1 - exp(-sigma dt)) / sigma, not S dt. */
+		double tr = exp(-sigma * dt);
+		double integ = -expm1(-sigma * dt) / sigma;
+		for (int k = 0; k < 3; k++)
+			P->L[k] += P->T * S[k] * integ;
+		P->T *= tr;
+		P->Tcloud *= tr;
+		if (P->T < c->s->min_transmittance) {
+			P->terminated = 1;
+			return;
+		}
+	}
+}
+
+/* The march through every interval, in order. */
+CS_HD static void march_intervals(const struct ray_ctx *c, struct interval *iv,
+				  int n, struct path *P)
+{
+	for (int i = 0; i < n && !P->terminated; i++) {
+		if (iv[i].mask == 0) {
+			march_rain(c->sc, &iv[i], P);
+			continue;
+		}
+		double t0 = iv[i].t0, t1 = iv[i].t1;
+		unsigned mask = iv[i].mask;
+		while (i + 1 < n && iv[i + 1].mask != 0 && iv[i + 1].t0 < t1) {
+			i++;
+			mask |= iv[i].mask;
+			t1 = iv[i].t1 > t1 ? iv[i].t1 : t1;
+		}
+		march_crossing(c, t0, t1, mask, P);
+	}
+}
+
+/* Aerial perspective on the clouds, then the background behind them
+ * (ground at tg, or sky and sun disk), into out. */
+CS_HD static void finish_ray(const struct ray_ctx *c, double tg, int on_terrain,
+			     struct path *P, struct cs_ray_result *out)
+{
+	const struct cs_scene *sc = c->sc;
+	cs_v3 o = c->o, d = c->d;
+	double h0 = cs_scene_altitude(sc, o);
+	cs_v3 up = v3_norm(v3(o.x, o.y, o.z + sc->earth_radius_m));
+	double dz = v3_dot(d, up);
+	double hz[3] = {0.0, 0.0, 0.0};
+	int haze = (sc->effects & CS_FX_HAZE) && sc->haze_beta0_per_m > 0.0;
+	if (haze)
+		cs_haze_light(sc, d, hz);
+	if (haze && P->depth < CS_SKY_DEPTH_M) {
+		double th = exp(-cs_haze_depth(sc, h0, dz, P->depth));
+		for (int k = 0; k < 3; k++)
+			P->L[k] = P->L[k] * th + (1.0 - P->Tcloud) * (1.0 - th) * hz[k];
+	}
+	double bg[3] = {0.0, 0.0, 0.0};
+	if (!P->terminated) {
+		if (isfinite(tg)) {
+			cs_ground_light(sc, c->s, v3_mad(o, d, tg), on_terrain, c->st, bg);
+			if (haze) {
+				double th = exp(-cs_haze_depth(sc, h0, dz, tg));
+				for (int k = 0; k < 3; k++)
+					bg[k] = bg[k] * th + (1.0 - th) * hz[k];
+			}
+			if (P->depth == CS_SKY_DEPTH_M)
+				P->depth = tg;
+		} else if (sc->effects & CS_FX_SKY) {
+			double dd[3] = {d.x, d.y, d.z}, disk[3];
+			cs_sky_radiance(&sc->sky, dd, bg);
+			cs_sky_sun_disk(&sc->sky, dd, disk);
+			for (int k = 0; k < 3; k++)
+				bg[k] += disk[k];
+		}
+	}
+	for (int k = 0; k < 3; k++) {
+		double v = P->L[k] + P->T * bg[k];
+		out->rgb[k] = isfinite(v) && v > 0.0 ? v : 0.0;
+	}
+	out->transmittance = P->Tcloud >= 0.0 && P->Tcloud <= 1.0 ? P->Tcloud : 0.0;
+	out->depth_m = isfinite(P->depth) ? P->depth : CS_SKY_DEPTH_M;
+}
+
+CS_HD void cs_render_ray(const struct cs_scene *sc, const struct cs_render_settings *s,
+			 cs_v3 o, cs_v3 d, double jitter_u, struct cs_render_stats *st,
+			 struct cs_ray_result *out)
+{
+	int on_terrain;
+	double tg = find_ground(sc, o, d, &on_terrain, st);
+	struct interval iv[2 * CS_SCENE_MAX_LAYERS + 2];
+	int n = gather_intervals(sc, o, d, isfinite(tg) ? tg : 1e7, iv);
+
+	struct ray_ctx c = {sc, s, o, d, jitter_u, {0.0}, st};
+	double cos_theta = v3_dot(d, sc->sun_dir);
+	for (int k = 0; k < s->ms_octaves; k++) /* octave k: eccentricity x 0.5^k */
+		c.phase[k] = cs_phase_two_lobe(cos_theta, sc->g_forward, sc->g_back,
+					       sc->w_forward, pow(0.5, k));
+	struct path P = {{0.0, 0.0, 0.0}, 1.0, 1.0, CS_SKY_DEPTH_M, 0};
+	march_intervals(&c, iv, n, &P);
+	if (P.terminated)
+		st->rays_terminated_early++;
+	finish_ray(&c, tg, on_terrain, &P, out);
+}

@@ -1,0 +1,89 @@
+/* light_march.c - the light march: optical depth from a point toward the
+ * sun through every cloud layer, for the clouds' own lighting and for the
+ * shadows they cast. */
+#include "render/march.h"
+
+#include "core/sphere.h"
+
+#include <math.h>
+
+CS_HD int cs_shell_intervals(const struct cs_scene *sc, cs_v3 o, cs_v3 d,
+			     double r_in, double r_out, double tmax,
+			     double iv[2][2])
+{
+	double a0, a1, b0, b1, R = sc->earth_radius_m;
+	if (!cs_sphere_hit(o, d, R, r_out, &a0, &a1))
+		return 0;
+	a0 = a0 > 0.0 ? a0 : 0.0;
+	a1 = a1 < tmax ? a1 : tmax;
+	if (!(a1 > a0))
+		return 0;
+	if (!cs_sphere_hit(o, d, R, r_in, &b0, &b1) || b1 <= a0 || b0 >= a1) {
+		iv[0][0] = a0, iv[0][1] = a1;
+		return 1;
+	}
+	int n = 0;
+	if (b0 > a0)
+		iv[n][0] = a0, iv[n][1] = b0, n++;
+	if (b1 < a1)
+		iv[n][0] = b1, iv[n][1] = a1, n++;
+	return n;
+}
+
+CS_HD double cs_extinction_at(const struct cs_scene *sc, unsigned mask, cs_v3 p,
+			      double alt)
+{
+	double sigma = 0.0;
+	for (int i = 0; i < sc->nlayers; i++)
+		if (mask & (1u << i))
+			sigma += cs_cloud_extinction(&sc->layers[i], sc->noise, p.x,
+						     p.y, alt);
+	return sigma;
+}
+
+/* Optical depth from p toward the sun through every layer: light_steps
+ * midpoint samples over each part of the path in a layer of mask (the
+ * layers the sample is in), a third as many, at least 2, in the others
+ * (cirrus shading the cumulus below it).  A path through one layer is
+ * capped at 20 km: beyond that a cloud is either opaque long before or too
+ * thin to matter. */
+CS_HD double cs_light_depth(const struct cs_scene *sc,
+			    const struct cs_render_settings *s, cs_v3 p,
+			    unsigned mask, struct cs_render_stats *st)
+{
+	double tau = 0.0;
+	int others = s->light_steps / 3 > 2 ? s->light_steps / 3 : 2;
+	for (int i = 0; i < sc->nlayers; i++) {
+		const struct cs_cloud_layer *l = &sc->layers[i];
+		int steps = (mask & (1u << i)) ? s->light_steps : others;
+		double iv[2][2];
+		int n = cs_shell_intervals(sc, p, sc->sun_dir,
+					   sc->earth_radius_m + l->base_m,
+					   sc->earth_radius_m + l->top_m, 20000.0, iv);
+		for (int k = 0; k < n; k++) {
+			double len = iv[k][1] - iv[k][0];
+			double dt = len / steps;
+			for (int j = 0; j < steps; j++) {
+				cs_v3 q = v3_mad(p, sc->sun_dir, iv[k][0] + (j + 0.5) * dt);
+				tau += cs_cloud_extinction(l, sc->noise, q.x, q.y,
+							   cs_scene_altitude(sc, q)) * dt;
+			}
+			st->light_samples += (uint64_t)steps;
+		}
+	}
+	return tau;
+}
+
+CS_HD double cs_render_sun_transmittance(const struct cs_scene *sc,
+				   const struct cs_render_settings *s, cs_v3 p,
+				   struct cs_render_stats *st)
+{
+	if (!(sc->effects & CS_FX_SUN) || sc->nlayers == 0)
+		return 1.0;
+	return exp(-cs_light_depth(sc, s, p, (1u << sc->nlayers) - 1u, st));
+}
+
+CS_HD double cs_scene_altitude(const struct cs_scene *sc, cs_v3 p)
+{
+	return cs_altitude(p, sc->earth_radius_m);
+}

@@ -1,0 +1,41 @@
+/* march.h - internal to lib/render: the per-sample pieces the integrator's
+ * files share.  Every function here is CS_HD: plain structs in, numbers
+ * out, no I/O, allocation or globals, so one source serves a CPU and a GPU
+ * build (core/hd.h). */
+#ifndef CS_MARCH_H
+#define CS_MARCH_H
+
+#include "core/hd.h"
+#include "render/render.h"
+
+/* The parts of [0, tmax] of the ray o + t d inside the shell
+ * r_in < |p - centre| < r_out: 0, 1 or 2 intervals. */
+CS_HD int cs_shell_intervals(const struct cs_scene *sc, cs_v3 o, cs_v3 d,
+			     double r_in, double r_out, double tmax,
+			     double iv[2][2]);
+
+/* Sum of the extinction (1/m) of the layers in mask at p (altitude alt). */
+CS_HD double cs_extinction_at(const struct cs_scene *sc, unsigned mask, cs_v3 p,
+			      double alt);
+
+/* Optical depth of the clouds from p toward the sun (light_march.c). */
+CS_HD double cs_light_depth(const struct cs_scene *sc,
+			    const struct cs_render_settings *s, cs_v3 p,
+			    unsigned mask, struct cs_render_stats *st);
+
+/* Aerial perspective (haze.c): the radiance the haze scatters toward the
+ * eye along d, and the haze optical depth over distance t from altitude h0
+ * with vertical direction component dz. */
+CS_HD void cs_haze_light(const struct cs_scene *sc, cs_v3 d, double rgb[3]);
+CS_HD double cs_haze_depth(const struct cs_scene *sc, double h0, double dz,
+			   double t);
+
+/* Radiance leaving the ground at p toward the eye (ground.c): flat ground
+ * or, when on_terrain, the heightfield with its normal, colour, horizon
+ * occlusion and self-shadow; cloud shadows when the scene has them. */
+CS_HD void cs_ground_light(const struct cs_scene *sc,
+			   const struct cs_render_settings *s, cs_v3 p,
+			   int on_terrain, struct cs_render_stats *st,
+			   double rgb[3]);
+
+#endif

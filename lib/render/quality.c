@@ -1,0 +1,47 @@
+/* quality.c - the named quality presets and the settings' valid ranges.
+ * What each preset costs and its error: man/cloudrender.1, QUALITY. */
+#include "render/render.h"
+
+#include "core/err.h"
+
+#include <string.h>
+
+static const struct {
+	const char *name;
+	struct cs_render_settings s;
+} presets[] = {
+	{"low", {24, 96, 4, 2, 1, 1.0, 0, 0.02}},
+	{"medium", {48, 192, 6, 3, 1, 1.0, 0, 0.01}},
+	{"high", {96, 384, 8, 3, 1, 1.0, 0, 0.005}},
+	{"reference", {384, 1536, 24, 4, 1, 1.0, 0, 0.0005}},
+};
+
+int cs_render_quality(const char *name, struct cs_render_settings *s)
+{
+	for (size_t i = 0; i < sizeof presets / sizeof presets[0]; i++)
+		if (strcmp(name, presets[i].name) == 0) {
+			*s = presets[i].s;
+			return CS_OK;
+		}
+	return cs_error(CS_EINVAL, "unknown quality '%s' (expected low, medium, high or reference)",
+			name);
+}
+
+int cs_render_settings_check(const struct cs_render_settings *s)
+{
+	if (s->steps < 1 || s->steps > 100000)
+		return cs_error(CS_EINVAL, "steps must be 1..100000, not %d", s->steps);
+	if (s->max_steps < s->steps || s->max_steps > 1000000)
+		return cs_error(CS_EINVAL, "max steps must be steps..1000000, not %d",
+				s->max_steps);
+	if (s->light_steps < 1 || s->light_steps > 10000)
+		return cs_error(CS_EINVAL, "light steps must be 1..10000, not %d",
+				s->light_steps);
+	if (s->ms_octaves < 1 || s->ms_octaves > 4)
+		return cs_error(CS_EINVAL, "multiple-scattering octaves must be 1..4");
+	if (!(s->jitter >= 0.0 && s->jitter <= 1.0))
+		return cs_error(CS_EINVAL, "jitter must be 0..1");
+	if (!(s->min_transmittance >= 0.0 && s->min_transmittance < 1.0))
+		return cs_error(CS_EINVAL, "minimum transmittance must be in [0, 1)");
+	return CS_OK;
+}
