@@ -17,14 +17,13 @@ CS_HD void cs_haze_light(const struct cs_scene *sc, cs_v3 d, double rgb[3])
 	}
 	double up = fabs(d.z) > 0.0175 ? fabs(d.z) : 0.0175;
 	double flat = sqrt(d.x * d.x + d.y * d.y);
-	double dir[3] = {1.0, 0.0, 0.0};
+	cs_v3 dir = v3(1.0, 0.0, up);
 	if (flat > 1e-9) {
 		double k = sqrt(1.0 - up * up) / flat;
-		dir[0] = d.x * k, dir[1] = d.y * k;
+		dir.x = d.x * k, dir.y = d.y * k;
 	} else {
-		dir[0] = sqrt(1.0 - up * up);
+		dir.x = sqrt(1.0 - up * up);
 	}
-	dir[2] = up;
 	cs_sky_radiance(&sc->sky, dir, rgb);
 }
 

@@ -245,9 +245,9 @@ CS_HD static void finish_ray(const struct ray_ctx *c, double tg, int on_terrain,
 			if (P->depth == CS_SKY_DEPTH_M)
 				P->depth = tg;
 		} else if (sc->effects & CS_FX_SKY) {
-			double dd[3] = {d.x, d.y, d.z}, disk[3];
-			cs_sky_radiance(&sc->sky, dd, bg);
-			cs_sky_sun_disk(&sc->sky, dd, disk);
+			double disk[3];
+			cs_sky_radiance(&sc->sky, d, bg);
+			cs_sky_sun_disk(&sc->sky, d, disk);
 			for (int k = 0; k < 3; k++)
 				bg[k] += disk[k];
 		}

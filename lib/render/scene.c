@@ -118,9 +118,8 @@ int cs_scene_build(struct cs_scene *sc, const struct cs_wx *wx, double time_utc,
 	rc = cs_sun_position(time_utc, wx->site.lat_deg, wx->site.lon_deg, &sun);
 	if (rc != CS_OK)
 		return rc;
-	double sd[3];
-	cs_sun_direction_enu(&sun, sd);
-	sc->sun_dir = v3_norm(v3(sd[0], sd[1], sd[2]));
+	cs_v3 sd = cs_sun_direction_enu(&sun);
+	sc->sun_dir = v3_norm(sd);
 	cs_sky_init(&sc->sky, sd, cs_turbidity_from_visibility(wx->visibility_m));
 	memcpy(sc->sun_illuminance, sc->sky.sun_illuminance, sizeof sc->sun_illuminance);
 	memcpy(sc->ambient_up, sc->sky.ambient_up, sizeof sc->ambient_up);

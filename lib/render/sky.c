@@ -1,5 +1,7 @@
 #include "render/sky.h"
 
+#include "core/vec.h"
+
 #include <math.h>
 
 #define PI 3.14159265358979323846
@@ -172,7 +174,7 @@ static void init_ambient(struct cs_sky *sky, double elev)
 		double th = (i + 0.5) * (PI / 2) / NT, w = (s1 * s1 - s0 * s0) / NPHI;
 		for (int j = 0; j < NPHI; j++) {
 			double phi = (j + 0.5) * 2.0 * PI / NPHI, rgb[3];
-			double d[3] = {sin(th) * cos(phi), sin(th) * sin(phi), cos(th)};
+			cs_v3 d = v3(sin(th) * cos(phi), sin(th) * sin(phi), cos(th));
 			cs_sky_radiance(sky, d, rgb);
 			for (int c = 0; c < 3; c++)
 				sum[c] += w * rgb[c];
@@ -187,9 +189,10 @@ static void init_ambient(struct cs_sky *sky, double elev)
 	}
 }
 
-void cs_sky_init(struct cs_sky *sky, const double sun_dir[3], double turbidity)
+void cs_sky_init(struct cs_sky *sky, cs_v3 sun, double turbidity)
 {
 	/* Scaled by the largest component first so huge ones don't overflow. */
+	const double sun_dir[3] = {sun.x, sun.y, sun.z};
 	double s[3], big = 0.0;
 	for (int i = 0; i < 3; i++)
 		big = fabs(sun_dir[i]) > big ? fabs(sun_dir[i]) : big;
@@ -199,18 +202,16 @@ void cs_sky_init(struct cs_sky *sky, const double sun_dir[3], double turbidity)
 	double n = sqrt(s[0] * s[0] + s[1] * s[1] + s[2] * s[2]);
 	if (!(n > 0.0)) /* a NaN component */
 		s[0] = s[1] = 0.0, s[2] = n = 1.0;
-	for (int i = 0; i < 3; i++)
-		sky->sun_dir[i] = s[i] / n;
+	sky->sun_dir = v3(s[0] / n, s[1] / n, s[2] / n);
 	double T = clampd(turbidity, 1.7, 10.0);
 	sky->turbidity = T = isnan(T) ? 1.7 : T;
 
-	double elev = asin(clampd(sky->sun_dir[2], -1.0, 1.0));
+	double elev = asin(clampd(sky->sun_dir.z, -1.0, 1.0));
 	double *sh = sky->shape_sun;
 	if (elev >= SHAPE_ELEV) {
-		for (int i = 0; i < 3; i++)
-			sh[i] = sky->sun_dir[i];
+		sh[0] = sky->sun_dir.x, sh[1] = sky->sun_dir.y, sh[2] = sky->sun_dir.z;
 	} else {
-		double hx = sky->sun_dir[0], hy = sky->sun_dir[1];
+		double hx = sky->sun_dir.x, hy = sky->sun_dir.y;
 		double hl = sqrt(hx * hx + hy * hy);
 		if (hl > 0.0)
 			hx /= hl, hy /= hl;
@@ -244,9 +245,9 @@ void cs_sky_init(struct cs_sky *sky, const double sun_dir[3], double turbidity)
 	init_ambient(sky, elev);
 }
 
-void cs_sky_radiance(const struct cs_sky *sky, const double dir[3], double rgb[3])
+void cs_sky_radiance(const struct cs_sky *sky, cs_v3 dir, double rgb[3])
 {
-	double v[3] = {dir[0], dir[1], dir[2]};
+	double v[3] = {dir.x, dir.y, dir.z};
 	if (v[2] < 0.0) {
 		double hl = sqrt(v[0] * v[0] + v[1] * v[1]);
 		if (hl > 0.0)
@@ -287,18 +288,14 @@ void cs_sky_radiance(const struct cs_sky *sky, const double dir[3], double rgb[3
 	}
 }
 
-void cs_sky_sun_disk(const struct cs_sky *sky, const double dir[3], double rgb[3])
+void cs_sky_sun_disk(const struct cs_sky *sky, cs_v3 dir, double rgb[3])
 {
-	const double *s = sky->sun_dir;
 	rgb[0] = rgb[1] = rgb[2] = 0.0;
-	double c = dir[0] * s[0] + dir[1] * s[1] + dir[2] * s[2];
-	if (!(c >= sky->cos_sun_radius) || dir[2] < 0.0)
+	if (!(v3_dot(dir, sky->sun_dir) >= sky->cos_sun_radius) || dir.z < 0.0)
 		return;
 	/* |dir x sun|^2 = sin^2 of the angle, without cancellation. */
-	double cx = dir[1] * s[2] - dir[2] * s[1];
-	double cy = dir[2] * s[0] - dir[0] * s[2];
-	double cz = dir[0] * s[1] - dir[1] * s[0];
-	double rho2 = (cx * cx + cy * cy + cz * cz) / sky->sin2_sun_radius;
+	cs_v3 cr = v3_cross(dir, sky->sun_dir);
+	double rho2 = v3_dot(cr, cr) / sky->sin2_sun_radius;
 	double mu = sqrt(1.0 - (rho2 < 1.0 ? rho2 : 1.0));
 	double ld = (1.0 - LIMB_U * (1.0 - mu)) / (1.0 - LIMB_U / 3.0);
 	for (int i = 0; i < 3; i++)

@@ -12,8 +12,10 @@
 #ifndef CS_SKY_H
 #define CS_SKY_H
 
+#include "core/vec.h"
+
 struct cs_sky {
-	double sun_dir[3];         /* unit, toward the sun (may be below the horizon) */
+	cs_v3 sun_dir;             /* unit, toward the sun (may be below the horizon) */
 	double turbidity;          /* Preetham turbidity actually used, 1.7..10 */
 	double sun_radiance[3];    /* mean radiance of the sun disk at the ground, after the atmosphere, kcd/m²; 0 once the whole disk has set */
 	double sun_illuminance[3]; /* sun_radiance x solid angle of the disk x fraction of its light above the horizon (1 once risen): irradiance on a plane facing the sun, klux */
@@ -41,17 +43,17 @@ double cs_turbidity_from_visibility(double visibility_m);
  * direction works, including below the horizon (twilight and night); it
  * need not be unit (a zero or non-finite one is taken as the zenith).
  * Turbidity is clamped to 1.7..10 (NaN gives 1.7). */
-void cs_sky_init(struct cs_sky *sky, const double sun_dir[3], double turbidity);
+void cs_sky_init(struct cs_sky *sky, cs_v3 sun_dir, double turbidity);
 
 /* Sky radiance seen along dir (unit), kcd/m², without the sun disk; finite
  * and >= 0.  For dir below the horizon, the value at the horizon in that
  * azimuth (straight down: the horizon due east). */
-void cs_sky_radiance(const struct cs_sky *sky, const double dir[3], double rgb[3]);
+void cs_sky_radiance(const struct cs_sky *sky, cs_v3 dir, double rgb[3]);
 
 /* Radiance of the sun disk (angular radius 0.2666 deg, limb darkened) along
  * dir, kcd/m²; zero outside the disk and below the horizon (so a setting sun
  * is cut by the horizon and a set one draws nothing).  Integrates over the
  * disk to sun_illuminance, also while the horizon cuts it. */
-void cs_sky_sun_disk(const struct cs_sky *sky, const double dir[3], double rgb[3]);
+void cs_sky_sun_disk(const struct cs_sky *sky, cs_v3 dir, double rgb[3]);
 
 #endif

@@ -105,10 +105,8 @@ int cs_sun_position(double unix_s, double lat_deg, double lon_deg, struct cs_sun
 	return 0;
 }
 
-void cs_sun_direction_enu(const struct cs_sun *s, double dir[3])
+cs_v3 cs_sun_direction_enu(const struct cs_sun *s)
 {
 	double el = s->apparent_elevation_deg * RAD, az = s->azimuth_deg * RAD;
-	dir[0] = cos(el) * sin(az);
-	dir[1] = cos(el) * cos(az);
-	dir[2] = sin(el);
+	return v3(cos(el) * sin(az), cos(el) * cos(az), sin(el));
 }

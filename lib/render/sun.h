@@ -4,6 +4,8 @@
 #ifndef CS_SUN_H
 #define CS_SUN_H
 
+#include "core/vec.h"
+
 struct cs_sun {
 	double azimuth_deg;        /* from true north, clockwise (east 90), 0..360 */
 	double elevation_deg;      /* geometric (no refraction), -90..90 */
@@ -22,6 +24,6 @@ int cs_sun_position(double unix_s, double lat_deg, double lon_deg, struct cs_sun
 
 /* Unit vector toward the sun in the local east-north-up frame, from the
  * apparent elevation and azimuth. */
-void cs_sun_direction_enu(const struct cs_sun *s, double dir[3]);
+cs_v3 cs_sun_direction_enu(const struct cs_sun *s);
 
 #endif

@@ -4,6 +4,10 @@
 #include "render/scene.h"
 #include "render/sky.h"
 #include "test.h"
+
+/* arrays of three doubles to and from cs_v3 */
+#define V(a) v3((a)[0], (a)[1], (a)[2])
+#define V_STORE(a, v) do { cs_v3 v_ = (v); (a)[0] = v_.x, (a)[1] = v_.y, (a)[2] = v_.z; } while (0)
 #include "noise/volume.h"
 #include "weather/wx.h"
 
@@ -278,7 +282,7 @@ static void real_scene(struct cs_scene *sc, double sun_el_deg, double extinction
 	cs_scene_build(sc, &wx, wx.time_utc, &noise);
 	double e = sun_el_deg * CS_PI / 180.0;
 	double sd[3] = {0, cos(e), sin(e)};
-	cs_sky_init(&sc->sky, sd, 3.0);
+	cs_sky_init(&sc->sky, V(sd), 3.0);
 	sc->sun_dir = v3(sd[0], sd[1], sd[2]);
 	memcpy(sc->sun_illuminance, sc->sky.sun_illuminance, sizeof sc->sun_illuminance);
 	sc->effects |= CS_FX_SUN | CS_FX_CLOUD_SHADOWS;

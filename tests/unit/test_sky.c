@@ -1,6 +1,10 @@
 #include "render/sky.h"
 #include "test.h"
 
+/* arrays of three doubles to and from cs_v3 */
+#define V(a) v3((a)[0], (a)[1], (a)[2])
+#define V_STORE(a, v) do { cs_v3 v_ = (v); (a)[0] = v_.x, (a)[1] = v_.y, (a)[2] = v_.z; } while (0)
+
 #define PI 3.14159265358979323846
 #define DEG (PI / 180.0)
 
@@ -41,14 +45,14 @@ static void sky_at(struct cs_sky *s, double sun_el, double sun_az, double T)
 {
 	double d[3];
 	dir_at(sun_el, sun_az, d);
-	cs_sky_init(s, d, T);
+	cs_sky_init(s, V(d), T);
 }
 
 static double zenith_lum(const struct cs_sky *s)
 {
 	static const double up[3] = {0.0, 0.0, 1.0};
 	double rgb[3];
-	cs_sky_radiance(s, up, rgb);
+	cs_sky_radiance(s, V(up), rgb);
 	return lum(rgb);
 }
 
@@ -84,7 +88,7 @@ static void zenith_matches_preetham_luminance_and_chromaticity(void)
 		double T = cases[i][0], ts = cases[i][1] * DEG, rgb[3], x, y;
 		struct cs_sky s;
 		sky_at(&s, 90.0 - cases[i][1], 20.0, T);
-		cs_sky_radiance(&s, up, rgb);
+		cs_sky_radiance(&s, V(up), rgb);
 		double Yz = paper_Yz(T, ts);
 		CHECK_NEAR(lum(rgb) / Yz, 1.0, 1e-6);
 		chromaticity(rgb, &x, &y);
@@ -116,18 +120,18 @@ static void sky_is_brightest_near_the_sun_and_blue_overhead(void)
 		double near[3], far[3], zen[3], hs[3], ha[3], d[3];
 		sky_at(&s, 60.0, 30.0, Ts[i]);
 		dir_at(55.0, 30.0, d); /* 5 deg from the sun */
-		cs_sky_radiance(&s, d, near);
+		cs_sky_radiance(&s, V(d), near);
 		dir_at(30.0, 210.0, d); /* 90 deg from the sun */
-		cs_sky_radiance(&s, d, far);
+		cs_sky_radiance(&s, V(d), far);
 		CHECK(lum(near) > 2.0 * lum(far));
 		dir_at(90.0, 0.0, d);
-		cs_sky_radiance(&s, d, zen);
+		cs_sky_radiance(&s, V(d), zen);
 		CHECK(zen[2] > 1.5 * zen[0]);
 		/* The horizon on the sun's side outshines the opposite one. */
 		dir_at(1.0, 30.0, d);
-		cs_sky_radiance(&s, d, hs);
+		cs_sky_radiance(&s, V(d), hs);
 		dir_at(1.0, 210.0, d);
-		cs_sky_radiance(&s, d, ha);
+		cs_sky_radiance(&s, V(d), ha);
 		CHECK(lum(hs) > lum(ha));
 	}
 }
@@ -139,9 +143,9 @@ static void ground_directions_see_the_horizon_in_their_azimuth(void)
 	sky_at(&s, 25.0, 0.0, 3.0);
 	for (int az = 0; az < 360; az += 45) {
 		dir_at(-40.0, az, d);
-		cs_sky_radiance(&s, d, a);
+		cs_sky_radiance(&s, V(d), a);
 		dir_at(0.0, az, d);
-		cs_sky_radiance(&s, d, b);
+		cs_sky_radiance(&s, V(d), b);
 		for (int c = 0; c < 3; c++)
 			CHECK_NEAR(a[c], b[c], 1e-12 * b[c]);
 	}
@@ -151,7 +155,7 @@ static void ground_directions_see_the_horizon_in_their_azimuth(void)
  * quadrature around the sun, dω = du dv / (1 + u² + v²)^1.5. */
 static void disk_integral(const struct cs_sky *s, double e[3])
 {
-	const double *w = s->sun_dir;
+	const double w[3] = {s->sun_dir.x, s->sun_dir.y, s->sun_dir.z};
 	double t1[3] = {-w[1], w[0], 0.0}, t2[3], d[3];
 	double n1 = sqrt(t1[0] * t1[0] + t1[1] * t1[1]);
 	t1[0] /= n1, t1[1] /= n1;
@@ -167,7 +171,7 @@ static void disk_integral(const struct cs_sky *s, double e[3])
 			double q = sqrt(1.0 + u * u + v * v), rgb[3];
 			for (int k = 0; k < 3; k++)
 				d[k] = (w[k] + u * t1[k] + v * t2[k]) / q;
-			cs_sky_sun_disk(s, d, rgb);
+			cs_sky_sun_disk(s, V(d), rgb);
 			for (int k = 0; k < 3; k++)
 				e[k] += rgb[k] * h * h / (q * q * q);
 		}
@@ -180,13 +184,13 @@ static void sun_disk_is_limb_darkened_and_integrates_to_illuminance(void)
 	sky_at(&s, 60.0, 100.0, 2.5);
 	cs_sky_sun_disk(&s, s.sun_dir, c0);
 	dir_at(60.0 + 0.9 * 0.2666, 100.0, d);
-	cs_sky_sun_disk(&s, d, c1);
+	cs_sky_sun_disk(&s, V(d), c1);
 	CHECK(c1[1] > 0.0 && c0[1] > 1.5 * c1[1]);
 	dir_at(60.0 + 0.27, 100.0, d);
-	cs_sky_sun_disk(&s, d, c1);
+	cs_sky_sun_disk(&s, V(d), c1);
 	CHECK(c1[1] == 0.0);
 	dir_at(61.0, 100.0, d);
-	cs_sky_sun_disk(&s, d, c1);
+	cs_sky_sun_disk(&s, V(d), c1);
 	CHECK(c1[0] == 0.0 && c1[1] == 0.0 && c1[2] == 0.0);
 
 	/* Risen, and cut by the horizon while setting. */
@@ -232,10 +236,10 @@ static void no_sun_disk_once_the_sun_has_set(void)
 	/* Half set: the upper limb shows, the lower is cut by the horizon. */
 	sky_at(&s, 0.0, 45.0, 2.5);
 	dir_at(0.1, 45.0, d);
-	cs_sky_sun_disk(&s, d, rgb);
+	cs_sky_sun_disk(&s, V(d), rgb);
 	CHECK(rgb[1] > 0.0);
 	dir_at(-0.1, 45.0, d);
-	cs_sky_sun_disk(&s, d, rgb);
+	cs_sky_sun_disk(&s, V(d), rgb);
 	CHECK(rgb[1] == 0.0);
 }
 
@@ -255,7 +259,7 @@ static void zenith_dims_monotonically_through_twilight_to_a_night_floor(void)
 	CHECK_NEAR(zenith_lum(&s), 1e-6, 1e-7);
 	CHECK_NEAR(lum(s.ambient_up), 1e-6, 1e-7);
 	double rgb[3];
-	cs_sky_radiance(&s, (double[3]){0.0, 0.0, 1.0}, rgb);
+	cs_sky_radiance(&s, v3(0.0, 0.0, 1.0), rgb);
 	CHECK(rgb[2] > rgb[1] && rgb[1] > rgb[0]); /* bluish grey */
 }
 
@@ -276,7 +280,7 @@ static void sky_is_continuous_in_sun_elevation(void)
 		double el = -25.0 + 0.01 * i, rgb[3];
 		sky_at(&s, el, 0.0, 2.5);
 		for (int k = 0; k < 4; k++) {
-			cs_sky_radiance(&s, look[k], rgb);
+			cs_sky_radiance(&s, V(look[k]), rgb);
 			cur[k] = lum(rgb);
 		}
 		cur[4] = lum(s.ambient_up);
@@ -299,11 +303,11 @@ static void twilight_glow_is_warm_toward_the_sun(void)
 	double d[3], glow[3], anti[3], zen[3];
 	sky_at(&s, -3.0, 0.0, 2.5);
 	dir_at(3.0, 30.0, d);
-	cs_sky_radiance(&s, d, glow);
+	cs_sky_radiance(&s, V(d), glow);
 	dir_at(3.0, 180.0, d);
-	cs_sky_radiance(&s, d, anti);
+	cs_sky_radiance(&s, V(d), anti);
 	dir_at(90.0, 0.0, d);
-	cs_sky_radiance(&s, d, zen);
+	cs_sky_radiance(&s, V(d), zen);
 	CHECK(glow[0] > 2.0 * glow[2]);
 	CHECK(lum(glow) > 5.0 * lum(anti));
 	CHECK(lum(glow) > 5.0 * lum(zen));
@@ -328,7 +332,7 @@ static void ambient_up_is_the_cosine_weighted_sky_mean(void)
 				double ph = (j + 0.5) * 2 * PI / NP, rgb[3];
 				double d[3] = {sin(th) * cos(ph),
 					       sin(th) * sin(ph), cos(th)};
-				cs_sky_radiance(&s, d, rgb);
+				cs_sky_radiance(&s, V(d), rgb);
 				for (int k = 0; k < 3; k++)
 					sum[k] += wt * rgb[k];
 			}
@@ -360,8 +364,8 @@ static int sky_ok(const struct cs_sky *s)
 			double th = i * PI / 31, ph = j * 2 * PI / 64, a[3], b[3];
 			double d[3] = {sin(th) * cos(ph), sin(th) * sin(ph),
 				       cos(th)};
-			cs_sky_radiance(s, d, a);
-			cs_sky_sun_disk(s, d, b);
+			cs_sky_radiance(s, V(d), a);
+			cs_sky_sun_disk(s, V(d), b);
 			ok = ok && all_ok(a) && all_ok(b);
 		}
 	return ok;
@@ -385,7 +389,7 @@ static void all_outputs_are_finite_and_nonnegative(void)
 	for (size_t i = 0; i < sizeof odd_sun / sizeof odd_sun[0]; i++)
 		for (size_t t = 0; t < sizeof odd_T / sizeof odd_T[0]; t++) {
 			struct cs_sky s;
-			cs_sky_init(&s, odd_sun[i], odd_T[t]);
+			cs_sky_init(&s, V(odd_sun[i]), odd_T[t]);
 			CHECK(sky_ok(&s));
 		}
 }
