@@ -28,7 +28,6 @@ struct cs_genus_preset {
 	double anvil;             /* 0..1: spreading of the top (cumulonimbus) */
 	double edge;              /* 0..1: width of the density ramp above the
 				     coverage threshold (small = sharp edges) */
-	double base_m, top_m;     /* typical altitudes (WMO etage), m */
 };
 
 const struct cs_genus_preset *cs_genus_preset(enum cs_genus g);

@@ -1,6 +1,5 @@
 #include "weather/genus_rules.h"
 
-#include "render/cloud.h"
 
 #include <math.h>
 #include <stddef.h>
@@ -42,13 +41,30 @@ int cs_genus_etage(enum cs_genus g)
 	}
 }
 
+/* Typical base and top of each genus, m: above the ground for the low
+ * étage, above sea level (at least the étage's floor) for the others. */
+static const struct typical_alt {
+	double base_m, top_m;
+} typical[CS_GENUS_COUNT] = {
+	[CS_CIRRUS] = {8000, 10000},
+	[CS_CIRROCUMULUS] = {7000, 7600},
+	[CS_CIRROSTRATUS] = {7500, 9000},
+	[CS_ALTOCUMULUS] = {3000, 3800},
+	[CS_ALTOSTRATUS] = {3000, 5000},
+	[CS_NIMBOSTRATUS] = {800, 4000},
+	[CS_STRATOCUMULUS] = {800, 1500},
+	[CS_STRATUS] = {300, 800},
+	[CS_CUMULUS] = {1500, 2700},
+	[CS_CUMULONIMBUS] = {1000, 11000},
+};
+
 void cs_genus_place(enum cs_genus g, double ground_alt_m, double *base_m,
 		    double *top_m)
 {
 	/* WMO étages of temperate regions: low from the ground to 2 km, mid
 	 * from 2 km, high from 5 km (International Cloud Atlas, 2017). */
 	static const double floor_m[3] = {0, 2000, 5000};
-	const struct cs_genus_preset *p = cs_genus_preset(g);
+	const struct typical_alt *p = &typical[(unsigned)g < CS_GENUS_COUNT ? g : CS_CUMULUS];
 	int e = cs_genus_etage(g);
 	double thick = p->top_m - p->base_m;
 	if (e == 0) {
