@@ -58,6 +58,12 @@ static const struct typical_alt {
 	[CS_CUMULONIMBUS] = {1000, 11000},
 };
 
+struct cs_genus_alt cs_genus_typical(enum cs_genus g)
+{
+	const struct typical_alt *p = &typical[(unsigned)g < CS_GENUS_COUNT ? g : CS_CUMULUS];
+	return (struct cs_genus_alt){p->base_m, p->top_m};
+}
+
 void cs_genus_place(enum cs_genus g, double ground_alt_m, double *base_m,
 		    double *top_m)
 {

@@ -72,6 +72,13 @@ int cs_genus_etage(enum cs_genus g);
  * genus presets of cloudrender); mid and high genera at their typical
  * altitude above sea level, raised where needed to stay 2000 m (mid) or
  * 5000 m (high) above the ground. */
+/* A genus's typical base and top, m: above the ground for the low étage,
+ * above sea level for the others (cs_genus_place applies them). */
+struct cs_genus_alt {
+	double base_m, top_m;
+};
+struct cs_genus_alt cs_genus_typical(enum cs_genus g);
+
 void cs_genus_place(enum cs_genus g, double ground_alt_m, double *base_m,
 		    double *top_m);
 

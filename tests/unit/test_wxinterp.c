@@ -314,9 +314,9 @@ static void set_edits_each_kind_of_path(void)
 	/* a genus change moves the layer to the genus's altitudes */
 	CHECK(cs_wx_set(&wx, "layer.high=cirrostratus") == CS_OK);
 	CHECK(wx.layers[2].genus == CS_CIRROSTRATUS);
-	CHECK_NEAR(wx.layers[2].base_m, cs_genus_preset(CS_CIRROSTRATUS)->base_m, 0);
+	CHECK_NEAR(wx.layers[2].base_m, cs_genus_typical(CS_CIRROSTRATUS).base_m, 0);
 	CHECK(cs_wx_set(&wx, "layers[0].genus=stratus") == CS_OK);
-	CHECK_NEAR(wx.layers[0].base_m, 858 + cs_genus_preset(CS_STRATUS)->base_m, 0);
+	CHECK_NEAR(wx.layers[0].base_m, 858 + cs_genus_typical(CS_STRATUS).base_m, 0);
 	CHECK(cs_wx_set(&wx, "layers[0].base=1000") == CS_OK);
 	CHECK(cs_wx_set(&wx, "layers[0].top_m=1400") == CS_OK);
 	CHECK(wx.layers[0].base_m == 1000 && wx.layers[0].top_m == 1400);
@@ -397,7 +397,7 @@ static void set_edits_far_sites(void)
 	CHECK(wx.far[0].visibility_m == 8000 && wx.far[0].precipitation_mm_h == 0.4);
 	CHECK(wx.far[0].nlayers == 1 && wx.far[0].layers[0].coverage == 0.6);
 	CHECK_NEAR(wx.far[0].layers[0].base_m,
-		   432 + cs_genus_preset(CS_STRATOCUMULUS)->base_m, 0);
+		   432 + cs_genus_typical(CS_STRATOCUMULUS).base_m, 0);
 	CHECK(strcmp(wx.far[0].site.name, "Solothurn") == 0);
 	CHECK(wx.nlayers == 2); /* the near site is untouched */
 	CHECK(cs_wx_validate(&wx) == CS_OK);

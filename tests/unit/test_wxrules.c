@@ -45,7 +45,7 @@ static void rule_l1_convective_rain_makes_cumulonimbus(void)
 	o.convective_mm_h = 1;
 	CHECK(layers(&o) == 1);
 	expect_layer(0, CS_CUMULONIMBUS, CS_RULE_L1_CB, 0.3); /* at least 0.3 */
-	const struct cs_genus_preset *p = cs_genus_preset(CS_CUMULONIMBUS);
+	const struct cs_genus_alt a_p = cs_genus_typical(CS_CUMULONIMBUS), *p = &a_p;
 	CHECK_NEAR(one[0].base_m, 540 + p->base_m, 0);
 	CHECK_NEAR(one[0].top_m, 540 + p->top_m, 0);
 	o.low = 0.8;
@@ -86,7 +86,7 @@ static void rule_l3_showers_make_cumulus_by_night_too(void)
 	o.convective_mm_h = 0.1;
 	CHECK(layers(&o) == 1);
 	expect_layer(0, CS_CUMULUS, CS_RULE_L3_SHOWERS, 0.2); /* at least 0.2 */
-	const struct cs_genus_preset *p = cs_genus_preset(CS_CUMULUS);
+	const struct cs_genus_alt a_p = cs_genus_typical(CS_CUMULUS), *p = &a_p;
 	CHECK_NEAR(one[0].base_m, 540 + p->base_m, 0);
 }
 
@@ -121,7 +121,7 @@ static void rule_l5_overcast_low_with_drizzle_or_mist_is_stratus(void)
 	o.precipitation_mm_h = 0.2;
 	CHECK(layers(&o) == 1);
 	expect_layer(0, CS_STRATUS, CS_RULE_L5_ST, 0.9);
-	CHECK_NEAR(one[0].base_m, 540 + cs_genus_preset(CS_STRATUS)->base_m, 0);
+	CHECK_NEAR(one[0].base_m, 540 + cs_genus_typical(CS_STRATUS).base_m, 0);
 	o.precipitation_mm_h = 0;
 	o.visibility_m = 3000;
 	layers(&o);
@@ -135,7 +135,7 @@ static void rule_l6_scattered_low_cover_under_a_high_sun_is_cumulus(void)
 	o.sun_elevation_deg = 45;
 	CHECK(layers(&o) == 1);
 	expect_layer(0, CS_CUMULUS, CS_RULE_L6_CU, 0.4);
-	const struct cs_genus_preset *p = cs_genus_preset(CS_CUMULUS);
+	const struct cs_genus_alt a_p = cs_genus_typical(CS_CUMULUS), *p = &a_p;
 	CHECK_NEAR(one[0].base_m, 540 + p->base_m, 0);
 	/* base at the condensation level: 25 C, 50 % -> dew point 13.85 C */
 	o.temperature_c = 25;
@@ -161,7 +161,7 @@ static void rule_l7_other_low_cover_is_stratocumulus_and_none_is_clear(void)
 	o.low = 0.5;
 	CHECK(layers(&o) == 1);
 	expect_layer(0, CS_STRATOCUMULUS, CS_RULE_L7_SC, 0.5);
-	CHECK_NEAR(one[0].base_m, 540 + cs_genus_preset(CS_STRATOCUMULUS)->base_m, 0);
+	CHECK_NEAR(one[0].base_m, 540 + cs_genus_typical(CS_STRATOCUMULUS).base_m, 0);
 	o.low = 0.9; /* overcast, dry, clear air */
 	layers(&o);
 	expect_layer(0, CS_STRATOCUMULUS, CS_RULE_L7_SC, 0.9);
@@ -175,7 +175,7 @@ static void rules_m1_m2_mid_cover_is_altostratus_or_altocumulus(void)
 	o.mid = 0.7;
 	CHECK(layers(&o) == 1);
 	expect_layer(0, CS_ALTOSTRATUS, CS_RULE_M1_AS, 0.7);
-	const struct cs_genus_preset *p = cs_genus_preset(CS_ALTOSTRATUS);
+	const struct cs_genus_alt a_p = cs_genus_typical(CS_ALTOSTRATUS), *p = &a_p;
 	CHECK_NEAR(one[0].base_m, p->base_m, 0); /* above sea level */
 	o.mid = 0.69;
 	layers(&o);
@@ -207,7 +207,7 @@ static void rules_h1_h2_h3_high_cover_is_cirrostratus_cirrocumulus_or_cirrus(voi
 	o.high = 0.29;
 	CHECK(layers(&o) == 1);
 	expect_layer(0, CS_CIRRUS, CS_RULE_H3_CI, 0.29);
-	const struct cs_genus_preset *p = cs_genus_preset(CS_CIRRUS);
+	const struct cs_genus_alt a_p = cs_genus_typical(CS_CIRRUS), *p = &a_p;
 	CHECK_NEAR(one[0].base_m, p->base_m, 0);
 }
 
@@ -228,7 +228,7 @@ static void all_three_etages_come_low_to_high(void)
 static void high_ground_lifts_mid_and_high_layers(void)
 {
 	double b, t;
-	const struct cs_genus_preset *as = cs_genus_preset(CS_ALTOSTRATUS);
+	const struct cs_genus_alt a_as = cs_genus_typical(CS_ALTOSTRATUS), *as = &a_as;
 	cs_genus_place(CS_ALTOSTRATUS, 3500, &b, &t);
 	CHECK_NEAR(b, 5500, 0);
 	CHECK_NEAR(t - b, as->top_m - as->base_m, 1e-9);
@@ -237,7 +237,7 @@ static void high_ground_lifts_mid_and_high_layers(void)
 	cs_genus_place(CS_CIRRUS, 6000, &b, &t);
 	CHECK_NEAR(b, 11000, 0);
 	cs_genus_place(CS_STRATUS, 1000, &b, &t);
-	CHECK_NEAR(b, 1000 + cs_genus_preset(CS_STRATUS)->base_m, 0);
+	CHECK_NEAR(b, 1000 + cs_genus_typical(CS_STRATUS).base_m, 0);
 	CHECK(cs_genus_etage(CS_NIMBOSTRATUS) == 0 && cs_genus_etage(CS_ALTOCUMULUS) == 1 &&
 	      cs_genus_etage(CS_CIRROCUMULUS) == 2);
 }
