@@ -120,7 +120,9 @@ CS_HD void cs_ground_light(const struct cs_scene *sc,
 				   : 1.0;
 		direct = cosi * T * self / CS_PI;
 	}
+	/* the sky light, or under clouds what they let through */
+	const double *sky = sc->deck.on ? sc->deck.sky_below : sc->ambient_up;
 	for (int k = 0; k < 3; k++)
 		rgb[k] = alb[k] * (sc->sun_illuminance[k] * direct +
-				   ((sc->effects & CS_FX_SKY) ? sc->ambient_up[k] * ao : 0.0));
+				   ((sc->effects & CS_FX_SKY) ? sky[k] * ao : 0.0));
 }

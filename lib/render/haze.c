@@ -5,7 +5,7 @@
 
 #include <math.h>
 
-/* The light the haze scatters toward the eye along d: the sky's radiance at
+/* The light the haze scatters toward the eye along d: the clear sky's radiance at
  * the same azimuth and the same angle from the horizon, looking up (for a
  * plane-parallel haze layer the path looking down at an angle sees what the
  * path looking up at it sees), at least 1 degree up. */
@@ -25,6 +25,15 @@ CS_HD void cs_haze_light(const struct cs_scene *sc, cs_v3 d, double rgb[3])
 		dir.x = sqrt(1.0 - up * up);
 	}
 	cs_sky_radiance(&sc->sky, dir, rgb);
+	/* Under clouds the haze sees the sun only where their shadows are not
+	 * (the area mean of the beam's transmittance) and otherwise the grey
+	 * dome of the light they let through, which an isotropic dome of
+	 * radiance L scatters back as L. */
+	const struct cs_deck *dk = &sc->deck;
+	if (dk->on)
+		for (int k = 0; k < 3; k++)
+			rgb[k] = rgb[k] * dk->direct_below +
+				 dk->sky_below[k] * (1.0 - dk->direct_below);
 }
 
 /* Haze optical depth along a straight ray leaving altitude h0 with vertical

@@ -94,24 +94,48 @@ CS_HD static int gather_intervals(const struct cs_scene *sc, cs_v3 o, cs_v3 d,
 	return n;
 }
 
-/* Rain: grey, homogeneous, lit by the sky. */
+/* Rain: grey, homogeneous, lit by the diffuse light under the clouds. */
 CS_HD static void march_rain(const struct cs_scene *sc, const struct interval *iv,
 			     struct path *P)
 {
 	double tr = exp(-sc->rain_extinction_per_m * (iv->t1 - iv->t0));
+	const double *sky = sc->deck.on ? sc->deck.sky_below : sc->ambient_up;
 	for (int k = 0; k < 3; k++)
-		P->L[k] += P->T * (1.0 - tr) * 0.9 * sc->ambient_up[k];
+		P->L[k] += P->T * (1.0 - tr) * 0.9 * sky[k];
 	P->T *= tr;
+}
+
+/* The diffuse light inside layer li at relative height hb (0 base, 1 top),
+ * cosine-mean radiance: clear-sky ambient brightening toward the top
+ * without the deck model; with it, what reaches the layer's top through
+ * the layers above, then through the part of this layer above hb, by the
+ * slab transmittance (deck.c). */
+CS_HD static void cloud_ambient(const struct cs_scene *sc, int li, double hb,
+				double A[3])
+{
+	const struct cs_deck *d = &sc->deck;
+	if (!d->on) {
+		for (int k = 0; k < 3; k++)
+			A[k] = sc->ambient_up[k] * (0.4 + 0.6 * hb) +
+			       sc->ambient_down[k] * (1.0 - hb) * 0.5;
+		return;
+	}
+	double tau = (1.0 - hb) * d->tau_in[li];
+	double T = cs_slab_transmittance(tau, d->g);
+	double beam = d->mu0 > 0.0 ? exp(-tau / d->mu0) : 0.0;
+	double scat = T - beam > 0.0 ? T - beam : 0.0;
+	for (int k = 0; k < 3; k++)
+		A[k] = (d->sun_top[li][k] * scat + d->dif_top[li][k] * T) / CS_PI +
+		       d->ground_below[k] * (1.0 - hb) * 0.5;
 }
 
 /* The light scattered toward the eye per unit length at a cloud sample of
  * scattering coefficient ss: the sun through the light march, with the
  * multiple-scattering octaves (Wrenninge 2013: scattering a^k, extinction
- * b^k, eccentricity c^k, a = b = c = 0.5), and isotropic sky light,
- * brighter toward the top of the (lowest) layer of this crossing. */
+ * b^k, eccentricity c^k, a = b = c = 0.5), and the diffuse light inside
+ * the (lowest) layer li of this crossing. */
 CS_HD static void sample_source(const struct ray_ctx *c, cs_v3 p, double alt,
-				unsigned mask, const struct cs_cloud_layer *amb,
-				double ss, double S[3])
+				unsigned mask, int li, double ss, double S[3])
 {
 	const struct cs_scene *sc = c->sc;
 	S[0] = S[1] = S[2] = 0.0;
@@ -127,11 +151,12 @@ CS_HD static void sample_source(const struct ray_ctx *c, cs_v3 p, double alt,
 			S[k] += ss * sc->sun_illuminance[k] * w;
 	}
 	if (c->s->ambient) {
-		double hb = (alt - amb->base_m) / (amb->top_m - amb->base_m);
+		const struct cs_cloud_layer *l = &sc->layers[li];
+		double hb = (alt - l->base_m) / (l->top_m - l->base_m), A[3];
 		hb = hb < 0.0 ? 0.0 : hb > 1.0 ? 1.0 : hb;
+		cloud_ambient(sc, li, hb, A);
 		for (int k = 0; k < 3; k++)
-			S[k] += ss * (sc->ambient_up[k] * (0.4 + 0.6 * hb) +
-				      sc->ambient_down[k] * (1.0 - hb) * 0.5);
+			S[k] += ss * A[k];
 	}
 }
 
@@ -158,10 +183,9 @@ CS_HD static void march_crossing(const struct ray_ctx *c, double t0, double t1,
 {
 	const struct cs_scene *sc = c->sc;
 	c->st->layer_crossings++;
-	const struct cs_cloud_layer *amb = NULL; /* for the ambient light */
-	for (int l = 0; l < sc->nlayers && amb == NULL; l++)
-		if (mask & (1u << l))
-			amb = &sc->layers[l];
+	int amb = 0; /* the layer whose diffuse light the samples see */
+	while (amb + 1 < sc->nlayers && !(mask & (1u << amb)))
+		amb++;
 	double len = t1 - t0;
 	double steps = ceil(len / crossing_step(sc, c->s, mask));
 	int ns = steps < 1.0 ? 1 : steps > c->s->max_steps ? c->s->max_steps : (int)steps;

@@ -52,7 +52,28 @@ enum {
 	CS_FX_HAZE = 16,         /* aerial perspective from visibility */
 	CS_FX_RAIN = 32,         /* rain below raining layers */
 	CS_FX_CLOUD_SHADOWS = 64, /* clouds shadowing the ground */
-	CS_FX_TERRAIN = 128      /* a heightfield instead of flat ground */
+	CS_FX_TERRAIN = 128,     /* a heightfield instead of flat ground */
+	CS_FX_DECK = 256         /* light under the clouds: the sky light below and
+				    inside the layers is what they transmit */
+};
+
+/* The light under and inside the cloud layers (deck.c), from the
+ * two-stream transmittance of the layers' column optical depths over an
+ * area around the site: irradiances in klux, radiances in kcd/m^2. */
+struct cs_deck {
+	int on;                      /* 0: the clear-sky ambient everywhere */
+	double g;                    /* droplets' phase asymmetry (0.85) */
+	double mu0;                  /* sine of the sun's elevation (>= 0) */
+	double sky_below[3];         /* radiance of the diffuse light under all
+					layers (cosine mean; irradiance / pi) */
+	double ground_below[3];      /* radiance of ground light from below
+					(albedo 0.2, lit by what comes through) */
+	double direct_below;         /* area mean of the sun's beam transmittance
+					through all layers */
+	double sun_top[CS_SCENE_MAX_LAYERS][3]; /* sun's beam on a horizontal
+						   plane at a layer's top, klux */
+	double dif_top[CS_SCENE_MAX_LAYERS][3]; /* diffuse irradiance there, klux */
+	double tau_in[CS_SCENE_MAX_LAYERS];     /* in-cloud column optical depth */
 };
 
 struct cs_scene {
@@ -77,8 +98,19 @@ struct cs_scene {
 	double rain_top_m;            /* rain falls from here to the ground */
 	double albedo;                /* single-scattering albedo of cloud */
 	double g_forward, g_back, w_forward; /* two-lobe Henyey-Greenstein */
+	struct cs_deck deck;          /* used when effects has CS_FX_DECK */
 	unsigned effects;
 };
+
+/* Total (direct + diffuse) transmittance of a conservative plane-parallel
+ * cloud of optical depth tau and asymmetry g, by similarity a function of
+ * (1 - g) tau: 1 / (0.9 + 0.6 (1 - g) tau), at most 1 and at least the
+ * direct beam exp(-tau). */
+CS_HD double cs_slab_transmittance(double tau, double g);
+
+/* Fills sc->deck from the scene's layers, sun and clear-sky ambient (call
+ * after those are set); sets CS_FX_DECK when there are layers. */
+void cs_scene_deck_light(struct cs_scene *sc);
 
 struct cs_render_stats {
 	uint64_t pixels, density_samples, light_samples, rays_terminated_early,

@@ -129,6 +129,7 @@ int cs_scene_build(struct cs_scene *sc, const struct cs_wx *wx, double time_utc,
 		sc->effects |= CS_FX_SUN;
 	if ((sc->effects & CS_FX_SUN) && sc->nlayers > 0)
 		sc->effects |= CS_FX_CLOUD_SHADOWS;
+	cs_scene_deck_light(sc);
 
 	/* haze: Koschmieder's extinction 3.912 / visibility at the ground,
 	 * falling off with a 1.2 km scale height */

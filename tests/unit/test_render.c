@@ -507,12 +507,64 @@ static void quality_presets_exist_and_rise(void)
 	CHECK_STR_CONTAINS(cs_errmsg(), "unknown quality 'ultra'");
 }
 
+/* A thick plane-parallel cloud transmits like 1/tau: for water-droplet
+ * asymmetry g = 0.85 about 0.45 at tau = 16 and 0.15 at tau = 64 (the
+ * similarity relation, shared/RADIATION-NOTES.md), between the two-stream
+ * brackets 1/(1 + (1-g) tau / 2) and 1/(1 + 3 (1-g) tau / 4), and the
+ * direct beam exp(-tau) where that is more. */
+static void thick_slab_transmits_like_one_over_tau(void)
+{
+	CHECK_NEAR(cs_slab_transmittance(16.0, 0.85), 0.45, 0.045);
+	CHECK_NEAR(cs_slab_transmittance(64.0, 0.85), 0.15, 0.015);
+	for (double x = 2.0; x <= 40.0; x *= 1.5) {
+		double t = cs_slab_transmittance(x / 0.15, 0.85);
+		CHECK(t <= 1.0 / (1.0 + 0.5 * x) && t >= 1.0 / (1.0 + 0.75 * x));
+	}
+	CHECK_NEAR(cs_slab_transmittance(0.0, 0.85), 1.0, 0.0);
+	CHECK_NEAR(cs_slab_transmittance(0.01, 0.0), 1.0, 0.011);
+}
+
+/* Under a homogeneous overcast of optical depth 64 the diffuse light is
+ * what the deck transmits of the sun and sky above it, grey, and the
+ * ground shows it: the ground's radiance is albedo x that light / pi (the
+ * sun's beam is gone).  Expected values from the published transmittance
+ * 0.15, not from the renderer. */
+static void overcast_ground_sees_the_transmitted_light(void)
+{
+	static struct cs_scene sc;
+	slab_scene(&sc, 64.0 / 3200.0, 0.0, 800.0, 4000.0);
+	double e = 30.0 * CS_PI / 180.0;
+	sc.sun_dir = v3(0.0, cos(e), sin(e));
+	double sun[3] = {80.0, 65.0, 42.0}, sky[3] = {7.0, 9.5, 14.5}; /* klux, kcd/m^2 */
+	memcpy(sc.sun_illuminance, sun, sizeof sun);
+	memcpy(sc.ambient_up, sky, sizeof sky);
+	sc.ground_albedo[0] = sc.ground_albedo[1] = sc.ground_albedo[2] = 0.2;
+	sc.effects |= CS_FX_SUN | CS_FX_SKY | CS_FX_GROUND | CS_FX_CLOUD_SHADOWS;
+	cs_scene_deck_light(&sc);
+	CHECK(sc.effects & CS_FX_DECK);
+	CHECK(sc.deck.direct_below < 1e-6);
+	double below[3];
+	for (int c = 0; c < 3; c++) {
+		below[c] = 0.15 * (sun[c] * sin(e) + CS_PI * sky[c]) / CS_PI;
+		CHECK_NEAR(sc.deck.sky_below[c], below[c], 0.1 * below[c]);
+	}
+	/* grey: the clear dome's blue (B/R 2.1) is mostly gone under the deck */
+	CHECK(sc.deck.sky_below[2] / sc.deck.sky_below[0] < 1.3);
+	struct cs_render_settings s = plain(64, 16);
+	struct cs_ray_result r;
+	trace(&sc, &s, v3(0.0, 0.0, 100.0), v3(0.0, 0.0, -1.0), &r);
+	for (int c = 0; c < 3; c++)
+		CHECK_NEAR(r.rgb[c], 0.2 * below[c], 0.1 * 0.2 * below[c]);
+}
+
 int main(void)
 {
 	if (cs_volume_new(&noise, 32, 32) != CS_OK ||
 	    cs_volume_bake(&noise, 0, NULL, NULL) != CS_OK)
 		return 1;
 	RUN(slab_transmittance_is_beer_lambert);
+	RUN(thick_slab_transmits_like_one_over_tau);
+	RUN(overcast_ground_sees_the_transmitted_light);
 	RUN(slab_single_scattering_matches_closed_form);
 	RUN(doubling_steps_halves_the_error);
 	RUN(phase_hg_is_normalised);
