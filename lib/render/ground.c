@@ -110,6 +110,8 @@ CS_HD void cs_ground_light(const struct cs_scene *sc,
 			alb[c] *= k;
 	}
 
+	for (int c = 0; c < 3; c++)
+		alb[c] *= sc->ground_wet > 0.0 ? sc->ground_wet : 1.0;
 	double cosi = v3_dot(n, sc->sun_dir);
 	double direct = 0.0;
 	if ((sc->effects & CS_FX_SUN) && cosi > 0.0) {

@@ -5,16 +5,21 @@
 
 #include <math.h>
 
-/* The light the haze scatters toward the eye along d: the clear sky's radiance at
- * the same azimuth and the same angle from the horizon, looking up (for a
- * plane-parallel haze layer the path looking down at an angle sees what the
- * path looking up at it sees), at least 1 degree up. */
-CS_HD void cs_haze_light(const struct cs_scene *sc, cs_v3 d, double rgb[3])
+/* The light the haze scatters toward the eye along d, in two parts.  In a
+ * clear sky it is the sky's radiance at the same azimuth and the same angle
+ * from the horizon, looking up (for a plane-parallel haze layer the path
+ * looking down at an angle sees what the path looking up at it sees), at
+ * least 1 degree up.  Of that, the clear dome's cosine-mean radiance is
+ * what an isotropic dome scatters back (dome); the rest is the sun's
+ * (sun), which a cloud's shadow takes away.  Under clouds the dome is the
+ * grey light they let through. */
+CS_HD void cs_haze_light(const struct cs_scene *sc, cs_v3 d, double sun[3],
+			 double dome[3])
 {
-	if (!(sc->effects & CS_FX_SKY)) {
-		rgb[0] = rgb[1] = rgb[2] = 0.0;
+	for (int k = 0; k < 3; k++)
+		sun[k] = dome[k] = 0.0;
+	if (!(sc->effects & CS_FX_SKY))
 		return;
-	}
 	double up = fabs(d.z) > 0.0175 ? fabs(d.z) : 0.0175;
 	double flat = sqrt(d.x * d.x + d.y * d.y);
 	cs_v3 dir = v3(1.0, 0.0, up);
@@ -24,16 +29,14 @@ CS_HD void cs_haze_light(const struct cs_scene *sc, cs_v3 d, double rgb[3])
 	} else {
 		dir.x = sqrt(1.0 - up * up);
 	}
-	cs_sky_radiance(&sc->sky, dir, rgb);
-	/* Under clouds the haze sees the sun only where their shadows are not
-	 * (the area mean of the beam's transmittance) and otherwise the grey
-	 * dome of the light they let through, which an isotropic dome of
-	 * radiance L scatters back as L. */
-	const struct cs_deck *dk = &sc->deck;
-	if (dk->on)
-		for (int k = 0; k < 3; k++)
-			rgb[k] = rgb[k] * dk->direct_below +
-				 dk->sky_below[k] * (1.0 - dk->direct_below);
+	double clear[3];
+	cs_sky_radiance(&sc->sky, dir, clear);
+	const double *dm = sc->deck.on ? sc->deck.sky_below : sc->ambient_up;
+	for (int k = 0; k < 3; k++) {
+		double s = clear[k] - sc->ambient_up[k];
+		sun[k] = s > 0.0 ? s : 0.0;
+		dome[k] = sc->deck.on ? dm[k] : clear[k] - sun[k];
+	}
 }
 
 /* Haze optical depth along a straight ray leaving altitude h0 with vertical

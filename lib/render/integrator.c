@@ -17,11 +17,15 @@ struct interval {
 
 /* What the ray has gathered so far. */
 struct path {
-	double L[3];     /* radiance toward the eye */
-	double T;        /* transmittance to the eye, rain included */
+	double L[3];     /* radiance toward the eye of clouds and rain, seen
+			    through the haze in front of them */
+	double T;        /* transmittance to the eye of clouds and rain */
 	double Tcloud;   /* through the clouds only */
 	double depth;    /* first cloud sample with density, or CS_SKY_DEPTH_M */
 	int terminated;  /* T fell below the settings' minimum */
+	double th;       /* the haze's transmittance to the last haze point */
+	double H[3];     /* haze light so far, weighted by T where it arose */
+	double Hw[3];    /* the same, unweighted */
 };
 
 /* The per-ray constants of the march. */
@@ -32,7 +36,25 @@ struct ray_ctx {
 	double jitter_u;
 	double phase[4]; /* the phase of each multiple-scattering octave */
 	struct cs_render_stats *st;
+	int haze;        /* the scene has haze */
+	double h0, dz;   /* the eye's altitude, the ray's vertical component */
+	double hz[3];    /* the light the haze scatters toward the eye */
 };
+
+/* The haze from the last haze point to distance t: its light, seen through
+ * the clouds and rain in front of it, and its transmittance. */
+CS_HD static void haze_to(const struct ray_ctx *c, struct path *P, double t)
+{
+	if (!c->haze)
+		return;
+	double th = exp(-cs_haze_depth(c->sc, c->h0, c->dz, t));
+	for (int k = 0; k < 3; k++) {
+		double d = c->hz[k] * (P->th - th);
+		P->H[k] += P->T * d;
+		P->Hw[k] += d;
+	}
+	P->th = th;
+}
 
 /* The ground along the ray: the terrain inside its grid, the flat ground
  * sphere outside it; INFINITY when the ray meets neither. */
@@ -94,24 +116,67 @@ CS_HD static int gather_intervals(const struct cs_scene *sc, cs_v3 o, cs_v3 d,
 	return n;
 }
 
-/* Rain: grey, homogeneous, lit by the diffuse light under the clouds. */
-CS_HD static void march_rain(const struct cs_scene *sc, const struct interval *iv,
+/* How much it rains at (x, y): 1 under the raining layer's cells, 0
+ * between them, soft at their edges; read just above the layer's base. */
+CS_HD static double rain_shaft(const struct cs_scene *sc, double x, double y)
+{
+	const struct cs_cloud_layer *l = &sc->layers[sc->rain_layer];
+	double alt = l->base_m + 0.3 * (l->top_m - l->base_m);
+	double e = cs_cloud_extinction(l, sc->noise, x, y, alt) / (0.3 * l->extinction_per_m);
+	return e < 1.0 ? e : 1.0;
+}
+
+/* Rain: grey shafts under the raining cells, lit by the diffuse light under
+ * the clouds, marched in steps of at most 250 m (at most 48). */
+CS_HD static void march_rain(const struct ray_ctx *c, const struct interval *iv,
 			     struct path *P)
 {
-	double tr = exp(-sc->rain_extinction_per_m * (iv->t1 - iv->t0));
+	const struct cs_scene *sc = c->sc;
 	const double *sky = sc->deck.on ? sc->deck.sky_below : sc->ambient_up;
-	for (int k = 0; k < 3; k++)
-		P->L[k] += P->T * (1.0 - tr) * 0.9 * sky[k];
-	P->T *= tr;
+	double len = iv->t1 - iv->t0;
+	int ns = (int)ceil(len / 250.0);
+	ns = ns < 1 ? 1 : ns > 48 ? 48 : ns;
+	double dt = len / ns;
+	for (int j = 0; j < ns && !P->terminated; j++) {
+		double t = iv->t0 + (j + c->jitter_u) * dt;
+		cs_v3 p = v3_mad(c->o, c->d, t);
+		double sigma = sc->rain_extinction_per_m * rain_shaft(sc, p.x, p.y);
+		c->st->density_samples++;
+		if (sigma <= 0.0)
+			continue;
+		haze_to(c, P, t);
+		double tr = exp(-sigma * dt);
+		for (int k = 0; k < 3; k++)
+			P->L[k] += P->T * P->th * (1.0 - tr) * 0.9 * sky[k];
+		P->T *= tr;
+		P->terminated = P->T < c->s->min_transmittance;
+	}
+}
+
+/* Optical depth from p straight up to the top of layer li: the local
+ * column that shades the diffuse light from above, so a cloud base is
+ * darker under thick parts and lighter under thin ones. */
+CS_HD static double column_above(const struct ray_ctx *c, cs_v3 p, double alt, int li)
+{
+	const struct cs_scene *sc = c->sc;
+	const struct cs_cloud_layer *l = &sc->layers[li];
+	int n = c->s->light_steps / 2 > 2 ? c->s->light_steps / 2 : 2;
+	double dz = (l->top_m - alt) / n, tau = 0.0;
+	if (!(dz > 0.0))
+		return 0.0;
+	for (int j = 0; j < n; j++)
+		tau += cs_cloud_extinction(l, sc->noise, p.x, p.y, alt + (j + 0.5) * dz) * dz;
+	c->st->light_samples += (uint64_t)n;
+	return tau;
 }
 
 /* The diffuse light inside layer li at relative height hb (0 base, 1 top),
  * cosine-mean radiance: clear-sky ambient brightening toward the top
  * without the deck model; with it, what reaches the layer's top through
- * the layers above, then through the part of this layer above hb, by the
+ * the layers above, then through the column tau above the point, by the
  * slab transmittance (deck.c). */
 CS_HD static void cloud_ambient(const struct cs_scene *sc, int li, double hb,
-				double A[3])
+				double tau, double A[3])
 {
 	const struct cs_deck *d = &sc->deck;
 	if (!d->on) {
@@ -120,7 +185,6 @@ CS_HD static void cloud_ambient(const struct cs_scene *sc, int li, double hb,
 			       sc->ambient_down[k] * (1.0 - hb) * 0.5;
 		return;
 	}
-	double tau = (1.0 - hb) * d->tau_in[li];
 	double T = cs_slab_transmittance(tau, d->g);
 	double beam = d->mu0 > 0.0 ? exp(-tau / d->mu0) : 0.0;
 	double scat = T - beam > 0.0 ? T - beam : 0.0;
@@ -154,7 +218,7 @@ CS_HD static void sample_source(const struct ray_ctx *c, cs_v3 p, double alt,
 		const struct cs_cloud_layer *l = &sc->layers[li];
 		double hb = (alt - l->base_m) / (l->top_m - l->base_m), A[3];
 		hb = hb < 0.0 ? 0.0 : hb > 1.0 ? 1.0 : hb;
-		cloud_ambient(sc, li, hb, A);
+		cloud_ambient(sc, li, hb, sc->deck.on ? column_above(c, p, alt, li) : 0.0, A);
 		for (int k = 0; k < 3; k++)
 			S[k] += ss * A[k];
 	}
@@ -200,6 +264,7 @@ CS_HD static void march_crossing(const struct ray_ctx *c, double t0, double t1,
 			continue;
 		if (P->depth == CS_SKY_DEPTH_M)
 			P->depth = t0 + j * dt;
+		haze_to(c, P, t);
 		double S[3];
 		sample_source(c, p, alt, mask, amb, sc->albedo * sigma, S);
 		/* Energy-conserving step (Hillaire 2015): the source is
@@ -208,7 +273,7 @@ CS_HD static void march_crossing(const struct ray_ctx *c, double t0, double t1,
 		double tr = exp(-sigma * dt);
 		double integ = -expm1(-sigma * dt) / sigma;
 		for (int k = 0; k < 3; k++)
-			P->L[k] += P->T * S[k] * integ;
+			P->L[k] += P->T * P->th * S[k] * integ;
 		P->T *= tr;
 		P->Tcloud *= tr;
 		if (P->T < c->s->min_transmittance) {
@@ -224,7 +289,7 @@ CS_HD static void march_intervals(const struct ray_ctx *c, struct interval *iv,
 {
 	for (int i = 0; i < n && !P->terminated; i++) {
 		if (iv[i].mask == 0) {
-			march_rain(c->sc, &iv[i], P);
+			march_rain(c, &iv[i], P);
 			continue;
 		}
 		double t0 = iv[i].t0, t1 = iv[i].t1;
@@ -238,46 +303,36 @@ CS_HD static void march_intervals(const struct ray_ctx *c, struct interval *iv,
 	}
 }
 
-/* Aerial perspective on the clouds, then the background behind them
- * (ground at tg, or sky and sun disk), into out. */
+/* The background behind what the clouds and rain let through: the ground
+ * at tg, seen through the haze, or the sky and the sun disk, whose
+ * radiance already holds the haze of a clear path (so the haze gathered in
+ * front of the clouds counts only for the light they took away); then the
+ * ray's result into out. */
 CS_HD static void finish_ray(const struct ray_ctx *c, double tg, int on_terrain,
 			     struct path *P, struct cs_ray_result *out)
 {
 	const struct cs_scene *sc = c->sc;
-	cs_v3 o = c->o, d = c->d;
-	double h0 = cs_scene_altitude(sc, o);
-	cs_v3 up = v3_norm(v3(o.x, o.y, o.z + sc->earth_radius_m));
-	double dz = v3_dot(d, up);
-	double hz[3] = {0.0, 0.0, 0.0};
-	int haze = (sc->effects & CS_FX_HAZE) && sc->haze_beta0_per_m > 0.0;
-	if (haze)
-		cs_haze_light(sc, d, hz);
-	if (haze && P->depth < CS_SKY_DEPTH_M) {
-		double th = exp(-cs_haze_depth(sc, h0, dz, P->depth));
-		for (int k = 0; k < 3; k++)
-			P->L[k] = P->L[k] * th + (1.0 - P->Tcloud) * (1.0 - th) * hz[k];
-	}
 	double bg[3] = {0.0, 0.0, 0.0};
 	if (!P->terminated) {
 		if (isfinite(tg)) {
-			cs_ground_light(sc, c->s, v3_mad(o, d, tg), on_terrain, c->st, bg);
-			if (haze) {
-				double th = exp(-cs_haze_depth(sc, h0, dz, tg));
-				for (int k = 0; k < 3; k++)
-					bg[k] = bg[k] * th + (1.0 - th) * hz[k];
-			}
+			haze_to(c, P, tg);
+			cs_ground_light(sc, c->s, v3_mad(c->o, c->d, tg), on_terrain, c->st, bg);
+			for (int k = 0; k < 3; k++)
+				bg[k] *= P->th;
 			if (P->depth == CS_SKY_DEPTH_M)
 				P->depth = tg;
 		} else if (sc->effects & CS_FX_SKY) {
 			double disk[3];
-			cs_sky_radiance(&sc->sky, d, bg);
-			cs_sky_sun_disk(&sc->sky, d, disk);
-			for (int k = 0; k < 3; k++)
+			cs_sky_radiance(&sc->sky, c->d, bg);
+			cs_sky_sun_disk(&sc->sky, c->d, disk);
+			for (int k = 0; k < 3; k++) {
 				bg[k] += disk[k];
+				P->H[k] -= P->T * P->Hw[k];
+			}
 		}
 	}
 	for (int k = 0; k < 3; k++) {
-		double v = P->L[k] + P->T * bg[k];
+		double v = P->L[k] + P->H[k] + P->T * bg[k];
 		out->rgb[k] = isfinite(v) && v > 0.0 ? v : 0.0;
 	}
 	out->transmittance = P->Tcloud >= 0.0 && P->Tcloud <= 1.0 ? P->Tcloud : 0.0;
@@ -293,12 +348,23 @@ CS_HD void cs_render_ray(const struct cs_scene *sc, const struct cs_render_setti
 	struct interval iv[2 * CS_SCENE_MAX_LAYERS + 2];
 	int n = gather_intervals(sc, o, d, isfinite(tg) ? tg : 1e7, iv);
 
-	struct ray_ctx c = {sc, s, o, d, jitter_u, {0.0}, st};
+	struct ray_ctx c = {sc, s, o, d, jitter_u, {0.0}, st, 0, 0.0, 0.0, {0.0}};
+	c.haze = (sc->effects & CS_FX_HAZE) && sc->haze_beta0_per_m > 0.0;
+	if (c.haze) {
+		double sun[3], dome[3];
+		c.h0 = cs_scene_altitude(sc, o);
+		c.dz = v3_dot(d, v3_norm(v3(o.x, o.y, o.z + sc->earth_radius_m)));
+		cs_haze_light(sc, d, sun, dome);
+		double tsun = sc->deck.on ? sc->deck.direct_below : 1.0;
+		for (int k = 0; k < 3; k++)
+			c.hz[k] = sun[k] * tsun + dome[k];
+	}
 	double cos_theta = v3_dot(d, sc->sun_dir);
 	for (int k = 0; k < s->ms_octaves; k++) /* octave k: eccentricity x 0.5^k */
 		c.phase[k] = cs_phase_two_lobe(cos_theta, sc->g_forward, sc->g_back,
 					       sc->w_forward, pow(0.5, k));
-	struct path P = {{0.0, 0.0, 0.0}, 1.0, 1.0, CS_SKY_DEPTH_M, 0};
+	struct path P = {{0.0, 0.0, 0.0}, 1.0, 1.0, CS_SKY_DEPTH_M, 0, 1.0,
+			 {0.0, 0.0, 0.0}, {0.0, 0.0, 0.0}};
 	march_intervals(&c, iv, n, &P);
 	if (P.terminated)
 		st->rays_terminated_early++;

@@ -94,13 +94,21 @@ struct cs_scene {
 	struct cs_sky sky;            /* used when effects has CS_FX_SKY */
 	double haze_beta0_per_m;      /* aerosol extinction at sea level */
 	double haze_scale_height_m;
-	double rain_extinction_per_m; /* grey extinction of falling rain */
+	double rain_extinction_per_m; /* grey extinction of falling rain, in a shaft */
 	double rain_top_m;            /* rain falls from here to the ground */
+	int rain_layer;               /* the raining layer: shafts under its cells */
+	double ground_wet;            /* albedo factor of the ground, < 1 when wet */
 	double albedo;                /* single-scattering albedo of cloud */
 	double g_forward, g_back, w_forward; /* two-lobe Henyey-Greenstein */
 	struct cs_deck deck;          /* used when effects has CS_FX_DECK */
 	unsigned effects;
 };
+
+/* Optical extinction (1/m) of rain falling at rate_mm_h, from the
+ * Marshall-Palmer drop sizes (1948): N(D) = N0 exp(-L D), N0 = 8000 /m^3/mm,
+ * L = 4.1 R^-0.21 /mm, and extinction efficiency 2 for drops much larger
+ * than the wavelength: sigma = 2 (pi/4) N0 2 / L^3 = 0.365 R^0.63 per km. */
+double cs_rain_extinction(double rate_mm_h);
 
 /* Total (direct + diffuse) transmittance of a conservative plane-parallel
  * cloud of optical depth tau and asymmetry g, by similarity a function of

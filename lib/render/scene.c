@@ -45,6 +45,15 @@ cs_v3 cs_geo_to_world(double origin_lat_deg, double origin_lon_deg,
 	return v3(e, n, u - earth_radius_m);
 }
 
+double cs_rain_extinction(double rate_mm_h)
+{
+	if (!(rate_mm_h > 0.0))
+		return 0.0;
+	double lambda_per_mm = 4.1 * pow(rate_mm_h, -0.21), n0 = 8000.0; /* /m^3/mm */
+	/* 2 (pi/4) N0 * 2 / L^3 in mm^2/m^3 = 1e-6 m^2/m^3 */
+	return CS_PI * n0 / (lambda_per_mm * lambda_per_mm * lambda_per_mm) * 1e-6;
+}
+
 /* Genera that rain (and drizzle), when the weather says it rains. */
 static int rains(enum cs_genus g, int convective)
 {
@@ -137,8 +146,9 @@ int cs_scene_build(struct cs_scene *sc, const struct cs_wx *wx, double time_utc,
 	sc->haze_beta0_per_m = 3.912 / wx->visibility_m * exp(wx->site.alt_m / 1200.0);
 	sc->effects |= CS_FX_HAZE;
 
-	/* rain: below the lowest raining layer; extinction 0.25 R^0.63 per km
-	 * (R in mm/h), scaled by the raining layer's coverage */
+	/* rain: in shafts under the cells of the lowest raining layer, at the
+	 * rate where it rains (the forecast's mean over the cover) */
+	sc->ground_wet = 1.0;
 	if (wx->precipitation_mm_h > 0.0) {
 		int convective = wx->convective_mm_h > 0.5 * wx->precipitation_mm_h;
 		double top = INFINITY, cover = 0.0;
@@ -146,13 +156,19 @@ int cs_scene_build(struct cs_scene *sc, const struct cs_wx *wx, double time_utc,
 			if (rains(sc->layers[i].genus, convective) && sc->layers[i].base_m < top) {
 				top = sc->layers[i].base_m;
 				cover = sc->layers[i].coverage;
+				sc->rain_layer = i;
 			}
-		if (isfinite(top) && top > sc->ground_alt_m) {
+		if (isfinite(top) && top > sc->ground_alt_m && cover > 0.0) {
 			sc->rain_top_m = top;
 			sc->rain_extinction_per_m =
-				0.25e-3 * pow(wx->precipitation_mm_h, 0.63) * cover;
+				cs_rain_extinction(wx->precipitation_mm_h / cover);
 			sc->effects |= CS_FX_RAIN;
 		}
+		/* wet ground is darker: water fills the pores and the light
+		 * scattered inside is absorbed more (Lekner & Dorf 1988: soil
+		 * and sand at about half their dry reflectance; grass less) */
+		if (wx->precipitation_mm_h >= 0.1)
+			sc->ground_wet = 0.7;
 	}
 	return CS_OK;
 }
