@@ -312,35 +312,6 @@ static int cache_path(const struct cs_mbfetch_opts *o, char *path, size_t size)
 	return n < 0 || (size_t)n >= size ? -1 : 0;
 }
 
-static int write_all(int fd, const char *p, size_t n)
-{
-	while (n > 0) {
-		ssize_t w = write(fd, p, n);
-		if (w < 0 && errno == EINTR)
-			continue;
-		if (w < 0)
-			return -1;
-		p += w;
-		n -= (size_t)w;
-	}
-	return 0;
-}
-
-static int store(const char *path, const char *data, size_t len)
-{
-	struct cs_outfile of;
-	int rc = cs_outfile_open(&of, path);
-	if (rc != CS_OK)
-		return rc;
-	if (write_all(of.fd, data, len) < 0) {
-		rc = cs_error(CS_EIO, "cannot write %s: %s", strcmp(path, "-") ? path
-			      : "standard output", strerror(errno));
-		cs_outfile_abort(&of);
-		return rc;
-	}
-	return cs_outfile_commit(&of);
-}
-
 /* A fresh, valid cached response into *data, or nothing. */
 static void cache_load(struct cs_mbfetch_opts *o, const char *path,
 		       unsigned char **data, size_t *len)
@@ -486,12 +457,12 @@ static int output_writable(const char *path)
 static int finish(struct cs_mbfetch_opts *o, const char *data, size_t len,
 		  const char *cpath)
 {
-	int rc = store(o->output, data, len);
+	int rc = cs_write_file(o->output, data, len);
 	if (rc == CS_OK && cpath && !o->from_cache) {
 		if (mkdir(o->cache_dir, 0700) < 0 && errno != EEXIST)
 			say(o, NULL, CS_LOG_WARN, "cannot create the cache %s: %s",
 			    o->cache_dir, strerror(errno));
-		else if (store(cpath, data, len) != CS_OK)
+		else if (cs_write_file(cpath, data, len) != CS_OK)
 			say(o, NULL, CS_LOG_WARN, "cannot cache: %s", cs_errmsg());
 	}
 	return rc;

@@ -532,21 +532,6 @@ static int derive(const struct run *r, double t, struct cs_wx *wx)
 	return CS_OK;
 }
 
-static int write_all(int fd, const char *s, size_t n, const char *dst)
-{
-	while (n > 0) {
-		ssize_t w = write(fd, s, n);
-		if (w < 0 && errno == EINTR)
-			continue;
-		if (w < 0)
-			return cs_error(CS_EIO, "cannot write %s: %s", dst,
-					strerror(errno));
-		s += w;
-		n -= (size_t)w;
-	}
-	return CS_OK;
-}
-
 /* Derives (or takes the template), edits, validates and writes one state. */
 static int one_state(struct run *r, double t, struct cs_outfile *of)
 {
@@ -579,9 +564,9 @@ static int one_state(struct run *r, double t, struct cs_outfile *of)
 	if (rc == CS_OK && pretty == NULL) {
 		size_t n = strlen(json);
 		json[n] = '\n'; /* over the terminator: written by length */
-		rc = write_all(of->fd, json, n + 1, label(o->output));
+		rc = cs_outfile_write(of, json, n + 1);
 	} else if (rc == CS_OK) {
-		rc = write_all(of->fd, pretty, strlen(pretty), label(o->output));
+		rc = cs_outfile_write(of, pretty, strlen(pretty));
 	}
 	free(json);
 	free(pretty);
