@@ -2,6 +2,7 @@
 
 #include "core/err.h"
 #include "core/fileio.h"
+#include "core/geo.h"
 #include "render/sun.h"
 #include "core/time.h"
 #include "core/vec.h"
@@ -65,18 +66,11 @@ void cs_series_range(const struct cs_series *s, char *buf, size_t size)
 
 /* ---- merging -------------------------------------------------------------- */
 
-static double distance_km(double lat1, double lon1, double lat2, double lon2)
-{
-	const double r = CS_PI / 180;
-	double s1 = sin((lat2 - lat1) * r / 2), s2 = sin((lon2 - lon1) * r / 2);
-	double h = s1 * s1 + cos(lat1 * r) * cos(lat2 * r) * s2 * s2;
-	return 2 * 6371.0 * asin(sqrt(h < 1 ? h : 1));
-}
-
 int cs_series_merge(struct cs_series *a, const struct cs_series *b,
 		    double *dist_km)
 {
-	double d = distance_km(a->lat_deg, a->lon_deg, b->lat_deg, b->lon_deg);
+	double d = cs_great_circle_m(a->lat_deg, a->lon_deg, b->lat_deg,
+				     b->lon_deg) / 1000.0;
 	if (dist_km != NULL)
 		*dist_km = d;
 	if (!(fabs(a->lat_deg - b->lat_deg) <= CS_WXINTERP_MERGE_DEG &&
