@@ -6,6 +6,7 @@
 #include "core/err.h"
 #include "io/exr.h"
 #include "core/fileio.h"
+#include "core/fmt.h"
 
 #include <cjson/cJSON.h>
 
@@ -74,17 +75,10 @@ double cs_terrain_height(const struct cs_terrain *t, double col, double row)
  * own printing may drop the last bit), or null if not finite. */
 static void add_num(cJSON *o, const char *key, double v)
 {
-	char buf[40];
-	if (!isfinite(v)) {
+	if (isfinite(v))
+		cJSON_AddRawToObject(o, key, cs_num(v).s);
+	else
 		cJSON_AddNullToObject(o, key);
-		return;
-	}
-	for (int digits = 15; digits <= 17; digits++) {
-		snprintf(buf, sizeof buf, "%.*g", digits, v);
-		if (strtod(buf, NULL) == v)
-			break;
-	}
-	cJSON_AddRawToObject(o, key, buf);
 }
 
 static void add_str(cJSON *o, const char *key, const char *s)

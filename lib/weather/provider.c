@@ -1,6 +1,7 @@
 #include "weather/provider.h"
 
 #include "core/err.h"
+#include "core/fmt.h"
 #include "core/time.h"
 
 #include <cjson/cJSON.h>
@@ -134,17 +135,10 @@ static const char *type_name(const cJSON *it)
 	}
 }
 
-/* A value for a message: the number as the file wrote it (near enough). */
+/* A value for a message: the number as the file wrote it. */
 struct txt {
 	char s[48];
 };
-
-static struct txt txt(double v)
-{
-	struct txt t;
-	snprintf(t.s, sizeof t.s, "%.10g", v);
-	return t;
-}
 
 /* ---- what the document holds -------------------------------------------- */
 
@@ -316,7 +310,7 @@ static double number(const cJSON *obj, const char *pre, const char *key,
 		return NAN;
 	if (!(it->valuedouble >= lo && it->valuedouble <= hi)) {
 		problem(pr, "%s%s: %s is outside %s..%s", pre, key,
-			txt(it->valuedouble).s, txt(lo).s, txt(hi).s);
+			cs_num(it->valuedouble).s, cs_num(lo).s, cs_num(hi).s);
 		return NAN;
 	}
 	return it->valuedouble;
@@ -383,7 +377,7 @@ static struct txt time_text(const cJSON *it)
 	if (cJSON_IsString(it))
 		snprintf(t.s, sizeof t.s, "\"%.40s\"", it->valuestring);
 	else if (cJSON_IsNumber(it))
-		t = txt(it->valuedouble);
+		cs_fmt_double(t.s, sizeof t.s, it->valuedouble);
 	else
 		snprintf(t.s, sizeof t.s, "%s", type_name(it));
 	return t;
@@ -422,7 +416,7 @@ static void check_times(struct doc *d, struct cs_problems *pr)
 			double h = (d->t[i] - d->t[i - 1]) / 3600.0;
 			problem(pr, "%stime[%d]: %s is %s h after time[%d] %s "
 				"(expected 1 h steps%s)", pre, i,
-				time_text(it).s, txt(h).s, i - 1,
+				time_text(it).s, cs_num(h).s, i - 1,
 				time_text(prev).s,
 				h > 1 ? ": hours are missing" :
 				h == 0 ? ": a repeated hour, as at a daylight-"
@@ -518,16 +512,18 @@ static void check_arrays(struct doc *d, struct cs_problems *pr)
 				else if (u->scale == 1 && u->offset == 0)
 					problem(pr, "%s.%s[%d]: %s is outside "
 						"%s..%s", dn, d->arr_key[k], i,
-						txt(it->valuedouble).s,
-						txt(keys[k].lo).s, txt(keys[k].hi).s);
+						cs_num(it->valuedouble).s,
+						cs_num(keys[k].lo).s, cs_num(keys[k].hi).s);
 				else
-					problem(pr, "%s.%s[%d]: %s %s (%s %s) is "
+					/* the converted value rounded: it is
+					 * ours, not the file's text */
+					problem(pr, "%s.%s[%d]: %s %s (%.10g %s) is "
 						"outside %s..%s %s", dn,
 						d->arr_key[k], i,
-						txt(it->valuedouble).s,
-						mb ? u->mb : u->om, txt(v).s,
+						cs_num(it->valuedouble).s,
+						mb ? u->mb : u->om, v,
 						si_unit[keys[k].unit],
-						txt(keys[k].lo).s, txt(keys[k].hi).s,
+						cs_num(keys[k].lo).s, cs_num(keys[k].hi).s,
 						si_unit[keys[k].unit]);
 			} else if (!cJSON_IsNull(it)) {
 				problem(pr, "%s.%s[%d]: expected a number or null, "
