@@ -4,6 +4,7 @@
 
 #include "core/err.h"
 #include "core/fileio.h"
+#include "core/json.h"
 #include "core/time.h"
 
 #include <cjson/cJSON.h>
@@ -202,29 +203,6 @@ void cs_mbfetch_judge(enum cs_provider p, const struct cs_fetch_resp *r,
 
 /* ---- validation ---- */
 
-/* 1 when JSON text stops inside a string or with brackets still open: the
- * mark of a cut transfer, whatever the parser stumbled on first. */
-static int json_cut_short(const char *s, size_t len)
-{
-	int depth = 0, in_str = 0;
-	for (size_t i = 0; i < len; i++) {
-		char c = s[i];
-		if (in_str) {
-			if (c == '\\')
-				i++;
-			else if (c == '"')
-				in_str = 0;
-		} else if (c == '"') {
-			in_str = 1;
-		} else if (c == '{' || c == '[') {
-			depth++;
-		} else if (c == '}' || c == ']') {
-			depth--;
-		}
-	}
-	return in_str || depth > 0;
-}
-
 int cs_mbfetch_validate(int expect, const char *body, size_t len,
 			const char *content_type, const char *secret,
 			struct cs_problems *pr)
@@ -241,7 +219,7 @@ int cs_mbfetch_validate(int expect, const char *body, size_t len,
 			return fail(CS_EDATA, secret, "the response is HTML, not JSON: %s", ex);
 		}
 		cs_fetch_excerpt(body, len, secret, 100, ex, sizeof ex);
-		if (json_cut_short(body, len))
+		if (cs_json_cut_short(body, len, len))
 			return fail(CS_EDATA, secret, "the response is not valid JSON (it "
 				    "ends early, at byte %zu): %s", len, ex);
 		size_t at = end && end >= body && end <= body + len ? (size_t)(end - body) : 0;

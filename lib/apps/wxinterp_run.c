@@ -3,6 +3,7 @@
 #include "core/err.h"
 #include "core/fileio.h"
 #include "core/geo.h"
+#include "core/json.h"
 #include "render/sun.h"
 #include "core/time.h"
 #include "core/vec.h"
@@ -264,91 +265,6 @@ int cs_duration_parse(const char *s, double *seconds)
 		return cs_error(CS_EINVAL, "'%s' is not a duration (a positive "
 				"number with s, m, h or d, e.g. 10m)", s);
 	*seconds = v * unit;
-	return CS_OK;
-}
-
-/* The index just past the container opening at s[i]; *flat when it holds
- * no container. */
-static size_t container_end(const char *s, size_t i, int *flat)
-{
-	int depth = 0, str = 0;
-	*flat = 1;
-	for (; s[i] != '\0'; i++) {
-		char c = s[i];
-		if (str) {
-			if (c == '\\' && s[i + 1] != '\0')
-				i++;
-			else if (c == '"')
-				str = 0;
-		} else if (c == '"') {
-			str = 1;
-		} else if (c == '{' || c == '[') {
-			if (++depth > 1)
-				*flat = 0;
-		} else if ((c == '}' || c == ']') && --depth == 0) {
-			return i + 1;
-		}
-	}
-	return i;
-}
-
-static void indent(FILE *f, int depth)
-{
-	fputc('\n', f);
-	for (int d = 0; d < depth; d++)
-		fputs("  ", f);
-}
-
-int cs_json_pretty(const char *json, char **out)
-{
-	char *buf = NULL;
-	size_t size, flat_end = 0;
-	int depth = 0, str = 0;
-	FILE *f = open_memstream(&buf, &size);
-	if (f == NULL)
-		return cs_error(CS_ENOMEM, "out of memory");
-	for (size_t i = 0; json[i] != '\0'; i++) {
-		char c = json[i];
-		if (str) {
-			fputc(c, f);
-			if (c == '\\' && json[i + 1] != '\0')
-				fputc(json[++i], f);
-			else if (c == '"')
-				str = 0;
-		} else if (c == ' ' || c == '\t' || c == '\n' || c == '\r') {
-			continue;
-		} else {
-			int flat = 0;
-			if ((c == '{' || c == '[') && i >= flat_end) {
-				size_t e = container_end(json, i, &flat);
-				if (flat)
-					flat_end = e;
-			}
-			int inner = i < flat_end;
-			fputc(c, f);
-			if (c == '"')
-				str = 1;
-			else if (inner && (c == ',' || c == ':'))
-				fputc(' ', f);
-			else if (!inner && (c == '{' || c == '['))
-				indent(f, ++depth);
-			else if (!inner && c == ',')
-				indent(f, depth);
-			else if (!inner && c == ':')
-				fputc(' ', f);
-		}
-		/* before the closing bracket of a multi-line container */
-		if (!str && i + 1 >= flat_end && depth > 0 &&
-		    (json[i + 1] == '}' || json[i + 1] == ']'))
-			indent(f, --depth);
-	}
-	fputc('\n', f);
-	int bad = ferror(f);
-	if (fclose(f) != 0 || bad) {
-		free(buf);
-		return cs_error(CS_ENOMEM, "out of memory");
-	}
-	*out = buf;
 	return CS_OK;
 }
 

@@ -5,6 +5,7 @@
 #ifndef CS_WXINTERP_H
 #define CS_WXINTERP_H
 
+#include "core/json.h" /* cs_json_pretty */
 #include "weather/provider.h"
 #include "weather/wx.h"
 #include "weather/genus_rules.h"
@@ -78,9 +79,5 @@ void cs_series_range(const struct cs_series *s, char *buf, size_t size);
 
 /* A duration "90", "90s", "10m", "1.5h", "2d" in seconds (> 0). */
 int cs_duration_parse(const char *s, double *seconds);
-
-/* The same JSON indented: two spaces a level, an object or array with no
- * object or array inside on one line.  *out malloc'ed for the caller. */
-int cs_json_pretty(const char *json, char **out);
 
 #endif

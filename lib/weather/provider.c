@@ -2,6 +2,7 @@
 
 #include "core/err.h"
 #include "core/fmt.h"
+#include "core/json.h"
 #include "core/time.h"
 
 #include <cjson/cJSON.h>
@@ -178,33 +179,6 @@ static void html_problem(const char *s, size_t len, struct cs_problems *pr)
 	problem(pr, "an HTML page, not JSON: \"%s\"", text);
 }
 
-/* Whether a text that failed to parse at offset off just stops early: it
- * ends inside a string or an open object or array, and nothing after off
- * is structure (cJSON reports a cut string or number where it starts). */
-static int truncated(const char *s, size_t len, size_t off)
-{
-	int depth = 0, str = 0, after = 0;
-	for (size_t i = 0; i < len; i++) {
-		char c = s[i];
-		if (str) {
-			if (c == '\\')
-				i++;
-			else if (c == '"')
-				str = 0;
-			continue;
-		}
-		if (c == '"')
-			str = 1;
-		else if (c == '{' || c == '[')
-			depth++;
-		else if (c == '}' || c == ']')
-			depth--;
-		if (i >= off && strchr("{}[]", c) != NULL)
-			after = 1;
-	}
-	return (str || depth > 0) && !after;
-}
-
 /* Parses the text; reports empty, HTML and malformed or truncated input. */
 static cJSON *parse_json(const char *json, size_t len, struct cs_problems *pr)
 {
@@ -228,12 +202,14 @@ static cJSON *parse_json(const char *json, size_t len, struct cs_problems *pr)
 	cJSON *root = cJSON_ParseWithLengthOpts(json, len, &end, 0);
 	size_t off = end ? (size_t)(end - json) : 0;
 	if (root == NULL) {
-		if (truncated(json, len, off))
+		size_t from, to;
+		cs_json_near(json, len, off, &from, &to);
+		if (cs_json_cut_short(json, len, off))
 			problem(pr, "truncated JSON: the text ends at byte %zu "
 				"before the document is complete", len);
 		else
 			problem(pr, "malformed JSON at byte offset %zu near "
-				"\"%.24s\"", off, json + (off > 8 ? off - 8 : 0));
+				"\"%.*s\"", off, (int)(to - from), json + from);
 		return NULL;
 	}
 	while (off < len && isspace((unsigned char)json[off]))

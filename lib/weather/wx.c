@@ -3,6 +3,7 @@
 #include "core/err.h"
 #include "core/fileio.h"
 #include "core/fmt.h"
+#include "core/json.h"
 #include "core/time.h"
 
 #include <cjson/cJSON.h>
@@ -314,16 +315,11 @@ static int parse_root(const cJSON *root, struct cs_wx *wx)
 	return parse_far(root, wx);
 }
 
-/* "what at byte offset N near "excerpt"": the excerpt starts a little
- * before N (cJSON sometimes reports one byte past the fault) and stops at a
- * control character, so that the message stays on one line. */
+/* "what at byte offset N near "excerpt"" (cs_json_near). */
 static int syntax_error(const char *what, const char *s, size_t len, size_t at)
 {
-	size_t from = at, to = at;
-	while (from > 0 && at - from < 10 && (unsigned char)s[from - 1] >= 0x20)
-		from--;
-	while (to < len && to - at < 20 && (unsigned char)s[to] >= 0x20)
-		to++;
+	size_t from, to;
+	cs_json_near(s, len, at, &from, &to);
 	return cs_error(CS_EDATA, "%s at byte offset %zu near \"%.*s\"%s", what,
 			at, (int)(to - from), s + from,
 			at + 1 >= len ? " (end of input)" : "");
