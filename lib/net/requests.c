@@ -1,8 +1,8 @@
-/* The request side of mbfetch (see mbfetch.h): the built-in sites, the
- * options' defaults and checks, the API key's sources, the URL. */
-#include "apps/mbfetch_run.h"
+/* The request side of a provider fetch (see requests.h). */
+#include "net/requests.h"
 
 #include "core/err.h"
+#include "net/http.h"
 
 #include <errno.h>
 #include <fcntl.h>
@@ -50,26 +50,6 @@ const struct cs_site *cs_site_find(const char *name)
 const char *cs_mbfetch_provider_name(enum cs_provider p)
 {
 	return p == CS_PROVIDER_METEOBLUE ? "meteoblue" : "open-meteo";
-}
-
-void cs_mbfetch_defaults(struct cs_mbfetch_opts *o)
-{
-	memset(o, 0, sizeof *o);
-	const struct cs_site *bern = cs_site_find("Bern");
-	o->provider = CS_PROVIDER_METEOBLUE;
-	o->lat_deg = bern->lat_deg;
-	o->lon_deg = bern->lon_deg;
-	o->asl_m = bern->alt_m;
-	o->name = bern->name;
-	o->days = -1;
-	o->output = "-";
-	o->connect_timeout_s = 10.0;
-	o->timeout_s = 60.0;
-	o->retries = 3;
-	o->retry_delay_s = 1.0;
-	o->retry_max_wait_s = 120.0;
-	o->max_bytes = (size_t)16 << 20;
-	o->cache_max_age_s = 3600.0;
 }
 
 /* ---- the key ---- */
@@ -192,7 +172,7 @@ static int check_base(const char *base)
 	return CS_OK;
 }
 
-int cs_mbfetch_url(const struct cs_mbfetch_opts *o, const char *key, char *url,
+int cs_request_url(const struct cs_request *o, const char *key, char *url,
 		   size_t size)
 {
 	int mb = o->provider == CS_PROVIDER_METEOBLUE;
@@ -250,7 +230,7 @@ int cs_mbfetch_url(const struct cs_mbfetch_opts *o, const char *key, char *url,
 	return rc;
 }
 
-int cs_mbfetch_check_opts(const struct cs_mbfetch_opts *o)
+int cs_request_check(const struct cs_request *o)
 {
 	int mb = o->provider == CS_PROVIDER_METEOBLUE;
 	if (!(o->lat_deg >= -90.0 && o->lat_deg <= 90.0) ||
@@ -267,13 +247,6 @@ int cs_mbfetch_check_opts(const struct cs_mbfetch_opts *o)
 				cs_mbfetch_provider_name(o->provider));
 	if (o->days == 0 && o->history_days == 0)
 		return cs_error(CS_EINVAL, "--days 0 needs --history-days: nothing to fetch");
-	if (!(o->connect_timeout_s > 0.0) || !(o->timeout_s > 0.0) ||
-	    o->retries < 0 || !(o->retry_delay_s >= 0.0) ||
-	    !(o->retry_max_wait_s >= 0.0) || o->max_bytes == 0)
-		return cs_error(CS_EINVAL, "timeouts and the size cap must be above 0, "
-				"retries and waits at least 0");
-	if (o->output == NULL || o->output[0] == '\0')
-		return cs_error(CS_EINVAL, "no output file");
 	if (o->base_url)
 		return check_base(o->base_url);
 	return CS_OK;
