@@ -191,7 +191,8 @@ int cs_cloudrender_run(struct cs_cloudrender_opts *o)
 	double lat = o->wx.site.lat_deg, lon = o->wx.site.lon_deg;
 	double alt = o->wx.site.alt_m + 2.0, az = 160.0, el = 8.0, fov = 70.0;
 	if (view) {
-		lat = view->lat_deg, lon = view->lon_deg, alt = view->alt_m;
+		lat = view->place->lat_deg, lon = view->place->lon_deg;
+		alt = cs_view_alt_m(view);
 		az = view->azimuth_deg, el = view->elevation_deg, fov = view->fov_deg;
 	}
 	if (o->have_camera)

@@ -51,7 +51,7 @@ static void say(const struct cs_mbfetch_opts *o, const char *secret, int level,
 void cs_mbfetch_defaults(struct cs_mbfetch_opts *o)
 {
 	memset(o, 0, sizeof *o);
-	const struct cs_site *bern = cs_site_find("Bern");
+	const struct cs_place *bern = cs_place_find("Bern");
 	o->provider = CS_PROVIDER_METEOBLUE;
 	o->lat_deg = bern->lat_deg;
 	o->lon_deg = bern->lon_deg;

@@ -9,6 +9,7 @@
 #include "net/http.h"
 #include "net/requests.h"
 #include "net/verdict.h"
+#include "weather/places.h"
 #include "weather/provider.h"
 
 #include <stddef.h>

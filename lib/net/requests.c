@@ -22,31 +22,6 @@
 	"precipitation,showers,wind_speed_10m,wind_direction_10m,visibility," \
 	"relative_humidity_2m,temperature_2m,is_day"
 
-/* WGS84; heights above sea level of the named point (summits for hills). */
-static const struct cs_site sites[] = {
-	{"Bern", 46.94798, 7.44743, 540.0, "old town (Zytglogge)"},
-	{"Solothurn", 47.20791, 7.53714, 432.0, "old town, 30 km north of Bern"},
-	{"Fribourg", 46.80683, 7.16197, 610.0, "old town, 27 km south-west of Bern"},
-	{"Gurten", 46.91722, 7.44361, 858.0, "Bern's hill, summit"},
-	{"Bantiger", 46.97917, 7.52916, 947.0, "hill north-east of Bern, summit"},
-	{"Chasseral", 47.13317, 7.05936, 1607.0, "Jura summit, 40 km north-west of Bern"},
-	{"Niesen", 46.64533, 7.65128, 2362.0, "Alpine foothill summit, 35 km south of Bern"},
-};
-
-const struct cs_site *cs_sites(int *count)
-{
-	*count = (int)(sizeof sites / sizeof sites[0]);
-	return sites;
-}
-
-const struct cs_site *cs_site_find(const char *name)
-{
-	for (size_t i = 0; i < sizeof sites / sizeof sites[0]; i++)
-		if (strcasecmp(sites[i].name, name) == 0)
-			return &sites[i];
-	return NULL;
-}
-
 const char *cs_mbfetch_provider_name(enum cs_provider p)
 {
 	return p == CS_PROVIDER_METEOBLUE ? "meteoblue" : "open-meteo";

@@ -1,5 +1,4 @@
-/* requests.h - the request side of a provider fetch: the built-in sites,
- * the API key's sources, a request's checks and its URL.  The answer side
+/* requests.h - the request side of a provider fetch: the API key's sources, a request's checks and its URL.  The answer side
  * is verdict.h; retrying and writing are the program's (apps/mbfetch_run.h). */
 #ifndef CS_REQUESTS_H
 #define CS_REQUESTS_H
@@ -7,18 +6,6 @@
 #include "weather/provider.h"
 
 #include <stddef.h>
-
-/* A named place: WGS84 degrees, metres above sea level. */
-struct cs_site {
-	const char *name;
-	double lat_deg, lon_deg, alt_m;
-	const char *description;
-};
-
-/* The built-in sites (Bern and the places seen from its hills). */
-const struct cs_site *cs_sites(int *count);
-/* The site of that name (case-insensitive), or NULL. */
-const struct cs_site *cs_site_find(const char *name);
 
 /* "meteoblue" or "open-meteo". */
 const char *cs_mbfetch_provider_name(enum cs_provider p);
