@@ -64,7 +64,7 @@ static void list_views(void)
 	const struct cs_view *v = cs_views(&n);
 	for (int i = 0; i < n; i++)
 		printf("%-10s %9.5f %9.5f %6.0f m  look %5.1f,%4.1f deg  fov %2.0f  %s\n",
-		       v[i].name, v[i].lat_deg, v[i].lon_deg, v[i].alt_m,
+		       v[i].name, v[i].place->lat_deg, v[i].place->lon_deg, cs_view_alt_m(&v[i]),
 		       v[i].azimuth_deg, v[i].elevation_deg, v[i].fov_deg,
 		       v[i].description);
 }

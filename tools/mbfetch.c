@@ -86,7 +86,7 @@ static int exit_status(int rc)
 static void list_sites(void)
 {
 	int n;
-	const struct cs_site *s = cs_sites(&n);
+	const struct cs_place *s = cs_places(&n);
 	for (int i = 0; i < n; i++)
 		printf("%-10s %9.5f %9.5f %5.0f m  %s\n", s[i].name, s[i].lat_deg,
 		       s[i].lon_deg, s[i].alt_m, s[i].description);
@@ -216,7 +216,7 @@ int main(int argc, char **argv)
 						optarg);
 			break;
 		case OPT_SITE:
-			if (cs_site_find(optarg) == NULL)
+			if (cs_place_find(optarg) == NULL)
 				cli_usage_error("--site: unknown site '%s' (see --list-sites)",
 						optarg);
 			site = optarg;
@@ -282,7 +282,7 @@ int main(int argc, char **argv)
 	if (isnan(lat) != isnan(lon))
 		cli_usage_error("--lat and --lon go together");
 	if (site) {
-		const struct cs_site *s = cs_site_find(site);
+		const struct cs_place *s = cs_place_find(site);
 		o.lat_deg = s->lat_deg;
 		o.lon_deg = s->lon_deg;
 		o.asl_m = s->alt_m;

@@ -1,6 +1,7 @@
 #include "apps/cloudrender_run.h"
 
 #include "core/err.h"
+#include "core/geo.h"
 #include "io/exr.h"
 #include "io/image.h"
 #include "terrain/heightfield.h"
@@ -80,15 +81,6 @@ static int write_outputs(struct cs_cloudrender_opts *o, const float *px)
 	}
 	free(rgb);
 	return rc;
-}
-
-/* Distance on the sphere between two places, km (haversine). */
-static double great_circle_km(double lat1, double lon1, double lat2, double lon2)
-{
-	double k = CS_PI / 180.0;
-	double a = sin((lat2 - lat1) * k / 2), b = sin((lon2 - lon1) * k / 2);
-	double h = a * a + cos(lat1 * k) * cos(lat2 * k) * b * b;
-	return 2.0 * CS_EARTH_RADIUS_M / 1000.0 * asin(sqrt(h < 1.0 ? h : 1.0));
 }
 
 /* Places the heightfield: three corners' geographic positions on the
@@ -199,7 +191,8 @@ int cs_cloudrender_run(struct cs_cloudrender_opts *o)
 	double lat = o->wx.site.lat_deg, lon = o->wx.site.lon_deg;
 	double alt = o->wx.site.alt_m + 2.0, az = 160.0, el = 8.0, fov = 70.0;
 	if (view) {
-		lat = view->lat_deg, lon = view->lon_deg, alt = view->alt_m;
+		lat = view->place->lat_deg, lon = view->place->lon_deg;
+		alt = cs_view_alt_m(view);
 		az = view->azimuth_deg, el = view->elevation_deg, fov = view->fov_deg;
 	}
 	if (o->have_camera)
@@ -229,9 +222,10 @@ int cs_cloudrender_run(struct cs_cloudrender_opts *o)
 	rc = cs_camera_init(&cam, sc, pos, o->wx.site.lat_deg, az, el, fov, o->width, o->height);
 	if (rc != CS_OK)
 		goto done;
-	o->camera_site_km = great_circle_km(lat, lon, o->wx.site.lat_deg, o->wx.site.lon_deg);
-	o->camera_terrain_km = have_terrain ? great_circle_km(lat, lon, terrain.center_lat,
-							      terrain.center_lon)
+	o->camera_site_km = cs_great_circle_m(lat, lon, o->wx.site.lat_deg,
+					      o->wx.site.lon_deg) / 1000.0;
+	o->camera_terrain_km = have_terrain ? cs_great_circle_m(lat, lon, terrain.center_lat,
+								terrain.center_lon) / 1000.0
 					    : -1.0;
 	struct cs_sun sun;
 	if (cs_sun_position(o->wx.time_utc, o->wx.site.lat_deg, o->wx.site.lon_deg, &sun) == CS_OK) {

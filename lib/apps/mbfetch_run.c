@@ -1,12 +1,10 @@
-/* The fetching side of mbfetch (see mbfetch.h): judging answers, retrying,
- * validating, the cache, writing. */
+/* The mbfetch program (see mbfetch_run.h): options, retrying, the cache,
+ * writing; judging and validating answers are net/verdict.h's. */
 #include "apps/mbfetch_run.h"
 
 #include "core/err.h"
 #include "core/fileio.h"
-#include "core/time.h"
 
-#include <cjson/cJSON.h>
 #include <errno.h>
 #include <math.h>
 #include <stdarg.h>
@@ -14,7 +12,6 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <strings.h>
 #include <sys/stat.h>
 #include <time.h>
 #include <unistd.h>
@@ -33,19 +30,6 @@ static void vredacted(char *buf, size_t size, const char *secret, const char *fm
 	cs_redact(buf, size, secret);
 }
 
-/* Records a message with the secret redacted; returns code. */
-static int fail(int code, const char *secret, const char *fmt, ...)
-	__attribute__((format(printf, 3, 4)));
-static int fail(int code, const char *secret, const char *fmt, ...)
-{
-	char buf[1024];
-	va_list ap;
-	va_start(ap, fmt);
-	vredacted(buf, sizeof buf, secret, fmt, ap);
-	va_end(ap);
-	return cs_error(code, "%s", buf);
-}
-
 /* Tells the caller's log, with the secret redacted. */
 static void say(const struct cs_mbfetch_opts *o, const char *secret, int level,
 		const char *fmt, ...) __attribute__((format(printf, 4, 5)));
@@ -62,239 +46,63 @@ static void say(const struct cs_mbfetch_opts *o, const char *secret, int level,
 	o->log(o->log_user, level, buf);
 }
 
-/* ---- judging an answer ---- */
+/* ---- options ---- */
 
-static int ci_contains(const char *s, const char *sub)
+void cs_mbfetch_defaults(struct cs_mbfetch_opts *o)
 {
-	size_t n = strlen(sub);
-	for (; *s; s++)
-		if (strncasecmp(s, sub, n) == 0)
-			return 1;
-	return 0;
+	memset(o, 0, sizeof *o);
+	const struct cs_place *bern = cs_place_find("Bern");
+	o->provider = CS_PROVIDER_METEOBLUE;
+	o->lat_deg = bern->lat_deg;
+	o->lon_deg = bern->lon_deg;
+	o->asl_m = bern->alt_m;
+	o->name = bern->name;
+	o->days = -1;
+	o->output = "-";
+	o->connect_timeout_s = 10.0;
+	o->timeout_s = 60.0;
+	o->retries = 3;
+	o->retry_delay_s = 1.0;
+	o->retry_max_wait_s = 120.0;
+	o->max_bytes = (size_t)16 << 20;
+	o->cache_max_age_s = 3600.0;
 }
 
-/* The provider's own error text in a JSON body, as a sanitised excerpt. */
-static int provider_error_text(const char *body, size_t len, const char *secret,
-			       char *out, size_t size)
+/* The request part of the options. */
+static struct cs_request request_of(const struct cs_mbfetch_opts *o)
 {
-	cJSON *j = cJSON_ParseWithLength(body, len);
-	if (!cJSON_IsObject(j)) {
-		cJSON_Delete(j);
-		return 0;
-	}
-	const cJSON *m = cJSON_GetObjectItemCaseSensitive(j, "error_message");
-	const cJSON *e = cJSON_GetObjectItemCaseSensitive(j, "error");
-	const cJSON *r = cJSON_GetObjectItemCaseSensitive(j, "reason");
-	const char *text = cJSON_IsString(m) ? m->valuestring
-			 : cJSON_IsTrue(e) && cJSON_IsString(r) ? r->valuestring
-			 : cJSON_IsString(e) ? e->valuestring
-			 : cJSON_IsTrue(e) ? "(no reason given)" : NULL;
-	if (text)
-		cs_fetch_excerpt(text, strlen(text), secret, 400, out, size);
-	cJSON_Delete(j);
-	return text != NULL;
+	struct cs_request r = {
+		.provider = o->provider, .lat_deg = o->lat_deg, .lon_deg = o->lon_deg,
+		.asl_m = o->asl_m, .name = o->name, .days = o->days,
+		.history_days = o->history_days, .base_url = o->base_url,
+	};
+	return r;
 }
 
-static const char *status_text(long s)
+int cs_mbfetch_url(const struct cs_mbfetch_opts *o, const char *key, char *url,
+		   size_t size)
 {
-	switch (s) {
-	case 400: return " Bad Request";
-	case 401: return " Unauthorized";
-	case 403: return " Forbidden";
-	case 404: return " Not Found";
-	case 408: return " Request Timeout";
-	case 429: return " Too Many Requests";
-	case 500: return " Internal Server Error";
-	case 502: return " Bad Gateway";
-	case 503: return " Service Unavailable";
-	case 504: return " Gateway Timeout";
-	default: return "";
-	}
+	struct cs_request r = request_of(o);
+	return cs_request_url(&r, key, url, size);
 }
 
-static void judge_transfer(const struct cs_fetch_resp *r, struct cs_verdict *v)
+int cs_mbfetch_check_opts(const struct cs_mbfetch_opts *o)
 {
-	switch (r->fail) {
-	case CS_FETCH_TIMEOUT:
-	case CS_FETCH_CONNECT:
-		v->code = CS_ENET;
-		v->retry = 1;
-		snprintf(v->msg, sizeof v->msg, "network error: %s", r->error);
-		break;
-	case CS_FETCH_TOO_BIG:
-		v->code = CS_EDATA;
-		snprintf(v->msg, sizeof v->msg, "%s", r->error);
-		break;
-	case CS_FETCH_TLS:
-		v->code = CS_ENET;
-		snprintf(v->msg, sizeof v->msg, "TLS error: %s", r->error);
-		break;
-	default:
-		v->code = CS_ENET;
-		snprintf(v->msg, sizeof v->msg, "cannot fetch: %s", r->error);
-		break;
-	}
-}
-
-void cs_mbfetch_judge(enum cs_provider p, const struct cs_fetch_resp *r,
-		      const char *secret, struct cs_verdict *v)
-{
-	memset(v, 0, sizeof *v);
-	v->wait_s = -1.0;
-	if (r->fail != CS_FETCH_OK) {
-		judge_transfer(r, v);
-		cs_redact(v->msg, sizeof v->msg, secret);
-		return;
-	}
-	char text[600];
-	int perr = provider_error_text(r->body, r->len, secret, text, sizeof text);
-	if (!perr && r->len == 0)
-		snprintf(text, sizeof text, "(empty body)");
-	else if (!perr)
-		cs_fetch_excerpt(r->body, r->len, secret, 300, text, sizeof text);
-	long s = r->status;
-	const char *what, *note = "";
-	if (s >= 200 && s < 300) {
-		if (!perr)
-			return; /* a body to validate */
-		v->code = ci_contains(text, "api key") || ci_contains(text, "apikey") ||
-			  ci_contains(text, "authori") ? CS_EAUTH
-			: ci_contains(text, "limit") ? CS_ERATE : CS_EREQUEST;
-	} else if (s == 401 || s == 403) {
-		v->code = CS_EAUTH;
-	} else if (s == 429) {
-		v->code = CS_ERATE;
-		v->retry = 1;
-		if (ci_contains(text, "daily")) {
-			v->retry = 0;
-			note = " (not retried: the daily limit resets at 00:00 UTC)";
-		} else if (ci_contains(text, "hourly")) {
-			v->retry = 0;
-			note = " (not retried: the hourly limit resets at the full hour)";
-		} else if (p == CS_PROVIDER_OPENMETEO && ci_contains(text, "minutely")) {
-			v->wait_s = 60.0; /* Open-Meteo's counters reset each minute */
-		}
-	} else if (s == 408 || s >= 500) {
-		v->code = CS_ENET;
-		v->retry = 1;
-	} else if (s >= 400) {
-		v->code = ci_contains(text, "api key") || ci_contains(text, "apikey")
-			? CS_EAUTH : CS_EREQUEST;
-	} else {
-		v->code = CS_EREQUEST;
-		note = " (unexpected status)";
-	}
-	/* a Retry-After the server sends wins over our guesses */
-	if (r->retry_after_s >= 0.0 && (s == 429 || s == 503)) {
-		v->retry = 1;
-		v->wait_s = r->retry_after_s;
-	}
-	switch (v->code) {
-	case CS_EAUTH: what = "authentication failed"; break;
-	case CS_ERATE: what = "rate limit exceeded"; break;
-	case CS_ENET: what = s == 408 ? "server timeout" : "server error"; break;
-	default: what = "request rejected"; break;
-	}
-	snprintf(v->msg, sizeof v->msg, "%s (%s, HTTP %ld%s): %s%s", what,
-		 cs_mbfetch_provider_name(p), s, status_text(s), text, note);
-	cs_redact(v->msg, sizeof v->msg, secret);
-}
-
-/* ---- validation ---- */
-
-/* 1 when JSON text stops inside a string or with brackets still open: the
- * mark of a cut transfer, whatever the parser stumbled on first. */
-static int json_cut_short(const char *s, size_t len)
-{
-	int depth = 0, in_str = 0;
-	for (size_t i = 0; i < len; i++) {
-		char c = s[i];
-		if (in_str) {
-			if (c == '\\')
-				i++;
-			else if (c == '"')
-				in_str = 0;
-		} else if (c == '"') {
-			in_str = 1;
-		} else if (c == '{' || c == '[') {
-			depth++;
-		} else if (c == '}' || c == ']') {
-			depth--;
-		}
-	}
-	return in_str || depth > 0;
-}
-
-int cs_mbfetch_validate(int expect, const char *body, size_t len,
-			const char *content_type, const char *secret,
-			struct cs_problems *pr)
-{
-	memset(pr, 0, sizeof *pr);
-	if (len == 0)
-		return cs_error(CS_EDATA, "the response is empty");
-	char ex[400];
-	const char *end = NULL;
-	cJSON *j = cJSON_ParseWithLengthOpts(body, len, &end, 0);
-	if (j == NULL) {
-		if (cs_fetch_is_html(body, len, content_type)) {
-			cs_fetch_excerpt(body, len, secret, 200, ex, sizeof ex);
-			return fail(CS_EDATA, secret, "the response is HTML, not JSON: %s", ex);
-		}
-		cs_fetch_excerpt(body, len, secret, 100, ex, sizeof ex);
-		if (json_cut_short(body, len))
-			return fail(CS_EDATA, secret, "the response is not valid JSON (it "
-				    "ends early, at byte %zu): %s", len, ex);
-		size_t at = end && end >= body && end <= body + len ? (size_t)(end - body) : 0;
-		return fail(CS_EDATA, secret, "the response is not valid JSON (error "
-			    "at byte %zu of %zu): %s", at, len, ex);
-	}
-	cJSON_Delete(j);
-	enum cs_provider got;
-	if (expect >= 0 && cs_provider_detect(body, len, &got) == CS_OK &&
-	    (int)got != expect)
-		return cs_error(CS_EDATA, "expected %s data, got %s data",
-				cs_mbfetch_provider_name((enum cs_provider)expect),
-				cs_mbfetch_provider_name(got));
-	if (cs_provider_check(body, len, pr) == CS_OK)
-		return CS_OK;
-	int kept = pr->count < 32 ? pr->count : 32;
-	for (int i = 0; i < kept; i++)
-		cs_redact(pr->msg[i], sizeof pr->msg[i], secret);
-	if (kept == 0)
-		return fail(CS_EDATA, secret, "invalid data: %s", cs_errmsg());
-	return cs_error(CS_EDATA, "invalid data: %d problem%s", pr->count,
-			pr->count == 1 ? "" : "s");
-}
-
-int cs_mbfetch_check(const char *path, size_t max_bytes, struct cs_problems *pr,
-		     char *summary, size_t size)
-{
-	memset(pr, 0, sizeof *pr);
-	summary[0] = '\0';
-	unsigned char *data = NULL;
-	size_t len = 0;
-	int rc = cs_read_all(path, max_bytes, &data, &len);
+	/* the base URL last, as the message order has always been */
+	struct cs_request r = request_of(o);
+	r.base_url = NULL;
+	int rc = cs_request_check(&r);
 	if (rc != CS_OK)
-		return rc == CS_EDATA ? rc : CS_EIO;
-	rc = cs_mbfetch_validate(-1, (const char *)data, len, NULL, NULL, pr);
-	if (rc == CS_OK) {
-		struct cs_series s;
-		if (cs_provider_parse((const char *)data, len, path, &s) == CS_OK) {
-			char t0[32] = "", t1[32] = "";
-			if (s.n > 0) {
-				cs_time_format(s.time_utc[0], t0, sizeof t0);
-				cs_time_format(s.time_utc[s.n - 1], t1, sizeof t1);
-			}
-			snprintf(summary, size, "%s, %d hour%s, %s to %s",
-				 cs_mbfetch_provider_name(s.provider), s.n, s.n == 1 ? "" : "s",
-				 t0, t1);
-			cs_series_free(&s);
-		} else {
-			rc = CS_EDATA;
-		}
-	}
-	free(data);
-	return rc;
+		return rc;
+	if (!(o->connect_timeout_s > 0.0) || !(o->timeout_s > 0.0) ||
+	    o->retries < 0 || !(o->retry_delay_s >= 0.0) ||
+	    !(o->retry_max_wait_s >= 0.0) || o->max_bytes == 0)
+		return cs_error(CS_EINVAL, "timeouts and the size cap must be above 0, "
+				"retries and waits at least 0");
+	if (o->output == NULL || o->output[0] == '\0')
+		return cs_error(CS_EINVAL, "no output file");
+	r.base_url = o->base_url;
+	return cs_request_check(&r);
 }
 
 /* ---- cache ---- */
@@ -310,35 +118,6 @@ static int cache_path(const struct cs_mbfetch_opts *o, char *path, size_t size)
 	int n = snprintf(path, size, "%s/%s-%016llx.json", o->cache_dir,
 			 cs_mbfetch_provider_name(o->provider), (unsigned long long)h);
 	return n < 0 || (size_t)n >= size ? -1 : 0;
-}
-
-static int write_all(int fd, const char *p, size_t n)
-{
-	while (n > 0) {
-		ssize_t w = write(fd, p, n);
-		if (w < 0 && errno == EINTR)
-			continue;
-		if (w < 0)
-			return -1;
-		p += w;
-		n -= (size_t)w;
-	}
-	return 0;
-}
-
-static int store(const char *path, const char *data, size_t len)
-{
-	struct cs_outfile of;
-	int rc = cs_outfile_open(&of, path);
-	if (rc != CS_OK)
-		return rc;
-	if (write_all(of.fd, data, len) < 0) {
-		rc = cs_error(CS_EIO, "cannot write %s: %s", strcmp(path, "-") ? path
-			      : "standard output", strerror(errno));
-		cs_outfile_abort(&of);
-		return rc;
-	}
-	return cs_outfile_commit(&of);
 }
 
 /* A fresh, valid cached response into *data, or nothing. */
@@ -437,16 +216,16 @@ static int fetch_loop(struct cs_mbfetch_opts *o, const char *url, const char *ke
 		if (a > 1)
 			snprintf(tail, sizeof tail, "; gave up after %d attempts", a);
 		if (v.code == CS_EAUTH && key_source)
-			return fail(v.code, key, "%s%s; the key came from %s", v.msg,
+			return cs_error_redacted(v.code, key, "%s%s; the key came from %s", v.msg,
 				    tail, key_source);
 		if (!v.retry || a >= total)
-			return fail(v.code, key, "%s%s", v.msg, tail);
+			return cs_error_redacted(v.code, key, "%s%s", v.msg, tail);
 		double wait = o->retry_delay_s * ldexp(1.0, a - 1);
 		if (wait > o->retry_max_wait_s)
 			wait = o->retry_max_wait_s;
 		if (v.wait_s > wait) {
 			if (v.wait_s > o->retry_max_wait_s)
-				return fail(v.code, key, "%s%s; the server asks to wait "
+				return cs_error_redacted(v.code, key, "%s%s; the server asks to wait "
 					    "%.0f s, longer than --retry-max-wait %g s",
 					    v.msg, tail, v.wait_s, o->retry_max_wait_s);
 			wait = v.wait_s;
@@ -486,12 +265,12 @@ static int output_writable(const char *path)
 static int finish(struct cs_mbfetch_opts *o, const char *data, size_t len,
 		  const char *cpath)
 {
-	int rc = store(o->output, data, len);
+	int rc = cs_write_file(o->output, data, len);
 	if (rc == CS_OK && cpath && !o->from_cache) {
 		if (mkdir(o->cache_dir, 0700) < 0 && errno != EEXIST)
 			say(o, NULL, CS_LOG_WARN, "cannot create the cache %s: %s",
 			    o->cache_dir, strerror(errno));
-		else if (store(cpath, data, len) != CS_OK)
+		else if (cs_write_file(cpath, data, len) != CS_OK)
 			say(o, NULL, CS_LOG_WARN, "cannot cache: %s", cs_errmsg());
 	}
 	return rc;
@@ -551,7 +330,7 @@ int cs_mbfetch_run(struct cs_mbfetch_opts *o)
 	if (rc != CS_OK) {
 		char why[1024];
 		snprintf(why, sizeof why, "%s", cs_errmsg());
-		rc = fail(rc, secret, "%s (HTTP %ld, %zu bytes): %s",
+		rc = cs_error_redacted(rc, secret, "%s (HTTP %ld, %zu bytes): %s",
 			  cs_mbfetch_provider_name(o->provider), resp.status, resp.len, why);
 		cs_fetch_resp_free(&resp);
 		return rc;

@@ -1,4 +1,4 @@
-/* mbfetch.h - the mbfetch program as a library call: fetch a site's hourly
+/* mbfetch_run.h - the mbfetch program as a library call: fetch a site's hourly
  * forecast from meteoblue's Packages API (basic-1h_clouds-1h) or Open-Meteo,
  * retrying as the provider asks, validate it (provider.h), and write it
  * atomically; an opt-in cache.  The API key never leaves this module except
@@ -7,27 +7,12 @@
 #define CS_MBFETCH_H
 
 #include "net/http.h"
+#include "net/requests.h"
+#include "net/verdict.h"
+#include "weather/places.h"
 #include "weather/provider.h"
 
 #include <stddef.h>
-
-/* A named place: WGS84 degrees, metres above sea level. */
-struct cs_site {
-	const char *name;
-	double lat_deg, lon_deg, alt_m;
-	const char *description;
-};
-
-/* The built-in sites (Bern and the places seen from its hills). */
-const struct cs_site *cs_sites(int *count);
-/* The site of that name (case-insensitive), or NULL. */
-const struct cs_site *cs_site_find(const char *name);
-
-/* "meteoblue" or "open-meteo". */
-const char *cs_mbfetch_provider_name(enum cs_provider p);
-
-/* The longest API key accepted. */
-#define CS_MBFETCH_KEY_MAX 256
 
 enum { CS_LOG_WARN, CS_LOG_INFO };
 /* A line for the user (no program name, no newline; key redacted). */
@@ -75,43 +60,9 @@ int cs_mbfetch_check_opts(const struct cs_mbfetch_opts *o);
  * existing output is replaced only by a valid response. */
 int cs_mbfetch_run(struct cs_mbfetch_opts *o);
 
-/* Validates a provider file ("-": standard input) of at most max_bytes.
- * Returns 0 with a one-line summary ("meteoblue, 25 hours, FROM to TO"),
- * CS_EDATA with the problems in *pr (or in cs_errmsg() when pr->count is
- * 0), or CS_EIO. */
-int cs_mbfetch_check(const char *path, size_t max_bytes, struct cs_problems *pr,
-		     char *summary, size_t size);
-
-/* Validates a response body: JSON at all (an excerpt of what it is
- * instead), the expected provider (expect < 0: any), then
- * cs_provider_check.  Problems and message have secret redacted. */
-int cs_mbfetch_validate(int expect, const char *body, size_t len,
-			const char *content_type, const char *secret,
-			struct cs_problems *pr);
-
-/* The API key: from key_file if given, else $MBFETCH_APIKEY, else
- * $XDG_CONFIG_HOME/cloudscape/meteoblue.key (~/.config/...).  A key file
- * must be a regular file not accessible by group or others.  source gets
- * where the key came from, for messages.  CS_EAUTH on any failure. */
-int cs_mbfetch_key(const char *key_file, char *key, size_t size, char *source,
-		   size_t ssize);
-
-/* The request URL; key NULL leaves the apikey parameter out. */
+/* The request URL of the options (cs_request_url); key NULL leaves the
+ * apikey parameter out. */
 int cs_mbfetch_url(const struct cs_mbfetch_opts *o, const char *key, char *url,
 		   size_t size);
-
-/* What to make of one attempt. */
-struct cs_verdict {
-	int code;        /* 0: a body to validate; else a CS_E* code */
-	int retry;       /* worth another attempt */
-	double wait_s;   /* the least wait the server asks for, or -1 */
-	char msg[1024];  /* why, for the user (secret redacted) */
-};
-
-/* Judges a response (or a failed transfer): HTTP status, provider error
- * bodies ({"error_message":...}, {"error":true,"reason":...}, HTML), the
- * provider's meaning of 429 and Retry-After. */
-void cs_mbfetch_judge(enum cs_provider p, const struct cs_fetch_resp *r,
-		      const char *secret, struct cs_verdict *v);
 
 #endif

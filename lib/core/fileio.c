@@ -10,7 +10,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
-static int write_full(int fd, const void *buf, size_t n)
+int cs_write_all(int fd, const void *buf, size_t n)
 {
 	const char *p = buf;
 	while (n > 0) {
@@ -77,11 +77,23 @@ int cs_outfile_open(struct cs_outfile *of, const char *dst)
 
 int cs_outfile_write(struct cs_outfile *of, const void *buf, size_t n)
 {
-	if (write_full(of->fd, buf, n) < 0)
+	if (cs_write_all(of->fd, buf, n) < 0)
 		return cs_error(CS_EIO, "cannot write %s: %s",
 				of->to_stdout ? "standard output" : of->dst_path,
 				strerror(errno));
 	return CS_OK;
+}
+
+int cs_write_file(const char *path, const void *buf, size_t n)
+{
+	struct cs_outfile of;
+	int rc = cs_outfile_open(&of, path);
+	if (rc == CS_OK)
+		rc = cs_outfile_write(&of, buf, n);
+	if (rc == CS_OK)
+		return cs_outfile_commit(&of);
+	cs_outfile_abort(&of);
+	return rc;
 }
 
 /* Copies the finished temporary to standard output or to the stream
@@ -105,7 +117,7 @@ static int copy_out(struct cs_outfile *of)
 				      strerror(errno));
 		else if (r == 0)
 			break;
-		else if (write_full(out, buf, (size_t)r) < 0)
+		else if (cs_write_all(out, buf, (size_t)r) < 0)
 			rc = cs_error(CS_EIO, "cannot write %s: %s", name,
 				      strerror(errno));
 	}

@@ -34,6 +34,14 @@ int cs_outfile_commit(struct cs_outfile *of);
  * after commit. */
 void cs_outfile_abort(struct cs_outfile *of);
 
+/* Writes n bytes to path ("-": standard output) whole or not at all:
+ * cs_outfile_open, _write, _commit, and _abort on a failure. */
+int cs_write_file(const char *path, const void *buf, size_t n);
+
+/* Writes all n bytes to fd, retrying interrupted and short writes.
+ * Returns 0, or -1 with errno set (no message: the caller names the file). */
+int cs_write_all(int fd, const void *buf, size_t n);
+
 /* Reads a whole file ("-" = standard input) into a new buffer the caller
  * frees.  Fails with CS_EDATA if it is larger than max_bytes. */
 int cs_read_all(const char *path, size_t max_bytes, unsigned char **data,

@@ -3,6 +3,7 @@
 #include "core/err.h"
 
 #include <ctype.h>
+#include <errno.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -128,4 +129,23 @@ void cs_time_format(double unix_s, char *buf, size_t size)
 double cs_julian_day(double unix_s)
 {
 	return unix_s / 86400.0 + 2440587.5;
+}
+
+int cs_duration_parse(const char *s, double *seconds)
+{
+	char *end;
+	errno = 0;
+	double v = strtod(s, &end);
+	double unit = 1;
+	if (end != s && end[0] != '\0' && end[1] == '\0')
+		unit = end[0] == 's' ? 1 : end[0] == 'm' ? 60 : end[0] == 'h' ?
+		       3600 : end[0] == 'd' ? 86400 : 0;
+	else if (end == s || end[0] != '\0')
+		unit = 0;
+	if (unit == 0 || s[0] == '-' || s[0] == '+' || errno == ERANGE ||
+	    !(v * unit > 0) || !isfinite(v * unit))
+		return cs_error(CS_EINVAL, "'%s' is not a duration (a positive "
+				"number with s, m, h or d, e.g. 10m)", s);
+	*seconds = v * unit;
+	return CS_OK;
 }

@@ -1,8 +1,8 @@
-/* The request side of mbfetch (see mbfetch.h): the built-in sites, the
- * options' defaults and checks, the API key's sources, the URL. */
-#include "apps/mbfetch_run.h"
+/* The request side of a provider fetch (see requests.h). */
+#include "net/requests.h"
 
 #include "core/err.h"
+#include "net/http.h"
 
 #include <errno.h>
 #include <fcntl.h>
@@ -22,54 +22,9 @@
 	"precipitation,showers,wind_speed_10m,wind_direction_10m,visibility," \
 	"relative_humidity_2m,temperature_2m,is_day"
 
-/* WGS84; heights above sea level of the named point (summits for hills). */
-static const struct cs_site sites[] = {
-	{"Bern", 46.94798, 7.44743, 540.0, "old town (Zytglogge)"},
-	{"Solothurn", 47.20791, 7.53714, 432.0, "old town, 30 km north of Bern"},
-	{"Fribourg", 46.80683, 7.16197, 610.0, "old town, 27 km south-west of Bern"},
-	{"Gurten", 46.91722, 7.44361, 858.0, "Bern's hill, summit"},
-	{"Bantiger", 46.97917, 7.52916, 947.0, "hill north-east of Bern, summit"},
-	{"Chasseral", 47.13317, 7.05936, 1607.0, "Jura summit, 40 km north-west of Bern"},
-	{"Niesen", 46.64533, 7.65128, 2362.0, "Alpine foothill summit, 35 km south of Bern"},
-};
-
-const struct cs_site *cs_sites(int *count)
-{
-	*count = (int)(sizeof sites / sizeof sites[0]);
-	return sites;
-}
-
-const struct cs_site *cs_site_find(const char *name)
-{
-	for (size_t i = 0; i < sizeof sites / sizeof sites[0]; i++)
-		if (strcasecmp(sites[i].name, name) == 0)
-			return &sites[i];
-	return NULL;
-}
-
 const char *cs_mbfetch_provider_name(enum cs_provider p)
 {
 	return p == CS_PROVIDER_METEOBLUE ? "meteoblue" : "open-meteo";
-}
-
-void cs_mbfetch_defaults(struct cs_mbfetch_opts *o)
-{
-	memset(o, 0, sizeof *o);
-	const struct cs_site *bern = cs_site_find("Bern");
-	o->provider = CS_PROVIDER_METEOBLUE;
-	o->lat_deg = bern->lat_deg;
-	o->lon_deg = bern->lon_deg;
-	o->asl_m = bern->alt_m;
-	o->name = bern->name;
-	o->days = -1;
-	o->output = "-";
-	o->connect_timeout_s = 10.0;
-	o->timeout_s = 60.0;
-	o->retries = 3;
-	o->retry_delay_s = 1.0;
-	o->retry_max_wait_s = 120.0;
-	o->max_bytes = (size_t)16 << 20;
-	o->cache_max_age_s = 3600.0;
 }
 
 /* ---- the key ---- */
@@ -192,7 +147,7 @@ static int check_base(const char *base)
 	return CS_OK;
 }
 
-int cs_mbfetch_url(const struct cs_mbfetch_opts *o, const char *key, char *url,
+int cs_request_url(const struct cs_request *o, const char *key, char *url,
 		   size_t size)
 {
 	int mb = o->provider == CS_PROVIDER_METEOBLUE;
@@ -250,7 +205,7 @@ int cs_mbfetch_url(const struct cs_mbfetch_opts *o, const char *key, char *url,
 	return rc;
 }
 
-int cs_mbfetch_check_opts(const struct cs_mbfetch_opts *o)
+int cs_request_check(const struct cs_request *o)
 {
 	int mb = o->provider == CS_PROVIDER_METEOBLUE;
 	if (!(o->lat_deg >= -90.0 && o->lat_deg <= 90.0) ||
@@ -267,13 +222,6 @@ int cs_mbfetch_check_opts(const struct cs_mbfetch_opts *o)
 				cs_mbfetch_provider_name(o->provider));
 	if (o->days == 0 && o->history_days == 0)
 		return cs_error(CS_EINVAL, "--days 0 needs --history-days: nothing to fetch");
-	if (!(o->connect_timeout_s > 0.0) || !(o->timeout_s > 0.0) ||
-	    o->retries < 0 || !(o->retry_delay_s >= 0.0) ||
-	    !(o->retry_max_wait_s >= 0.0) || o->max_bytes == 0)
-		return cs_error(CS_EINVAL, "timeouts and the size cap must be above 0, "
-				"retries and waits at least 0");
-	if (o->output == NULL || o->output[0] == '\0')
-		return cs_error(CS_EINVAL, "no output file");
 	if (o->base_url)
 		return check_base(o->base_url);
 	return CS_OK;

@@ -19,11 +19,11 @@
 #include "render/phase.h"
 #include "terrain/heightfield.h"
 #include "render/sky.h"
+#include "core/geo.h" /* CS_EARTH_RADIUS_M */
 #include "core/vec.h"
 
 #include <stdint.h>
 
-#define CS_EARTH_RADIUS_M 6371000.0
 #define CS_SCENE_MAX_LAYERS 24 /* near layers and those of the far sites */
 #define CS_SKY_DEPTH_M 1e10 /* Z of a ray that meets neither cloud nor ground */
 

@@ -7,27 +7,6 @@
 #include <math.h>
 #include <string.h>
 
-static const struct cs_view views[] = {
-	{"gurten", 46.91722, 7.44361, 883.0, 12.0, -1.0, 60.0,
-	 "Gurten summit (858 m), from its tower at 25 m, looking north over Bern toward Solothurn"},
-	{"bantiger", 46.97917, 7.52916, 972.0, 235.5, -1.0, 60.0,
-	 "Bantiger (947 m), from the tower's platform at 25 m, looking south-west over Bern toward Fribourg"},
-};
-
-const struct cs_view *cs_views(int *count)
-{
-	*count = (int)(sizeof views / sizeof views[0]);
-	return views;
-}
-
-const struct cs_view *cs_view_find(const char *name)
-{
-	for (size_t i = 0; i < sizeof views / sizeof views[0]; i++)
-		if (strcmp(views[i].name, name) == 0)
-			return &views[i];
-	return NULL;
-}
-
 cs_v3 cs_geo_to_world(double origin_lat_deg, double origin_lon_deg,
 		      double earth_radius_m, double lat_deg, double lon_deg,
 		      double alt_m)

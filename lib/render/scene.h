@@ -6,19 +6,8 @@
 
 #include "render/cloud.h"
 #include "render/render.h"
+#include "weather/places.h" /* the named viewpoints */
 #include "weather/wx.h"
-
-/* A named viewpoint. */
-struct cs_view {
-	const char *name;
-	double lat_deg, lon_deg, alt_m;  /* camera position (eye height included) */
-	double azimuth_deg, elevation_deg, fov_deg;
-	const char *description;
-};
-
-/* The built-in viewpoints, and the one with a name (NULL if none). */
-const struct cs_view *cs_views(int *count);
-const struct cs_view *cs_view_find(const char *name);
 
 /* World position (ENU at sea level under the origin, on the spherical Earth
  * of radius earth_radius_m) of a geographic point. */

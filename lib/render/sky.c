@@ -4,8 +4,7 @@
 
 #include <math.h>
 
-#define PI 3.14159265358979323846
-#define DEG (PI / 180.0)
+#define DEG (CS_PI / 180.0)
 #define LN10 2.30258509299404568402
 
 /* Sun angular radius (0.2666 deg) and limb darkening I(mu)/I(1) =
@@ -67,7 +66,7 @@ static void xyY_to_rgb(double x, double y, double Y, double rgb[3])
  * clamped to >= 0 (38 at the horizon). */
 static double air_mass(double elev)
 {
-	double z = PI / 2 - (elev > 0.0 ? elev : 0.0);
+	double z = CS_PI / 2 - (elev > 0.0 ? elev : 0.0);
 	return 1.0 / (cos(z) + 0.50572 * pow(96.07995 - z / DEG, -1.6364));
 }
 
@@ -121,7 +120,7 @@ static void zenith_values(double T, double ts, double out[3])
 	};
 	double tv[4] = {ts * ts * ts, ts * ts, ts, 1.0};
 	double Tv[3] = {T * T, T, 1.0};
-	double chi = (4.0 / 9.0 - T / 120.0) * (PI - 2.0 * ts);
+	double chi = (4.0 / 9.0 - T / 120.0) * (CS_PI - 2.0 * ts);
 	out[0] = (4.0453 * T - 4.9710) * tan(chi) - 0.2155 * T + 2.4192;
 	out[1] = out[2] = 0.0;
 	for (int i = 0; i < 3; i++)
@@ -138,7 +137,7 @@ static void zenith_values(double T, double ts, double out[3])
 static double disk_fraction(double elev)
 {
 	double u = clampd(elev / SUN_RADIUS, -1.0, 1.0);
-	double flat = (acos(-u) + u * sqrt(1.0 - u * u)) / PI;
+	double flat = (acos(-u) + u * sqrt(1.0 - u * u)) / CS_PI;
 	double mu = 0.5 + 0.75 * u - 0.25 * u * u * u;
 	return ((1.0 - LIMB_U) * flat + LIMB_U * (2.0 / 3.0) * mu) /
 	       (1.0 - LIMB_U / 3.0);
@@ -146,7 +145,7 @@ static double disk_fraction(double elev)
 
 static void init_sun(struct cs_sky *sky, double elev)
 {
-	double omega = 2.0 * PI * (1.0 - cos(SUN_RADIUS));
+	double omega = 2.0 * CS_PI * (1.0 - cos(SUN_RADIUS));
 	double frac = disk_fraction(elev);
 	double m = air_mass(elev);
 	for (int i = 0; i < 3; i++) {
@@ -170,10 +169,10 @@ static void init_ambient(struct cs_sky *sky, double elev)
 	enum { NT = 24, NPHI = 64 };
 	double sum[3] = {0.0, 0.0, 0.0};
 	for (int i = 0; i < NT; i++) {
-		double s0 = sin(i * (PI / 2) / NT), s1 = sin((i + 1) * (PI / 2) / NT);
-		double th = (i + 0.5) * (PI / 2) / NT, w = (s1 * s1 - s0 * s0) / NPHI;
+		double s0 = sin(i * (CS_PI / 2) / NT), s1 = sin((i + 1) * (CS_PI / 2) / NT);
+		double th = (i + 0.5) * (CS_PI / 2) / NT, w = (s1 * s1 - s0 * s0) / NPHI;
 		for (int j = 0; j < NPHI; j++) {
-			double phi = (j + 0.5) * 2.0 * PI / NPHI, rgb[3];
+			double phi = (j + 0.5) * 2.0 * CS_PI / NPHI, rgb[3];
 			cs_v3 d = v3(sin(th) * cos(phi), sin(th) * sin(phi), cos(th));
 			cs_sky_radiance(sky, d, rgb);
 			for (int c = 0; c < 3; c++)
@@ -184,7 +183,7 @@ static void init_ambient(struct cs_sky *sky, double elev)
 	for (int c = 0; c < 3; c++) {
 		sky->ambient_up[c] = sum[c];
 		sky->ambient_down[c] =
-			0.2 * (sky->sun_illuminance[c] * sin_h / PI +
+			0.2 * (sky->sun_illuminance[c] * sin_h / CS_PI +
 			       sky->ambient_up[c]);
 	}
 }

@@ -6,6 +6,7 @@
 #include "core/err.h"
 #include "io/exr.h"
 #include "core/fileio.h"
+#include "core/fmt.h"
 
 #include <cjson/cJSON.h>
 
@@ -74,17 +75,10 @@ double cs_terrain_height(const struct cs_terrain *t, double col, double row)
  * own printing may drop the last bit), or null if not finite. */
 static void add_num(cJSON *o, const char *key, double v)
 {
-	char buf[40];
-	if (!isfinite(v)) {
+	if (isfinite(v))
+		cJSON_AddRawToObject(o, key, cs_num(v).s);
+	else
 		cJSON_AddNullToObject(o, key);
-		return;
-	}
-	for (int digits = 15; digits <= 17; digits++) {
-		snprintf(buf, sizeof buf, "%.*g", digits, v);
-		if (strtod(buf, NULL) == v)
-			break;
-	}
-	cJSON_AddRawToObject(o, key, buf);
 }
 
 static void add_str(cJSON *o, const char *key, const char *s)
@@ -159,19 +153,6 @@ static char *sidecar_json(const char *path, const struct cs_terrain *t,
 	return text;
 }
 
-/* Writes n bytes to path atomically. */
-static int write_file(const char *path, const void *buf, size_t n)
-{
-	struct cs_outfile of;
-	int rc = cs_outfile_open(&of, path);
-	if (rc == CS_OK)
-		rc = cs_outfile_write(&of, buf, n);
-	if (rc == CS_OK)
-		return cs_outfile_commit(&of);
-	cs_outfile_abort(&of);
-	return rc;
-}
-
 static int write_r16(const char *path, const struct cs_terrain *t,
 		     const struct cs_terrain_meta *m, double scale)
 {
@@ -190,7 +171,7 @@ static int write_r16(const char *path, const struct cs_terrain *t,
 			buf[i + 1] = (uint8_t)(v >> 8);
 		}
 	}
-	int rc = write_file(path, buf, n * 2);
+	int rc = cs_write_file(path, buf, n * 2);
 	free(buf);
 	return rc;
 }
@@ -201,7 +182,7 @@ static int write_data(const char *path, const struct cs_terrain *t,
 	if (m->format == CS_TERRAIN_R16)
 		return write_r16(path, t, m, scale);
 	if (m->format == CS_TERRAIN_TIF)
-		return write_file(path, m->bytes, m->nbytes);
+		return cs_write_file(path, m->bytes, m->nbytes);
 	const struct cs_exr_channel ch = {"Y", 1, t->h, 1};
 	const struct cs_exr_attr attr = {"cloudscapeTerrain", CS_EXR_INT,
 					 {CS_TERRAIN_FORMAT, 0, 0}, NULL, 0};

@@ -1,6 +1,8 @@
 #include "weather/provider.h"
 
 #include "core/err.h"
+#include "core/fmt.h"
+#include "core/json.h"
 #include "core/time.h"
 
 #include <cjson/cJSON.h>
@@ -134,17 +136,10 @@ static const char *type_name(const cJSON *it)
 	}
 }
 
-/* A value for a message: the number as the file wrote it (near enough). */
+/* A value for a message: the number as the file wrote it. */
 struct txt {
 	char s[48];
 };
-
-static struct txt txt(double v)
-{
-	struct txt t;
-	snprintf(t.s, sizeof t.s, "%.10g", v);
-	return t;
-}
 
 /* ---- what the document holds -------------------------------------------- */
 
@@ -184,33 +179,6 @@ static void html_problem(const char *s, size_t len, struct cs_problems *pr)
 	problem(pr, "an HTML page, not JSON: \"%s\"", text);
 }
 
-/* Whether a text that failed to parse at offset off just stops early: it
- * ends inside a string or an open object or array, and nothing after off
- * is structure (cJSON reports a cut string or number where it starts). */
-static int truncated(const char *s, size_t len, size_t off)
-{
-	int depth = 0, str = 0, after = 0;
-	for (size_t i = 0; i < len; i++) {
-		char c = s[i];
-		if (str) {
-			if (c == '\\')
-				i++;
-			else if (c == '"')
-				str = 0;
-			continue;
-		}
-		if (c == '"')
-			str = 1;
-		else if (c == '{' || c == '[')
-			depth++;
-		else if (c == '}' || c == ']')
-			depth--;
-		if (i >= off && strchr("{}[]", c) != NULL)
-			after = 1;
-	}
-	return (str || depth > 0) && !after;
-}
-
 /* Parses the text; reports empty, HTML and malformed or truncated input. */
 static cJSON *parse_json(const char *json, size_t len, struct cs_problems *pr)
 {
@@ -234,12 +202,14 @@ static cJSON *parse_json(const char *json, size_t len, struct cs_problems *pr)
 	cJSON *root = cJSON_ParseWithLengthOpts(json, len, &end, 0);
 	size_t off = end ? (size_t)(end - json) : 0;
 	if (root == NULL) {
-		if (truncated(json, len, off))
+		size_t from, to;
+		cs_json_near(json, len, off, &from, &to);
+		if (cs_json_cut_short(json, len, off))
 			problem(pr, "truncated JSON: the text ends at byte %zu "
 				"before the document is complete", len);
 		else
 			problem(pr, "malformed JSON at byte offset %zu near "
-				"\"%.24s\"", off, json + (off > 8 ? off - 8 : 0));
+				"\"%.*s\"", off, (int)(to - from), json + from);
 		return NULL;
 	}
 	while (off < len && isspace((unsigned char)json[off]))
@@ -316,7 +286,7 @@ static double number(const cJSON *obj, const char *pre, const char *key,
 		return NAN;
 	if (!(it->valuedouble >= lo && it->valuedouble <= hi)) {
 		problem(pr, "%s%s: %s is outside %s..%s", pre, key,
-			txt(it->valuedouble).s, txt(lo).s, txt(hi).s);
+			cs_num(it->valuedouble).s, cs_num(lo).s, cs_num(hi).s);
 		return NAN;
 	}
 	return it->valuedouble;
@@ -383,7 +353,7 @@ static struct txt time_text(const cJSON *it)
 	if (cJSON_IsString(it))
 		snprintf(t.s, sizeof t.s, "\"%.40s\"", it->valuestring);
 	else if (cJSON_IsNumber(it))
-		t = txt(it->valuedouble);
+		cs_fmt_double(t.s, sizeof t.s, it->valuedouble);
 	else
 		snprintf(t.s, sizeof t.s, "%s", type_name(it));
 	return t;
@@ -422,7 +392,7 @@ static void check_times(struct doc *d, struct cs_problems *pr)
 			double h = (d->t[i] - d->t[i - 1]) / 3600.0;
 			problem(pr, "%stime[%d]: %s is %s h after time[%d] %s "
 				"(expected 1 h steps%s)", pre, i,
-				time_text(it).s, txt(h).s, i - 1,
+				time_text(it).s, cs_num(h).s, i - 1,
 				time_text(prev).s,
 				h > 1 ? ": hours are missing" :
 				h == 0 ? ": a repeated hour, as at a daylight-"
@@ -518,16 +488,18 @@ static void check_arrays(struct doc *d, struct cs_problems *pr)
 				else if (u->scale == 1 && u->offset == 0)
 					problem(pr, "%s.%s[%d]: %s is outside "
 						"%s..%s", dn, d->arr_key[k], i,
-						txt(it->valuedouble).s,
-						txt(keys[k].lo).s, txt(keys[k].hi).s);
+						cs_num(it->valuedouble).s,
+						cs_num(keys[k].lo).s, cs_num(keys[k].hi).s);
 				else
-					problem(pr, "%s.%s[%d]: %s %s (%s %s) is "
+					/* the converted value rounded: it is
+					 * ours, not the file's text */
+					problem(pr, "%s.%s[%d]: %s %s (%.10g %s) is "
 						"outside %s..%s %s", dn,
 						d->arr_key[k], i,
-						txt(it->valuedouble).s,
-						mb ? u->mb : u->om, txt(v).s,
+						cs_num(it->valuedouble).s,
+						mb ? u->mb : u->om, v,
 						si_unit[keys[k].unit],
-						txt(keys[k].lo).s, txt(keys[k].hi).s,
+						cs_num(keys[k].lo).s, cs_num(keys[k].hi).s,
 						si_unit[keys[k].unit]);
 			} else if (!cJSON_IsNull(it)) {
 				problem(pr, "%s.%s[%d]: expected a number or null, "

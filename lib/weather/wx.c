@@ -2,6 +2,8 @@
 
 #include "core/err.h"
 #include "core/fileio.h"
+#include "core/fmt.h"
+#include "core/json.h"
 #include "core/time.h"
 
 #include <cjson/cJSON.h>
@@ -50,21 +52,6 @@ void cs_wx_default(struct cs_wx *wx)
 	wx->wind_speed_m_s = 4;
 	wx->wind_from_deg = 250;
 	wx->visibility_m = 30000;
-}
-
-/* A number as the shortest of %.15g and %.17g that reads back to the same
- * double; %.17g always does (IEEE 754 binary64). */
-struct num {
-	char s[32];
-};
-
-static struct num num(double v)
-{
-	struct num n;
-	snprintf(n.s, sizeof n.s, "%.15g", v);
-	if (strtod(n.s, NULL) != v)
-		snprintf(n.s, sizeof n.s, "%.17g", v);
-	return n;
 }
 
 /* Returns from the calling function on an error. */
@@ -123,7 +110,7 @@ static int check(const char *pre, const char *key, double v, double lo,
 	if (v >= lo && v <= hi)
 		return CS_OK;
 	return cs_error(CS_EDATA, "%s%s: %s is outside %s..%s", pre, key,
-			num(v).s, num(lo).s, num(hi).s);
+			cs_num(v).s, cs_num(lo).s, cs_num(hi).s);
 }
 
 static int check_fields(const char *pre, const struct field *f, size_t n,
@@ -159,7 +146,7 @@ static int check_layers(const char *pre, int n, const struct cs_wx_layer *l)
 		if (!(l[i].top_m >= l[i].base_m + 10))
 			return cs_error(CS_EDATA, "%stop_m: %s is not at least "
 					"10 m above base_m %s", p,
-					num(l[i].top_m).s, num(l[i].base_m).s);
+					cs_num(l[i].top_m).s, cs_num(l[i].base_m).s);
 	}
 	return CS_OK;
 }
@@ -172,7 +159,7 @@ int cs_wx_validate(const struct cs_wx *wx)
 	if (!(wx->time_utc >= cs_days_from_civil(0, 1, 1) * 86400.0 &&
 	      wx->time_utc < cs_days_from_civil(10000, 1, 1) * 86400.0))
 		return cs_error(CS_EDATA, "time_utc: %s s is outside years "
-				"0000..9999", num(wx->time_utc).s);
+				"0000..9999", cs_num(wx->time_utc).s);
 	TRY(check_site("site.", &wx->site));
 	TRY(check_layers("", wx->nlayers, wx->layers));
 	TRY(check_fields("", wx_fields, COUNT(wx_fields), wx));
@@ -328,16 +315,11 @@ static int parse_root(const cJSON *root, struct cs_wx *wx)
 	return parse_far(root, wx);
 }
 
-/* "what at byte offset N near "excerpt"": the excerpt starts a little
- * before N (cJSON sometimes reports one byte past the fault) and stops at a
- * control character, so that the message stays on one line. */
+/* "what at byte offset N near "excerpt"" (cs_json_near). */
 static int syntax_error(const char *what, const char *s, size_t len, size_t at)
 {
-	size_t from = at, to = at;
-	while (from > 0 && at - from < 10 && (unsigned char)s[from - 1] >= 0x20)
-		from--;
-	while (to < len && to - at < 20 && (unsigned char)s[to] >= 0x20)
-		to++;
+	size_t from, to;
+	cs_json_near(s, len, at, &from, &to);
 	return cs_error(CS_EDATA, "%s at byte offset %zu near \"%.*s\"%s", what,
 			at, (int)(to - from), s + from,
 			at + 1 >= len ? " (end of input)" : "");
@@ -418,7 +400,7 @@ static void put_site(FILE *f, const struct cs_wx_site *s)
 		else
 			fputc(*c, f);
 	fprintf(f, "\",\"lat_deg\":%s,\"lon_deg\":%s,\"alt_m\":%s}",
-		num(s->lat_deg).s, num(s->lon_deg).s, num(s->alt_m).s);
+		cs_num(s->lat_deg).s, cs_num(s->lon_deg).s, cs_num(s->alt_m).s);
 }
 
 static void put_layers(FILE *f, int n, const struct cs_wx_layer *l)
@@ -427,8 +409,8 @@ static void put_layers(FILE *f, int n, const struct cs_wx_layer *l)
 	for (int i = 0; i < n; i++)
 		fprintf(f, "%s{\"genus\":\"%s\",\"coverage\":%s,\"base_m\":%s,"
 			"\"top_m\":%s}", i ? "," : "", cs_genus_name(l[i].genus),
-			num(l[i].coverage).s, num(l[i].base_m).s,
-			num(l[i].top_m).s);
+			cs_num(l[i].coverage).s, cs_num(l[i].base_m).s,
+			cs_num(l[i].top_m).s);
 	fputc(']', f);
 }
 
@@ -451,17 +433,17 @@ int cs_wx_to_json(const struct cs_wx *wx, char **json)
 	put_layers(f, wx->nlayers, wx->layers);
 	fprintf(f, ",\"precipitation_mm_h\":%s,\"convective_mm_h\":%s,"
 		"\"wind\":{\"speed_m_s\":%s,\"from_deg\":%s},\"visibility_m\":%s,"
-		"\"fog_probability\":%s", num(wx->precipitation_mm_h).s,
-		num(wx->convective_mm_h).s, num(wx->wind_speed_m_s).s,
-		num(wx->wind_from_deg).s, num(wx->visibility_m).s,
-		num(wx->fog_probability).s);
+		"\"fog_probability\":%s", cs_num(wx->precipitation_mm_h).s,
+		cs_num(wx->convective_mm_h).s, cs_num(wx->wind_speed_m_s).s,
+		cs_num(wx->wind_from_deg).s, cs_num(wx->visibility_m).s,
+		cs_num(wx->fog_probability).s);
 	for (int i = 0; i < wx->nfar; i++) {
 		fputs(i ? ",{" : ",\"far\":[{", f);
 		put_site(f, &wx->far[i].site);
 		put_layers(f, wx->far[i].nlayers, wx->far[i].layers);
 		fprintf(f, ",\"precipitation_mm_h\":%s,\"visibility_m\":%s}%s",
-			num(wx->far[i].precipitation_mm_h).s,
-			num(wx->far[i].visibility_m).s,
+			cs_num(wx->far[i].precipitation_mm_h).s,
+			cs_num(wx->far[i].visibility_m).s,
 			i == wx->nfar - 1 ? "]" : "");
 	}
 	fputc('}', f);

@@ -240,12 +240,12 @@ static void validate_says_what_a_body_is_instead(void)
 
 static void sites_are_found_by_name_in_any_case(void)
 {
-	const struct cs_site *s = cs_site_find("gURTEN");
+	const struct cs_place *s = cs_place_find("gURTEN");
 	CHECK(s != NULL && strcmp(s->name, "Gurten") == 0);
 	CHECK(s && fabs(s->lat_deg - 46.917) < 0.01 && s->alt_m > 800);
-	CHECK(cs_site_find("Atlantis") == NULL);
+	CHECK(cs_place_find("Atlantis") == NULL);
 	int n;
-	cs_sites(&n);
+	cs_places(&n);
 	CHECK(n >= 5);
 }
 

@@ -1,6 +1,7 @@
 #include "render/cloud.h"
 #include "core/err.h"
 #include "core/fileio.h"
+#include "core/json.h"
 #include "test.h"
 #include "core/time.h"
 #include "apps/wxinterp_run.h"
