@@ -1,8 +1,13 @@
 # cloudscape - build, test, install.
 #
 #   make              library and programs: build/libcloudscape.a, build/bin/*
-#   make check        install missing Debian packages, build, run every test
+#   make check        build and run every test (scripts/deps only when pkg-config
+#                     or a tool the tests use is missing)
 #   make check SAN=1  the same with AddressSanitizer + UBSan (in build-san/)
+#   make check SAN=thread  the same with ThreadSanitizer (in build-tsan/)
+#   make check-all    check, check SAN=1 and check SAN=thread (what CI runs)
+#   make WERROR=0     warnings stay warnings (the default, WERROR=1, for CI
+#                     and developers, makes them errors)
 #   make bench        benchmarks (not part of check)
 #   make demo         bake the noise, make a synthetic Bern terrain, render into out/
 #   make install PREFIX=/usr/local DESTDIR=
@@ -13,17 +18,29 @@ VERSION   := 0.1.0
 PREFIX    ?= /usr/local
 DESTDIR   ?=
 SAN       ?=
-B         := $(if $(SAN),build-san,build)
+WERROR    ?= 1
 # every tools/*.c but the shared cli.c is a program
 PROGRAMS  := $(filter-out cli,$(basename $(notdir $(wildcard tools/*.c))))
 PKGS      := OpenEXR libpng libcjson libcurl gdal
 
 CC        ?= cc
 CFLAGS    ?= -O2 -g
-WARN      := -Wall -Wextra -Werror -Wshadow -Wpointer-arith -Wvla \
+WARN      := -Wall -Wextra $(if $(filter 1,$(WERROR)),-Werror) -Wshadow -Wpointer-arith -Wvla \
              -Wstrict-prototypes -Wmissing-prototypes -Wformat=2
 comma     := ,
-SANFLAGS  := $(if $(SAN),-fsanitize=address$(comma)undefined$(comma)float-cast-overflow -fno-sanitize-recover=all -fno-omit-frame-pointer)
+ifeq ($(SAN),thread)
+B         := build-tsan
+SANFLAGS  := -fsanitize=thread -fno-omit-frame-pointer
+else ifneq ($(SAN),)
+B         := build-san
+SANFLAGS  := -fsanitize=address$(comma)undefined$(comma)float-cast-overflow -fno-sanitize-recover=all -fno-omit-frame-pointer
+else
+B         := build
+SANFLAGS  :=
+endif
+# programs the tool tests run (scripts/deps installs them: gdal-bin, netpbm)
+TEST_TOOLS := gdal_translate gdalinfo gdallocationinfo gdalwarp pnmcat pnmpad \
+              pnmpsnr pnmtoplainpnm pnmtopng pngtopnm ppmtoppm
 PKG_CFLAGS = $(shell pkg-config --cflags $(PKGS))
 PKG_LIBS   = $(shell pkg-config --libs $(PKGS))
 ALL_CFLAGS = -std=c17 -D_POSIX_C_SOURCE=200809L -DCS_VERSION='"$(VERSION)"' \
@@ -41,7 +58,7 @@ HELP_SRC  := $(wildcard tests/helpers/*.c)
 HELP_BINS := $(HELP_SRC:tests/helpers/%.c=$(B)/tests/helpers/%)
 
 .SECONDARY:
-.PHONY: all check check-run tests bench demo install deps clean
+.PHONY: all check check-all check-run tests bench demo install deps have-deps clean
 all: $(B)/libcloudscape.a $(BINS)
 
 $(B)/lib/%.o: lib/%.c
@@ -71,20 +88,32 @@ $(B)/tests/test_%: $(B)/tests/test_%.o $(B)/libcloudscape.a
 
 tests: all $(UNIT_BINS) $(HELP_BINS)
 
-# check installs what is missing first, then re-enters make so that
-# pkg-config sees the freshly installed packages.
-check: deps
+# check installs what is missing first (only then: no dpkg or apt-get when
+# everything is there), then re-enters make so that pkg-config sees the
+# freshly installed packages.
+check: have-deps
 	@$(MAKE) --no-print-directory tests
-	@tests/run $(B)
+	@$(if $(filter thread,$(SAN)),TSAN_OPTIONS="suppressions=$(CURDIR)/tests/tsan.supp $$TSAN_OPTIONS") \
+		tests/run $(B)
+
+check-all:
+	@$(MAKE) --no-print-directory check
+	@$(MAKE) --no-print-directory check SAN=1
+	@$(MAKE) --no-print-directory check SAN=thread
+
+have-deps:
+	@if command -v pkg-config >/dev/null 2>&1 && pkg-config --exists $(PKGS) && \
+	    (for t in $(TEST_TOOLS); do command -v $$t >/dev/null 2>&1 || exit 1; done); \
+	then :; else scripts/deps; fi
 
 deps:
 	@scripts/deps
 
-bench: deps
+bench: have-deps
 	@$(MAKE) --no-print-directory all
 	@scripts/bench $(B)
 
-demo: deps
+demo: have-deps
 	@$(MAKE) --no-print-directory all
 	@mkdir -p out
 	$(B)/bin/noisebake -o out/noise.exr --preview out/noise-preview.png
@@ -106,7 +135,7 @@ install: all
 	install -m 644 man/*.5 $(DESTDIR)$(PREFIX)/share/man/man5/
 
 clean:
-	rm -rf build build-san out
+	rm -rf build build-san build-tsan out
 
 -include $(LIB_OBJ:.o=.d) $(CLI_OBJ:.o=.d) $(PROGRAMS:%=$(B)/tools/%.d) \
 	$(UNIT_SRC:tests/unit/%.c=$(B)/tests/%.d) $(HELP_SRC:tests/helpers/%.c=$(B)/tests/helpers/%.d)

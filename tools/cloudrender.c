@@ -69,13 +69,14 @@ static void list_views(void)
 		       v[i].description);
 }
 
-static void print_stats(const struct cs_cloudrender_opts *o)
+static void print_stats(const struct cs_cloudrender_opts *o,
+			const struct cs_cloudrender_result *r)
 {
-	const struct cs_render_stats *s = &o->stats;
+	const struct cs_render_stats *s = &r->stats;
 	double px = s->pixels ? (double)s->pixels : 1.0;
-	double total = o->t_noise_s + o->t_scene_s + o->t_render_s + o->t_write_s;
+	double total = r->t_noise_s + r->t_scene_s + r->t_render_s + r->t_write_s;
 	char when[32];
-	cs_time_format(o->wx.time_utc, when, sizeof when);
+	cs_time_format(r->wx.time_utc, when, sizeof when);
 	fprintf(stderr,
 		"{\"program\":\"cloudrender\",\"time_utc\":\"%s\",\"size\":[%d,%d],"
 		"\"quality\":\"%s\",\"steps\":%d,\"light_steps\":%d,\"ms_octaves\":%d,"
@@ -85,18 +86,18 @@ static void print_stats(const struct cs_cloudrender_opts *o)
 		"\"pixels\":%llu,\"density_samples\":%llu,\"light_samples\":%llu,"
 		"\"rays_terminated_early\":%llu,\"layer_crossings\":%llu,\"terrain_cells\":%llu,"
 		"\"density_samples_per_pixel\":%.2f,\"density_samples_per_s\":%.0f,",
-		when, o->width, o->height, o->quality, o->settings.steps,
-		o->settings.light_steps, o->settings.ms_octaves, o->exposure_ev, o->t_noise_s,
-		o->t_scene_s, o->t_render_s, o->t_write_s, total,
+		when, o->width, o->height, o->quality, r->settings.steps,
+		r->settings.light_steps, r->settings.ms_octaves, r->exposure_ev, r->t_noise_s,
+		r->t_scene_s, r->t_render_s, r->t_write_s, total,
 		(unsigned long long)s->pixels, (unsigned long long)s->density_samples,
 		(unsigned long long)s->light_samples,
 		(unsigned long long)s->rays_terminated_early,
 		(unsigned long long)s->layer_crossings, (unsigned long long)s->terrain_cells,
 		(double)s->density_samples / px,
-		o->t_render_s > 0 ? (double)s->density_samples / o->t_render_s : 0.0);
+		r->t_render_s > 0 ? (double)s->density_samples / r->t_render_s : 0.0);
 	fprintf(stderr, "\"sun\":{\"azimuth_deg\":%.3f,\"elevation_deg\":%.3f},\"layers\":[",
-		o->sun_azimuth_deg, o->sun_elevation_deg);
-	const struct cs_scene *sc = o->scene;
+		r->sun_azimuth_deg, r->sun_elevation_deg);
+	const struct cs_scene *sc = r->scene;
 	for (int i = 0; sc && i < sc->nlayers; i++)
 		fprintf(stderr, "%s{\"genus\":\"%s\",\"coverage\":%.3f,\"base_m\":%.0f,\"top_m\":%.0f}",
 			i ? "," : "", cs_genus_name(sc->layers[i].genus),
@@ -166,8 +167,8 @@ int main(int argc, char **argv)
 		{NULL, 0, NULL, 0},
 	};
 	struct cs_cloudrender_opts o;
-	int stats = 0, steps = 0, light_steps = 0, ms = 0, no_ambient = 0, no_jitter = 0;
-	long long seed = -1;
+	struct cs_cloudrender_result r;
+	int stats = 0;
 	int opt;
 
 	cli_init("cloudrender");
@@ -231,12 +232,14 @@ int main(int argc, char **argv)
 				cli_usage_error("--quality: %s", cs_errmsg());
 			o.quality = optarg;
 			break;
-		case OPT_STEPS: steps = (int)cli_long("--steps", optarg, 1, 100000); break;
-		case OPT_LIGHT_STEPS: light_steps = (int)cli_long("--light-steps", optarg, 1, 10000); break;
-		case OPT_MS: ms = (int)cli_long("--ms-octaves", optarg, 1, 4); break;
-		case OPT_NO_AMBIENT: no_ambient = 1; break;
-		case OPT_NO_JITTER: no_jitter = 1; break;
-		case OPT_SEED: seed = cli_long("--seed", optarg, 0, 4294967295L); break;
+		case OPT_STEPS: o.steps = (int)cli_long("--steps", optarg, 1, 100000); break;
+		case OPT_LIGHT_STEPS:
+			o.light_steps = (int)cli_long("--light-steps", optarg, 1, 10000);
+			break;
+		case OPT_MS: o.ms_octaves = (int)cli_long("--ms-octaves", optarg, 1, 4); break;
+		case OPT_NO_AMBIENT: o.no_ambient = 1; break;
+		case OPT_NO_JITTER: o.no_jitter = 1; break;
+		case OPT_SEED: o.seed = cli_long("--seed", optarg, 0, 4294967295L); break;
 		case OPT_EXPOSURE:
 			if (strcmp(optarg, "auto") == 0)
 				o.exposure_auto = 1;
@@ -268,44 +271,31 @@ int main(int argc, char **argv)
 	if (o.wx_path && o.noise_path && strcmp(o.wx_path, "-") == 0 &&
 	    strcmp(o.noise_path, "-") == 0)
 		cli_usage_error("--wx - and --noise - cannot both read standard input");
-	/* explicit settings refine the preset */
-	if (steps) {
-		o.settings.steps = steps;
-		if (o.settings.max_steps < 4 * steps)
-			o.settings.max_steps = 4 * steps;
-	}
-	if (light_steps)
-		o.settings.light_steps = light_steps;
-	if (ms)
-		o.settings.ms_octaves = ms;
-	if (no_ambient)
-		o.settings.ambient = 0;
-	if (no_jitter)
-		o.settings.jitter = 0.0;
-	if (seed >= 0)
-		o.settings.seed = (uint32_t)seed;
 
 	o.progress = cli_progress;
 	o.progress_user = "rendering";
-	if (cli_verbose)
+	if (cli_verbose) {
+		struct cs_render_settings rs;
+		cs_cloudrender_settings(&o, &rs);
 		fprintf(stderr, "cloudrender: %dx%d, quality %s (%d steps, %d light steps)\n",
-			o.width, o.height, o.quality, o.settings.steps, o.settings.light_steps);
-	int rc = cs_cloudrender_run(&o);
+			o.width, o.height, o.quality, rs.steps, rs.light_steps);
+	}
+	int rc = cs_cloudrender_run(&o, &r);
 	cli_progress_done();
 	if (rc != CS_OK) {
 		cli_err("%s", cs_errmsg());
-		cs_cloudrender_free(&o);
+		cs_cloudrender_result_free(&r);
 		return rc == CS_EINVAL ? EXIT_USAGE : EXIT_DATA;
 	}
 	/* legal, but almost certainly not what was meant */
-	if (!cli_quiet && o.camera_site_km > 300.0)
+	if (!cli_quiet && r.camera_site_km > 300.0)
 		cli_err("warning: the camera is %.0f km from the weather site (%s): "
-			"the weather describes the sky over the site", o.camera_site_km,
-			o.wx.site.name[0] ? o.wx.site.name : "unnamed");
-	if (!cli_quiet && o.camera_terrain_km > 300.0)
-		cli_err("warning: the camera is %.0f km from the terrain's centre", o.camera_terrain_km);
+			"the weather describes the sky over the site", r.camera_site_km,
+			r.wx.site.name[0] ? r.wx.site.name : "unnamed");
+	if (!cli_quiet && r.camera_terrain_km > 300.0)
+		cli_err("warning: the camera is %.0f km from the terrain's centre", r.camera_terrain_km);
 	if (stats)
-		print_stats(&o);
-	cs_cloudrender_free(&o);
+		print_stats(&o, &r);
+	cs_cloudrender_result_free(&r);
 	return EXIT_OK;
 }

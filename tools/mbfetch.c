@@ -296,15 +296,16 @@ int main(int argc, char **argv)
 	if (!isnan(asl))
 		o.asl_m = asl;
 	o.log = log_line;
-	int rc = cs_mbfetch_run(&o);
+	struct cs_mbfetch_result r;
+	int rc = cs_mbfetch_run(&o, &r);
 	if (rc == CS_EINVAL)
 		cli_usage_error("%s", cs_errmsg());
 	if (rc != CS_OK) {
 		cli_err("%s", cs_errmsg());
-		print_problems("", &o.problems);
+		print_problems("", &r.problems);
 		return exit_status(rc);
 	}
 	if (o.dry_run)
-		printf("%s\n", o.url);
+		printf("%s\n", r.url);
 	return EXIT_OK;
 }

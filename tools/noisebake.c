@@ -61,19 +61,13 @@ static int info(const char *path)
 	printf("file: %s\nsize: %d x %d x %d\nseed: %u\nrecipe: %s\n", path,
 	       v.nx, v.ny, v.nz, v.recipe.seed, recipe);
 	static const char names[4] = {'R', 'G', 'B', 'A'};
-	size_t n = (size_t)v.nx * v.ny * v.nz;
 	for (int c = 0; c < 4; c++) {
 		int p[3];
+		double lo, hi, mean;
 		cs_noise_period(&v.recipe, c, v.nx, v.nz, p);
-		double lo = INFINITY, hi = -INFINITY, sum = 0.0;
-		for (size_t i = 0; i < n; i++) {
-			double x = v.data[i * 4 + c];
-			lo = x < lo ? x : lo;
-			hi = x > hi ? x : hi;
-			sum += x;
-		}
+		cs_volume_channel_stats(&v, c, &lo, &hi, &mean);
 		printf("channel %c: period %dx%dx%d cells, min %.4f max %.4f mean %.4f\n",
-		       names[c], p[0], p[1], p[2], lo, hi, sum / (double)n);
+		       names[c], p[0], p[1], p[2], lo, hi, mean);
 	}
 	cs_volume_free(&v);
 	return EXIT_OK;
@@ -194,18 +188,19 @@ int main(int argc, char **argv)
 
 	o.progress = cli_progress;
 	o.progress_user = "baking";
-	int rc = cs_noisebake_run(&o);
+	struct cs_noisebake_result r;
+	int rc = cs_noisebake_run(&o, &r);
 	cli_progress_done();
 	if (rc != CS_OK) {
 		cli_err("%s", cs_errmsg());
 		return rc == CS_EINVAL ? EXIT_USAGE : EXIT_DATA;
 	}
 	if (cli_verbose) {
-		double voxels = (double)o.size * o.size * depth;
+		double voxels = (double)r.nx * r.ny * r.nz;
 		fprintf(stderr,
 			"noisebake: baked %dx%dx%d (%.0f voxels) in %.3f s: %.3f Mvoxel/s\n",
-			o.size, o.size, depth, voxels, o.bake_seconds,
-			voxels / o.bake_seconds / 1e6);
+			r.nx, r.ny, r.nz, voxels, r.bake_seconds,
+			voxels / r.bake_seconds / 1e6);
 	}
 	return EXIT_OK;
 }

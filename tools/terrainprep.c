@@ -94,31 +94,26 @@ static void parse_fill(const char *s, struct cs_terrainprep_opts *o)
 	}
 }
 
-static int format_of(const char *name, const char *opt)
+static int format_of(const char *name)
 {
-	if (strcasecmp(name, "exr") == 0)
-		return CS_TERRAIN_EXR;
-	if (strcasecmp(name, "r16") == 0 || strcasecmp(name, "raw") == 0)
-		return CS_TERRAIN_R16;
-	if (strcasecmp(name, "tif") == 0 || strcasecmp(name, "tiff") == 0)
-		return CS_TERRAIN_TIF;
-	if (opt)
-		cli_usage_error("%s: '%s' is not exr, r16 or tif", opt, name);
-	return CS_TERRAIN_EXR;
+	enum cs_terrain_format f;
+	if (cs_terrainprep_format(name, &f) != CS_OK)
+		cli_usage_error("--format: %s", cs_errmsg());
+	return (int)f;
 }
 
-static void describe(const struct cs_terrainprep_opts *o)
+static void describe(const struct cs_terrainprep_opts *o, const struct cs_terrainprep_result *r)
 {
-	const struct cs_terrain *t = &o->result;
+	const struct cs_terrain *t = &r->terrain;
 	double n = (double)t->width * t->height;
 	fprintf(stderr, "terrainprep: %dx%d samples of %gx%g m, EPSG:%d, heights %g..%g m, "
 		"resampling %s, %ld voids (%.2f%%)%s\n",
 		t->width, t->height, t->pixel_x_m, t->pixel_y_m, t->epsg, t->min_m, t->max_m,
-		o->resampling_used, o->voids, 100.0 * (double)o->voids / n,
-		o->voids == 0 ? "" : o->fill == CS_FILL_NONE ? " kept" : " filled");
+		r->resampling_used, r->voids, 100.0 * (double)r->voids / n,
+		r->voids == 0 ? "" : o->fill == CS_FILL_NONE ? " kept" : " filled");
 	fprintf(stderr, "terrainprep: centre %.6f, %.6f (WGS84)\n", t->center_lat, t->center_lon);
-	if (o->warning[0])
-		fprintf(stderr, "terrainprep: GDAL warned: %s\n", o->warning);
+	if (r->warning[0])
+		fprintf(stderr, "terrainprep: GDAL warned: %s\n", r->warning);
 }
 
 enum {
@@ -158,7 +153,6 @@ int main(int argc, char **argv)
 		{NULL, 0, NULL, 0},
 	};
 	struct cs_terrainprep_opts o;
-	const char *format = NULL;
 	int have_radius = 0;
 	double ll[2];
 	int opt;
@@ -168,7 +162,7 @@ int main(int argc, char **argv)
 	while ((opt = getopt_long(argc, argv, "o:f:r:qvh", longopts, NULL)) != -1) {
 		switch (opt) {
 		case 'o': o.output = optarg; break;
-		case 'f': format = optarg; o.format = format_of(optarg, "--format"); break;
+		case 'f': o.format = format_of(optarg); break;
 		case OPT_STDIN_NAME: o.stdin_name = optarg; break;
 		case OPT_S_SRS: o.s_srs = optarg; break;
 		case OPT_T_SRS: o.t_srs = optarg; break;
@@ -227,22 +221,19 @@ int main(int argc, char **argv)
 		cli_usage_error("-o: a heightfield is two files (data and sidecar): give a file name");
 	if (o.have_center != have_radius)
 		cli_usage_error("--center and --radius go together");
-	if (o.output && format == NULL) {
-		const char *dot = strrchr(o.output, '.');
-		o.format = format_of(dot && !strchr(dot, '/') ? dot + 1 : "", NULL);
-	}
 
 	o.progress = cli_progress;
 	o.progress_user = "warping";
-	int rc = cs_terrainprep_run(&o);
+	struct cs_terrainprep_result r;
+	int rc = cs_terrainprep_run(&o, &r);
 	cli_progress_done();
 	if (rc != CS_OK) {
 		cli_err("%s", cs_errmsg());
-		cs_terrainprep_free(&o);
+		cs_terrainprep_result_free(&r);
 		return rc == CS_EINVAL ? EXIT_USAGE : EXIT_DATA;
 	}
 	if (cli_verbose)
-		describe(&o);
-	cs_terrainprep_free(&o);
+		describe(&o, &r);
+	cs_terrainprep_result_free(&r);
 	return EXIT_OK;
 }

@@ -172,7 +172,8 @@ int main(int argc, char **argv)
 		o.pretty = 1;
 
 	o.note = print_note;
-	int rc = cs_wxinterp_run(&o);
+	struct cs_wxinterp_result r;
+	int rc = cs_wxinterp_run(&o, &r);
 	if (rc != CS_OK) {
 		cli_err("%s", cs_errmsg());
 		if (rc == CS_EINVAL)
@@ -180,7 +181,7 @@ int main(int argc, char **argv)
 		return rc == CS_EINVAL ? EXIT_USAGE : EXIT_DATA;
 	}
 	if (cli_verbose)
-		cli_err("wrote %ld state%s to %s", o.nstates, o.nstates == 1 ? "" : "s",
+		cli_err("wrote %ld state%s to %s", r.nstates, r.nstates == 1 ? "" : "s",
 			strcmp(o.output, "-") == 0 ? "standard output" : o.output);
 	return EXIT_OK;
 }

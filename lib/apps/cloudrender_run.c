@@ -26,6 +26,28 @@ void cs_cloudrender_defaults(struct cs_cloudrender_opts *o)
 	o->height = 360;
 	o->quality = "medium";
 	cs_render_quality("medium", &o->settings);
+	o->seed = -1;
+}
+
+void cs_cloudrender_settings(const struct cs_cloudrender_opts *o,
+			     struct cs_render_settings *s)
+{
+	*s = o->settings;
+	if (o->steps > 0) {
+		s->steps = o->steps;
+		if (s->max_steps < 4 * o->steps) /* room for thick layers */
+			s->max_steps = 4 * o->steps;
+	}
+	if (o->light_steps > 0)
+		s->light_steps = o->light_steps;
+	if (o->ms_octaves > 0)
+		s->ms_octaves = o->ms_octaves;
+	if (o->no_ambient)
+		s->ambient = 0;
+	if (o->no_jitter)
+		s->jitter = 0.0;
+	if (o->seed >= 0)
+		s->seed = (uint32_t)o->seed;
 }
 
 int cs_output_kind(const char *path)
@@ -47,13 +69,13 @@ static double now_s(void)
 	return (double)ts.tv_sec + ts.tv_nsec * 1e-9;
 }
 
-static int write_outputs(struct cs_cloudrender_opts *o, const float *px)
+static int write_outputs(const struct cs_cloudrender_opts *o,
+			 struct cs_cloudrender_result *r, const float *px)
 {
 	size_t n = (size_t)o->width * o->height;
 	uint8_t *rgb = NULL;
 	int rc = CS_OK;
-	if (o->exposure_auto)
-		o->exposure_ev = cs_auto_exposure_ev(px, 5, n);
+	r->exposure_ev = o->exposure_auto ? cs_auto_exposure_ev(px, 5, n) : o->exposure_ev;
 	for (int i = 0; i < o->noutputs && rc == CS_OK; i++) {
 		if (cs_output_kind(o->outputs[i]) == 'e') {
 			const struct cs_exr_channel ch[5] = {
@@ -61,7 +83,7 @@ static int write_outputs(struct cs_cloudrender_opts *o, const float *px)
 				{"A", 0, px + 3, 5}, {"Z", 1, px + 4, 5},
 			};
 			char when[32];
-			cs_time_format(o->wx.time_utc, when, sizeof when);
+			cs_time_format(r->wx.time_utc, when, sizeof when);
 			const struct cs_exr_attr attrs[] = {
 				{"cloudscapeTimeUTC", CS_EXR_STRING, {0, 0, 0}, when, 0},
 				{"cloudscapeQuality", CS_EXR_STRING, {0, 0, 0}, o->quality, 0},
@@ -74,7 +96,7 @@ static int write_outputs(struct cs_cloudrender_opts *o, const float *px)
 				rgb = malloc(n * 3);
 				if (rgb == NULL)
 					return cs_error(CS_ENOMEM, "out of memory");
-				cs_tonemap_srgb8(px, 5, n, o->exposure_ev, rgb);
+				cs_tonemap_srgb8(px, 5, n, r->exposure_ev, rgb);
 			}
 			rc = cs_png_write(o->outputs[i], o->width, o->height, 3, rgb);
 		}
@@ -102,10 +124,24 @@ static int place_terrain(const struct cs_scene *sc, const struct cs_wx *wx,
 	return rc;
 }
 
-int cs_cloudrender_run(struct cs_cloudrender_opts *o)
+/* The option checks no single option shows: both standard streams once. */
+static int check_streams(const struct cs_cloudrender_opts *o)
+{
+	int to_stdout = 0;
+	for (int i = 0; i < o->noutputs; i++)
+		to_stdout += strcmp(o->outputs[i], "-") == 0;
+	if (to_stdout > 1)
+		return cs_error(CS_EINVAL, "only one output can go to standard output");
+	if (o->wx_path && o->noise_path && strcmp(o->wx_path, "-") == 0 &&
+	    strcmp(o->noise_path, "-") == 0)
+		return cs_error(CS_EINVAL, "--wx - and --noise - cannot both read standard input");
+	return CS_OK;
+}
+
+int cs_cloudrender_run(const struct cs_cloudrender_opts *o, struct cs_cloudrender_result *r)
 {
 	int rc;
-	o->scene = NULL;
+	memset(r, 0, sizeof *r);
 	if (o->noutputs < 1)
 		return cs_error(CS_EINVAL, "no output: give -o FILE.png or -o FILE.exr");
 	for (int i = 0; i < o->noutputs; i++)
@@ -116,7 +152,11 @@ int cs_cloudrender_run(struct cs_cloudrender_opts *o)
 	    (double)o->width * o->height > 1e8)
 		return cs_error(CS_EINVAL, "image size %dx%d is impossible (1..16384 a side, 10^8 pixels)",
 				o->width, o->height);
-	rc = cs_render_settings_check(&o->settings);
+	rc = check_streams(o);
+	if (rc != CS_OK)
+		return rc;
+	cs_cloudrender_settings(o, &r->settings);
+	rc = cs_render_settings_check(&r->settings);
 	if (rc != CS_OK)
 		return rc;
 	const struct cs_view *view = NULL;
@@ -125,14 +165,14 @@ int cs_cloudrender_run(struct cs_cloudrender_opts *o)
 
 	/* the weather, and the time */
 	if (o->wx_path) {
-		rc = cs_wx_read(o->wx_path, &o->wx);
+		rc = cs_wx_read(o->wx_path, &r->wx);
 		if (rc != CS_OK)
 			return rc;
 	} else {
-		cs_wx_default(&o->wx);
+		cs_wx_default(&r->wx);
 	}
 	if (o->have_time)
-		o->wx.time_utc = o->time_utc;
+		r->wx.time_utc = o->time_utc;
 
 	/* the noise */
 	double t0 = now_s();
@@ -146,7 +186,7 @@ int cs_cloudrender_run(struct cs_cloudrender_opts *o)
 	}
 	if (rc != CS_OK)
 		return rc;
-	o->t_noise_s = now_s() - t0;
+	r->t_noise_s = now_s() - t0;
 
 	/* the scene, the terrain and the camera */
 	t0 = now_s();
@@ -162,16 +202,16 @@ int cs_cloudrender_run(struct cs_cloudrender_opts *o)
 		rc = cs_error(CS_ENOMEM, "out of memory for a %dx%d image", o->width, o->height);
 		goto done;
 	}
-	rc = cs_scene_build(sc, &o->wx, o->wx.time_utc, &noise);
+	rc = cs_scene_build(sc, &r->wx, r->wx.time_utc, &noise);
 	if (rc != CS_OK)
 		goto done;
-	o->scene = sc;
+	r->scene = sc;
 	if (o->terrain_path) {
 		rc = cs_terrain_read(o->terrain_path, &terrain);
 		if (rc != CS_OK)
 			goto done;
 		have_terrain = 1;
-		rc = place_terrain(sc, &o->wx, &terrain, &hf);
+		rc = place_terrain(sc, &r->wx, &terrain, &hf);
 		if (rc != CS_OK)
 			goto done;
 		have_hf = 1;
@@ -188,8 +228,8 @@ int cs_cloudrender_run(struct cs_cloudrender_opts *o)
 		rc = cs_error(CS_EINVAL, "--terrain-color needs --terrain");
 		goto done;
 	}
-	double lat = o->wx.site.lat_deg, lon = o->wx.site.lon_deg;
-	double alt = o->wx.site.alt_m + 2.0, az = 160.0, el = 8.0, fov = 70.0;
+	double lat = r->wx.site.lat_deg, lon = r->wx.site.lon_deg;
+	double alt = r->wx.site.alt_m + 2.0, az = 160.0, el = 8.0, fov = 70.0;
 	if (view) {
 		lat = view->place->lat_deg, lon = view->place->lon_deg;
 		alt = cs_view_alt_m(view);
@@ -201,7 +241,7 @@ int cs_cloudrender_run(struct cs_cloudrender_opts *o)
 		az = o->look_az_deg, el = o->look_el_deg;
 	if (o->fov_deg > 0.0)
 		fov = o->fov_deg;
-	cs_v3 pos = cs_geo_to_world(o->wx.site.lat_deg, o->wx.site.lon_deg,
+	cs_v3 pos = cs_geo_to_world(r->wx.site.lat_deg, r->wx.site.lon_deg,
 				    sc->earth_radius_m, lat, lon, alt);
 	double ground = sc->ground_alt_m, th;
 	int over_terrain = have_hf && cs_hfield_height(&hf, pos.x, pos.y, &th);
@@ -209,7 +249,7 @@ int cs_cloudrender_run(struct cs_cloudrender_opts *o)
 		ground = th;
 		if (!view && !o->have_camera) { /* the default eye stands on the terrain */
 			alt = th + 2.0;
-			pos = cs_geo_to_world(o->wx.site.lat_deg, o->wx.site.lon_deg,
+			pos = cs_geo_to_world(r->wx.site.lat_deg, r->wx.site.lon_deg,
 					      sc->earth_radius_m, lat, lon, alt);
 		}
 	}
@@ -219,30 +259,30 @@ int cs_cloudrender_run(struct cs_cloudrender_opts *o)
 		goto done;
 	}
 	struct cs_camera cam;
-	rc = cs_camera_init(&cam, sc, pos, o->wx.site.lat_deg, az, el, fov, o->width, o->height);
+	rc = cs_camera_init(&cam, sc, pos, r->wx.site.lat_deg, az, el, fov, o->width, o->height);
 	if (rc != CS_OK)
 		goto done;
-	o->camera_site_km = cs_great_circle_m(lat, lon, o->wx.site.lat_deg,
-					      o->wx.site.lon_deg) / 1000.0;
-	o->camera_terrain_km = have_terrain ? cs_great_circle_m(lat, lon, terrain.center_lat,
+	r->camera_site_km = cs_great_circle_m(lat, lon, r->wx.site.lat_deg,
+					      r->wx.site.lon_deg) / 1000.0;
+	r->camera_terrain_km = have_terrain ? cs_great_circle_m(lat, lon, terrain.center_lat,
 								terrain.center_lon) / 1000.0
 					    : -1.0;
 	struct cs_sun sun;
-	if (cs_sun_position(o->wx.time_utc, o->wx.site.lat_deg, o->wx.site.lon_deg, &sun) == CS_OK) {
-		o->sun_azimuth_deg = sun.azimuth_deg;
-		o->sun_elevation_deg = sun.apparent_elevation_deg;
+	if (cs_sun_position(r->wx.time_utc, r->wx.site.lat_deg, r->wx.site.lon_deg, &sun) == CS_OK) {
+		r->sun_azimuth_deg = sun.azimuth_deg;
+		r->sun_elevation_deg = sun.apparent_elevation_deg;
 	}
-	o->t_scene_s = now_s() - t0;
+	r->t_scene_s = now_s() - t0;
 
 	t0 = now_s();
-	rc = cs_render_image(sc, &cam, &o->settings, o->threads, o->progress,
-			     o->progress_user, px, &o->stats);
-	o->t_render_s = now_s() - t0;
+	rc = cs_render_image(sc, &cam, &r->settings, o->threads, o->progress,
+			     o->progress_user, px, &r->stats);
+	r->t_render_s = now_s() - t0;
 	if (rc != CS_OK)
 		goto done;
 	t0 = now_s();
-	rc = write_outputs(o, px);
-	o->t_write_s = now_s() - t0;
+	rc = write_outputs(o, r, px);
+	r->t_write_s = now_s() - t0;
 done:
 	free(px);
 	free(drape);
@@ -250,24 +290,24 @@ done:
 		cs_hfield_free(&hf);
 	if (have_terrain)
 		cs_terrain_free(&terrain);
-	if (o->scene) { /* what it pointed to is gone */
-		o->scene->terrain = NULL;
-		o->scene->terrain_color = NULL;
+	if (r->scene) { /* what it pointed to is gone */
+		r->scene->terrain = NULL;
+		r->scene->terrain_color = NULL;
 	}
 	if (rc != CS_OK) {
 		free(sc);
-		o->scene = NULL;
+		r->scene = NULL;
 	}
 	/* the scene points at the noise: keep the statistics and volume only
 	 * for as long as the run needs them */
-	if (o->scene)
-		o->scene->noise = NULL;
+	if (r->scene)
+		r->scene->noise = NULL;
 	cs_volume_free(&noise);
 	return rc;
 }
 
-void cs_cloudrender_free(struct cs_cloudrender_opts *o)
+void cs_cloudrender_result_free(struct cs_cloudrender_result *r)
 {
-	free(o->scene);
-	o->scene = NULL;
+	free(r->scene);
+	r->scene = NULL;
 }

@@ -22,7 +22,12 @@ struct cs_cloudrender_opts {
 	double look_az_deg, look_el_deg;
 	double fov_deg;           /* 0: the view's, or 70 */
 	int width, height;
-	struct cs_render_settings settings;
+	struct cs_render_settings settings; /* the quality preset */
+	/* explicit settings that refine the preset: 0 (seed -1) keeps the
+	 * preset's; more steps raise max_steps to at least 4 x steps */
+	int steps, light_steps, ms_octaves;
+	int no_ambient, no_jitter;
+	long long seed;
 	const char *quality;      /* the preset name, for reports */
 	double exposure_ev;
 	int exposure_auto;        /* choose exposure_ev from the image */
@@ -31,12 +36,16 @@ struct cs_cloudrender_opts {
 	int noutputs;
 	cs_progress_fn progress;
 	void *progress_user;
+};
 
-	/* filled in by the run, for --stats */
+/* What a run produced, for the program's report (--stats, warnings). */
+struct cs_cloudrender_result {
+	struct cs_render_settings settings; /* as rendered */
+	double exposure_ev;       /* as applied to PNG outputs */
 	struct cs_render_stats stats;
 	double t_noise_s, t_scene_s, t_render_s, t_write_s;
 	struct cs_wx wx;
-	struct cs_scene *scene;   /* valid until cs_cloudrender_free() */
+	struct cs_scene *scene;   /* valid until cs_cloudrender_result_free() */
 	double sun_azimuth_deg, sun_elevation_deg;
 	double camera_site_km;    /* from the camera to the weather site */
 	double camera_terrain_km; /* to the terrain's centre (-1 without terrain) */
@@ -46,11 +55,18 @@ struct cs_cloudrender_opts {
  * weather site, 640x360, quality "medium", exposure 0, all threads. */
 void cs_cloudrender_defaults(struct cs_cloudrender_opts *o);
 
+/* The render settings a run uses: the preset refined by the explicit
+ * settings. */
+void cs_cloudrender_settings(const struct cs_cloudrender_opts *o,
+			     struct cs_render_settings *s);
+
 /* Renders and writes every output.  Usage-type problems (a bad size, an
- * unknown view, an output of unknown type) return CS_EINVAL; data problems
- * CS_EDATA or CS_EIO.  Call cs_cloudrender_free() afterwards. */
-int cs_cloudrender_run(struct cs_cloudrender_opts *o);
-void cs_cloudrender_free(struct cs_cloudrender_opts *o);
+ * unknown view, an output of unknown type, two outputs or inputs on the
+ * standard streams) return CS_EINVAL; data problems CS_EDATA or CS_EIO.
+ * Call cs_cloudrender_result_free() afterwards, whatever it returned. */
+int cs_cloudrender_run(const struct cs_cloudrender_opts *o,
+		       struct cs_cloudrender_result *r);
+void cs_cloudrender_result_free(struct cs_cloudrender_result *r);
 
 /* The output type of a file name: 'p' (.png or "-"), 'e' (.exr) or 0. */
 int cs_output_kind(const char *path);

@@ -121,7 +121,7 @@ static int cache_path(const struct cs_mbfetch_opts *o, char *path, size_t size)
 }
 
 /* A fresh, valid cached response into *data, or nothing. */
-static void cache_load(struct cs_mbfetch_opts *o, const char *path,
+static void cache_load(const struct cs_mbfetch_opts *o, const char *path,
 		       unsigned char **data, size_t *len)
 {
 	struct stat st;
@@ -187,8 +187,9 @@ static int is_loopback(const char *url)
 }
 
 /* Attempts until a body to validate arrives or it is time to give up. */
-static int fetch_loop(struct cs_mbfetch_opts *o, const char *url, const char *key,
-		      const char *key_source, struct cs_fetch_resp *resp)
+static int fetch_loop(const struct cs_mbfetch_opts *o, struct cs_mbfetch_result *res,
+		      const char *url, const char *key, const char *key_source,
+		      struct cs_fetch_resp *resp)
 {
 	char ua[64];
 	snprintf(ua, sizeof ua, "mbfetch/%s (cloudscape)", CS_VERSION);
@@ -200,8 +201,8 @@ static int fetch_loop(struct cs_mbfetch_opts *o, const char *url, const char *ke
 	};
 	int total = o->retries + 1;
 	for (int a = 1;; a++) {
-		o->attempts = a;
-		say(o, key, CS_LOG_INFO, "GET %s", o->url);
+		res->attempts = a;
+		say(o, key, CS_LOG_INFO, "GET %s", res->url);
 		cs_fetch_get(&req, resp);
 		struct cs_verdict v;
 		cs_mbfetch_judge(o->provider, resp, key, &v);
@@ -262,11 +263,11 @@ static int output_writable(const char *path)
 }
 
 /* Writes data to the output whole or not at all; the cache too if asked. */
-static int finish(struct cs_mbfetch_opts *o, const char *data, size_t len,
+static int finish(const struct cs_mbfetch_opts *o, const char *data, size_t len,
 		  const char *cpath)
 {
 	int rc = cs_write_file(o->output, data, len);
-	if (rc == CS_OK && cpath && !o->from_cache) {
+	if (rc == CS_OK && cpath) { /* cpath is NULL for what came from the cache */
 		if (mkdir(o->cache_dir, 0700) < 0 && errno != EEXIST)
 			say(o, NULL, CS_LOG_WARN, "cannot create the cache %s: %s",
 			    o->cache_dir, strerror(errno));
@@ -276,12 +277,9 @@ static int finish(struct cs_mbfetch_opts *o, const char *data, size_t len,
 	return rc;
 }
 
-int cs_mbfetch_run(struct cs_mbfetch_opts *o)
+int cs_mbfetch_run(const struct cs_mbfetch_opts *o, struct cs_mbfetch_result *res)
 {
-	memset(&o->problems, 0, sizeof o->problems);
-	o->url[0] = '\0';
-	o->attempts = 0;
-	o->from_cache = 0;
+	memset(res, 0, sizeof *res);
 	int rc = cs_mbfetch_check_opts(o);
 	if (rc != CS_OK)
 		return rc;
@@ -296,8 +294,8 @@ int cs_mbfetch_run(struct cs_mbfetch_opts *o)
 	char url[2048];
 	if ((rc = cs_mbfetch_url(o, need_key ? key : NULL, url, sizeof url)) != CS_OK)
 		return rc;
-	snprintf(o->url, sizeof o->url, "%s", url);
-	cs_redact(o->url, sizeof o->url, secret);
+	snprintf(res->url, sizeof res->url, "%s", url);
+	cs_redact(res->url, sizeof res->url, secret);
 	if (o->dry_run)
 		return CS_OK;
 	if (need_key && strncmp(url, "http:", 5) == 0 && !is_loopback(url))
@@ -315,18 +313,18 @@ int cs_mbfetch_run(struct cs_mbfetch_opts *o)
 		size_t len;
 		cache_load(o, cpath, &data, &len);
 		if (data) {
-			o->from_cache = 1;
+			res->from_cache = 1;
 			rc = finish(o, (const char *)data, len, NULL);
 			free(data);
 			return rc;
 		}
 	}
 	struct cs_fetch_resp resp;
-	rc = fetch_loop(o, url, secret, need_key ? source : NULL, &resp);
+	rc = fetch_loop(o, res, url, secret, need_key ? source : NULL, &resp);
 	if (rc != CS_OK)
 		return rc;
 	rc = cs_mbfetch_validate((int)o->provider, resp.body, resp.len,
-				 resp.content_type, secret, &o->problems);
+				 resp.content_type, secret, &res->problems);
 	if (rc != CS_OK) {
 		char why[1024];
 		snprintf(why, sizeof why, "%s", cs_errmsg());

@@ -39,7 +39,10 @@ struct cs_mbfetch_opts {
 	int dry_run;               /* build the request into url; no network */
 	cs_log_fn log;
 	void *log_user;
-	/* out */
+};
+
+/* What a run produced. */
+struct cs_mbfetch_result {
 	char url[2048];            /* the request, key redacted */
 	int attempts;              /* requests made */
 	int from_cache;            /* 1 when the output came from the cache */
@@ -55,10 +58,10 @@ int cs_mbfetch_check_opts(const struct cs_mbfetch_opts *o);
 
 /* Fetches, validates and writes.  Returns 0, CS_EINVAL (bad options),
  * CS_EAUTH (no usable key, or refused), CS_EREQUEST, CS_ERATE, CS_ENET,
- * CS_EDATA (an invalid or oversized response: problems in o->problems) or
+ * CS_EDATA (an invalid or oversized response: problems in r->problems) or
  * CS_EIO/CS_ENOMEM; the message (key redacted) in cs_errmsg().  An
  * existing output is replaced only by a valid response. */
-int cs_mbfetch_run(struct cs_mbfetch_opts *o);
+int cs_mbfetch_run(const struct cs_mbfetch_opts *o, struct cs_mbfetch_result *r);
 
 /* The request URL of the options (cs_request_url); key NULL leaves the
  * apikey parameter out. */

@@ -66,8 +66,25 @@ static double now_s(void)
 	return (double)ts.tv_sec + ts.tv_nsec * 1e-9;
 }
 
-int cs_noisebake_run(struct cs_noisebake_opts *o)
+void cs_volume_channel_stats(const struct cs_volume *v, int c, double *lo,
+			     double *hi, double *mean)
 {
+	size_t n = (size_t)v->nx * v->ny * v->nz;
+	double l = INFINITY, h = -INFINITY, sum = 0.0;
+	for (size_t i = 0; i < n; i++) {
+		double x = v->data[i * 4 + c];
+		l = x < l ? x : l;
+		h = x > h ? x : h;
+		sum += x;
+	}
+	*lo = l;
+	*hi = h;
+	*mean = sum / (double)n;
+}
+
+int cs_noisebake_run(const struct cs_noisebake_opts *o, struct cs_noisebake_result *r)
+{
+	memset(r, 0, sizeof *r);
 	if (o->output == NULL && o->preview == NULL)
 		return cs_error(CS_EINVAL, "nothing to write: give an output file or a preview");
 	if (o->output && o->preview && strcmp(o->output, "-") == 0 &&
@@ -104,7 +121,8 @@ int cs_noisebake_run(struct cs_noisebake_opts *o)
 	v.recipe = o->recipe;
 	double t0 = now_s();
 	rc = cs_volume_bake(&v, o->threads, o->progress, o->progress_user);
-	o->bake_seconds = now_s() - t0;
+	r->bake_seconds = now_s() - t0;
+	r->nx = v.nx, r->ny = v.ny, r->nz = v.nz;
 	if (rc == CS_OK && o->output)
 		rc = cs_volume_write_exr(&v, o->output, o->use_float);
 	if (rc == CS_OK && o->preview) {

@@ -20,14 +20,24 @@ struct cs_noisebake_opts {
 	char channels[5];                /* preview rows, from "RGBA" */
 	cs_progress_fn progress;
 	void *progress_user;
-	double bake_seconds;             /* out: wall time spent baking */
+};
+
+/* What a run produced. */
+struct cs_noisebake_result {
+	int nx, ny, nz;                  /* the volume baked, voxels */
+	double bake_seconds;             /* wall time spent baking */
 };
 
 /* Defaults: 128^3, default recipe, half, all threads, preview RGBA. */
 void cs_noisebake_defaults(struct cs_noisebake_opts *o);
 
-/* Bakes the volume and writes the requested outputs. */
-int cs_noisebake_run(struct cs_noisebake_opts *o);
+/* Bakes the volume and writes the requested outputs.  Option mistakes
+ * return CS_EINVAL; the system's CS_EIO or CS_ENOMEM. */
+int cs_noisebake_run(const struct cs_noisebake_opts *o, struct cs_noisebake_result *r);
+
+/* Channel c (0..3) of v: smallest, largest and mean value over every voxel. */
+void cs_volume_channel_stats(const struct cs_volume *v, int c, double *lo,
+			     double *hi, double *mean);
 
 /* A contact sheet: one row per channel in channels (letters of "RGBA"), one
  * column per slice, each tile nx x nx grey (value 0..1 -> 0..255), with a

@@ -1,51 +1,28 @@
-/* terrainprep as a library call: GDAL opens the DEMs, GDALWarp (the
- * gdalwarp application API) mosaics, reprojects, crops and resamples them in
- * memory, and our code fills voids, writes the heightfield (terrain.c) and
- * the hillshade (dem.c).  See man 1 terrainprep.
- *
- * GDAL reports problems through CPLError, and some calls return success
- * after logging one, so every run pushes a thread-local error handler and
- * treats any CE_Failure it saw as the failure of the step. */
+/* terrainprep as a library call: terrain/reproject.c (GDAL) opens the DEMs
+ * and warps them to a metric grid; this file checks the options, fills the
+ * voids and writes the heightfield (terrain.c) and the hillshade (dem.c).
+ * See man 1 terrainprep. */
 #include "apps/terrainprep_run.h"
 
 #include "terrain/dem.h"
 #include "core/err.h"
-#include "core/fileio.h"
 #include "io/image.h"
 
-#include <cpl_conv.h>
-#include <cpl_error.h>
-#include <cpl_string.h>
-#include <cpl_vsi.h>
-#include <gdal.h>
-#include <gdal_alg.h>
-#include <gdal_utils.h>
-#include <ogr_srs_api.h>
-
 #include <math.h>
-#include <pthread.h>
-#include <stdatomic.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <unistd.h>
-
-#define MAX_STDIN_BYTES ((size_t)1 << 32)
+#include <strings.h>
 
 #ifndef CS_VERSION
 #define CS_VERSION "unknown"
 #endif
 
-static const char *const resamplers[] = {
-	"near", "bilinear", "cubic", "cubicspline", "lanczos", "average", "rms",
-	"mode", "max", "min", "med", "q1", "q3", "sum", NULL,
-};
-
 void cs_terrainprep_defaults(struct cs_terrainprep_opts *o)
 {
 	memset(o, 0, sizeof *o);
 	o->stdin_name = "stdin";
-	o->format = CS_TERRAIN_EXR;
+	o->format = CS_TERRAINPREP_FORMAT_AUTO;
 	o->fill = CS_FILL_NEAREST;
 	o->max_void_fraction = 0.5;
 	o->azimuth_deg = 315.0;
@@ -54,491 +31,48 @@ void cs_terrainprep_defaults(struct cs_terrainprep_opts *o)
 	o->scale = 1.0;
 }
 
-void cs_terrainprep_free(struct cs_terrainprep_opts *o)
+void cs_terrainprep_result_free(struct cs_terrainprep_result *r)
 {
-	cs_terrain_free(&o->result);
+	cs_terrain_free(&r->terrain);
 }
 
-/* ---- GDAL's messages -------------------------------------------------- */
-
-struct gdal_log {
-	int failed;
-	char failure[512]; /* the first CE_Failure message of the step */
-	char warning[256]; /* the last CE_Warning message */
-};
-
-static void copy_msg(char *dst, size_t size, const char *msg)
+int cs_terrainprep_format(const char *name, enum cs_terrain_format *f)
 {
-	snprintf(dst, size, "%s", msg ? msg : "");
-	for (char *p = dst; *p; p++)
-		if (*p == '\n' || *p == '\r')
-			*p = ' ';
-	for (size_t n = strlen(dst); n > 0 && dst[n - 1] == ' '; n--)
-		dst[n - 1] = '\0';
-}
-
-static void CPL_STDCALL on_gdal_error(CPLErr cls, CPLErrorNum no, const char *msg)
-{
-	(void)no;
-	struct gdal_log *g = CPLGetErrorHandlerUserData();
-	if (cls >= CE_Failure) {
-		if (!g->failed)
-			copy_msg(g->failure, sizeof g->failure, msg);
-		g->failed = 1;
-	} else if (cls == CE_Warning) {
-		copy_msg(g->warning, sizeof g->warning, msg);
-	}
-}
-
-/* Forgets earlier messages: before a step whose failure is judged alone. */
-static void log_reset(struct gdal_log *g)
-{
-	g->failed = 0;
-	g->failure[0] = '\0';
-}
-
-static pthread_once_t gdal_once = PTHREAD_ONCE_INIT;
-
-static void register_drivers(void)
-{
-	GDALAllRegister();
-}
-
-/* ---- one run's state -------------------------------------------------- */
-
-struct run {
-	struct cs_terrainprep_opts *o;
-	struct gdal_log log;
-	GDALDatasetH *src;
-	int nsrc;
-	char mem_dir[96];          /* /vsimem folder of this run */
-	char stdin_path[384];      /* "-" opened from here */
-	unsigned char *stdin_buf;
-	OGRSpatialReferenceH s_srs, t_srs, b_srs, wgs84; /* owned */
-	char *s_wkt, *t_wkt;       /* CPLFree */
-	double te[4];
-	int have_te;
-	const char *te_srs;        /* user's string for -te_srs, or NULL */
-	char source[1024], driver[128], src_nodata[64];
-	double gt[6];
-};
-
-/* The failure message after a GDAL step, as a CS_EDATA error. */
-static int gdal_fail(struct run *r, const char *what)
-{
-	return cs_error(CS_EDATA, "%s: %s", what,
-			r->log.failure[0] ? r->log.failure : "GDAL failed without a message");
-}
-
-/* A CRS from any form OSRSetFromUserInput takes, in x=east, y=north order. */
-static int parse_srs(struct run *r, const char *opt, const char *text,
-		     OGRSpatialReferenceH *out)
-{
-	log_reset(&r->log);
-	OGRSpatialReferenceH h = OSRNewSpatialReference(NULL);
-	if (h == NULL || OSRSetFromUserInput(h, text) != OGRERR_NONE) {
-		if (h)
-			OSRDestroySpatialReference(h);
-		return cs_error(CS_EINVAL, "%s: '%s' is not a coordinate reference system GDAL knows%s%s",
-				opt, text, r->log.failure[0] ? ": " : "", r->log.failure);
-	}
-	OSRSetAxisMappingStrategy(h, OAMS_TRADITIONAL_GIS_ORDER);
-	*out = h;
+	if (strcasecmp(name, "exr") == 0)
+		*f = CS_TERRAIN_EXR;
+	else if (strcasecmp(name, "r16") == 0 || strcasecmp(name, "raw") == 0)
+		*f = CS_TERRAIN_R16;
+	else if (strcasecmp(name, "tif") == 0 || strcasecmp(name, "tiff") == 0)
+		*f = CS_TERRAIN_TIF;
+	else
+		return cs_error(CS_EINVAL, "'%s' is not exr, r16 or tif", name);
 	return CS_OK;
 }
 
-static int is_metric_projected(OGRSpatialReferenceH h)
+/* The data file's format: as given, else from the output's extension. */
+static enum cs_terrain_format output_format(const struct cs_terrainprep_opts *o)
 {
-	return OSRIsProjected(h) && fabs(OSRGetLinearUnits(h, NULL) - 1.0) < 1e-9;
+	enum cs_terrain_format f = CS_TERRAIN_EXR;
+	if (o->format != CS_TERRAINPREP_FORMAT_AUTO)
+		return (enum cs_terrain_format)o->format;
+	const char *dot = o->output ? strrchr(o->output, '.') : NULL;
+	if (dot && !strchr(dot, '/') && cs_terrainprep_format(dot + 1, &f) != CS_OK)
+		f = CS_TERRAIN_EXR;
+	return f;
 }
 
-static char *export_wkt(OGRSpatialReferenceH h)
+/* Counts the voids (any non-finite height becomes NaN), refuses too many,
+ * fills them as asked and sets the height range. */
+static int handle_voids(const struct cs_terrainprep_opts *o, struct cs_terrain *t,
+			long *nvoids)
 {
-	const char *const opts[] = {"FORMAT=WKT2_2019", NULL};
-	char *wkt = NULL;
-	if (OSRExportToWktEx(h, &wkt, opts) != OGRERR_NONE) {
-		CPLFree(wkt);
-		return NULL;
-	}
-	return wkt;
-}
-
-/* UTM zone of a point as an EPSG code (WGS84 / UTM), with the Norway and
- * Svalbard exceptions, and UPS beyond UTM's latitudes. */
-static int utm_epsg(double lat, double lon)
-{
-	if (lat > 84.0)
-		return 32661;
-	if (lat < -80.0)
-		return 32761;
-	int zone = (int)floor((lon + 180.0) / 6.0) + 1;
-	zone = zone < 1 ? 1 : zone > 60 ? 60 : zone;
-	if (lat >= 56.0 && lat < 64.0 && lon >= 3.0 && lon < 12.0)
-		zone = 32;
-	if (lat >= 72.0 && lon >= 0.0 && lon < 42.0)
-		zone = lon < 9.0 ? 31 : lon < 21.0 ? 33 : lon < 33.0 ? 35 : 37;
-	return (lat >= 0.0 ? 32600 : 32700) + zone;
-}
-
-/* Transforms n points in place from one CRS to another. */
-static int transform(struct run *r, OGRSpatialReferenceH from,
-		     OGRSpatialReferenceH to, int n, double *x, double *y)
-{
-	log_reset(&r->log);
-	OGRCoordinateTransformationH ct = OCTNewCoordinateTransformation(from, to);
-	int ok = ct != NULL && OCTTransform(ct, n, x, y, NULL) && !r->log.failed;
-	if (ct)
-		OCTDestroyCoordinateTransformation(ct);
-	return ok ? CS_OK : gdal_fail(r, "coordinate transformation");
-}
-
-/* ---- inputs ----------------------------------------------------------- */
-
-static int open_stdin(struct run *r)
-{
-	const struct cs_terrainprep_opts *o = r->o;
-	size_t len = 0;
-	int rc = cs_read_all("-", MAX_STDIN_BYTES, &r->stdin_buf, &len);
-	if (rc != CS_OK)
-		return rc;
-	snprintf(r->stdin_path, sizeof r->stdin_path, "%s/%s", r->mem_dir, o->stdin_name);
-	VSILFILE *f = VSIFileFromMemBuffer(r->stdin_path, r->stdin_buf, len, FALSE);
-	if (f == NULL)
-		return gdal_fail(r, "standard input");
-	VSIFCloseL(f);
-	return CS_OK;
-}
-
-static void append(char *dst, size_t size, const char *sep, const char *s)
-{
-	size_t n = strlen(dst);
-	snprintf(dst + n, size - n, "%s%s", n ? sep : "", s);
-}
-
-/* GDAL names the file in most messages: show the user's name for it, and
- * add it only where GDAL did not. */
-static int open_error(struct run *r, const char *path, const char *label)
-{
-	char msg[sizeof r->log.failure + 64] = "";
-	const char *m = r->log.failure[0] ? r->log.failure : "not a raster GDAL reads";
-	const char *at = strstr(m, path);
-	if (at == NULL)
-		return cs_error(CS_EDATA, "cannot read %s: %s", label, m);
-	snprintf(msg, sizeof msg, "%.*s%s%s", (int)(at - m), m, label, at + strlen(path));
-	return cs_error(CS_EDATA, "%s", msg);
-}
-
-static int open_inputs(struct run *r)
-{
-	const struct cs_terrainprep_opts *o = r->o;
-	r->src = calloc((size_t)o->ninputs, sizeof *r->src);
-	if (r->src == NULL)
-		return cs_error(CS_ENOMEM, "out of memory");
-	for (int i = 0; i < o->ninputs; i++) {
-		const char *in = o->inputs[i];
-		int is_stdin = strcmp(in, "-") == 0;
-		if (is_stdin) {
-			int rc = open_stdin(r);
-			if (rc != CS_OK)
-				return rc;
-		}
-		const char *path = is_stdin ? r->stdin_path : in;
-		const char *label = is_stdin ? "standard input" : in;
-		log_reset(&r->log);
-		GDALDatasetH ds = GDALOpenEx(path, GDAL_OF_RASTER | GDAL_OF_READONLY |
-					     GDAL_OF_VERBOSE_ERROR, NULL, NULL, NULL);
-		if (ds == NULL || r->log.failed) {
-			if (ds)
-				GDALClose(ds);
-			return open_error(r, path, label);
-		}
-		r->src[r->nsrc++] = ds;
-		double gt[6];
-		if (GDALGetRasterCount(ds) < 1)
-			return cs_error(CS_EDATA, "%s has no raster band", label);
-		if (GDALGetGeoTransform(ds, gt) != CE_None && GDALGetGCPCount(ds) == 0)
-			return cs_error(CS_EDATA, "%s has no georeferencing (no geotransform, no GCPs)",
-					label);
-		log_reset(&r->log);
-		if (o->s_srs == NULL && GDALGetSpatialRef(ds) == NULL &&
-		    GDALGetGCPSpatialRef(ds) == NULL)
-			return cs_error(CS_EDATA,
-					"%s has no coordinate reference system (nothing in the file, no .prj): "
-					"name it with --s-srs, e.g. --s-srs EPSG:2056",
-					label);
-		char name[300];
-		snprintf(name, sizeof name, is_stdin ? "%s (standard input)" : "%s",
-			 is_stdin ? o->stdin_name : in);
-		append(r->source, sizeof r->source, ", ", name);
-		const char *drv = GDALGetDriverShortName(GDALGetDatasetDriver(ds));
-		if (strstr(r->driver, drv) == NULL)
-			append(r->driver, sizeof r->driver, ",", drv);
-	}
-	if (o->have_src_nodata && o->src_nodata_none) {
-		snprintf(r->src_nodata, sizeof r->src_nodata, "none (ignored)");
-	} else if (o->have_src_nodata) {
-		snprintf(r->src_nodata, sizeof r->src_nodata, "%.17g", o->src_nodata);
-	} else {
-		int ok = 0;
-		double v = GDALGetRasterNoDataValue(GDALGetRasterBand(r->src[0], 1), &ok);
-		snprintf(r->src_nodata, sizeof r->src_nodata, ok ? "%.17g" : "none", v);
-	}
-	return CS_OK;
-}
-
-/* WGS84 centre of the inputs' union (pixel corners and centres). */
-static int source_center(struct run *r, double *lat, double *lon)
-{
-	log_reset(&r->log);
-	double lat0 = INFINITY, lat1 = -INFINITY, lon0 = INFINITY, lon1 = -INFINITY;
-	char *wgs_wkt = export_wkt(r->wgs84);
-	for (int i = 0; i < r->nsrc && wgs_wkt; i++) {
-		char **to = CSLSetNameValue(NULL, "DST_SRS", wgs_wkt);
-		if (r->s_wkt)
-			to = CSLSetNameValue(to, "SRC_SRS", r->s_wkt);
-		void *tr = GDALCreateGenImgProjTransformer2(r->src[i], NULL, to);
-		CSLDestroy(to);
-		if (tr == NULL)
-			break;
-		double w = GDALGetRasterXSize(r->src[i]), h = GDALGetRasterYSize(r->src[i]);
-		double x[5] = {0, w, w, 0, w / 2}, y[5] = {0, 0, h, h, h / 2}, z[5] = {0};
-		int ok[5] = {0};
-		GDALGenImgProjTransform(tr, FALSE, 5, x, y, z, ok);
-		GDALDestroyGenImgProjTransformer(tr);
-		for (int k = 0; k < 5; k++)
-			if (ok[k]) {
-				lon0 = fmin(lon0, x[k]);
-				lon1 = fmax(lon1, x[k]);
-				lat0 = fmin(lat0, y[k]);
-				lat1 = fmax(lat1, y[k]);
-			}
-	}
-	CPLFree(wgs_wkt);
-	if (!(lat0 <= lat1) || r->log.failed)
-		return gdal_fail(r, "cannot place the input on the Earth");
-	*lat = 0.5 * (lat0 + lat1);
-	*lon = 0.5 * (lon0 + lon1);
-	return CS_OK;
-}
-
-/* The target CRS: --t-srs; else the input's own if projected in metres;
- * else the UTM zone of the centre (of the crop, or of the inputs). */
-static int choose_target(struct run *r)
-{
-	const struct cs_terrainprep_opts *o = r->o;
-	int rc;
-	if (r->t_srs) /* --t-srs, parsed with the other options */
-		return CS_OK;
-	OGRSpatialReferenceH own = r->s_srs ? r->s_srs : GDALGetSpatialRef(r->src[0]);
-	if (own == NULL)
-		own = GDALGetGCPSpatialRef(r->src[0]);
-	if (own && is_metric_projected(own)) {
-		r->t_srs = OSRClone(own);
-		OSRSetAxisMappingStrategy(r->t_srs, OAMS_TRADITIONAL_GIS_ORDER);
-		return CS_OK;
-	}
-	double lat, lon;
-	if (o->have_center) {
-		lat = o->center_lat;
-		lon = o->center_lon;
-	} else if (r->b_srs) {
-		lon = 0.5 * (o->bounds[0] + o->bounds[2]);
-		lat = 0.5 * (o->bounds[1] + o->bounds[3]);
-		if ((rc = transform(r, r->b_srs, r->wgs84, 1, &lon, &lat)) != CS_OK)
-			return rc;
-	} else if ((rc = source_center(r, &lat, &lon)) != CS_OK) {
-		return rc;
-	}
-	r->t_srs = OSRNewSpatialReference(NULL);
-	if (OSRImportFromEPSG(r->t_srs, utm_epsg(lat, lon)) != OGRERR_NONE)
-		return gdal_fail(r, "UTM");
-	OSRSetAxisMappingStrategy(r->t_srs, OAMS_TRADITIONAL_GIS_ORDER);
-	return CS_OK;
-}
-
-/* The crop as gdalwarp's -te (in the target CRS, or in --bounds-srs). */
-static int choose_extent(struct run *r)
-{
-	const struct cs_terrainprep_opts *o = r->o;
-	if (o->have_center) {
-		double x = o->center_lon, y = o->center_lat, d = o->radius_km * 1000.0;
-		int rc = transform(r, r->wgs84, r->t_srs, 1, &x, &y);
-		if (rc != CS_OK)
-			return rc;
-		r->te[0] = x - d;
-		r->te[1] = y - d;
-		r->te[2] = x + d;
-		r->te[3] = y + d;
-		r->have_te = 1;
-	} else if (o->have_bounds) {
-		memcpy(r->te, o->bounds, sizeof r->te);
-		r->te_srs = o->bounds_srs;
-		r->have_te = 1;
-	}
-	return CS_OK;
-}
-
-/* ---- warping ---------------------------------------------------------- */
-
-static char **add(char **av, const char *a)
-{
-	return CSLAddString(av, a);
-}
-
-static char **addnum(char **av, double v)
-{
-	char buf[64];
-	snprintf(buf, sizeof buf, "%.17g", v);
-	return CSLAddString(av, buf);
-}
-
-/* gdalwarp options shared by the planning and the real warp. */
-static char **common_args(const struct run *r)
-{
-	const struct cs_terrainprep_opts *o = r->o;
-	char **av = add(add(NULL, "-t_srs"), r->t_wkt);
-	if (r->s_wkt)
-		av = add(add(av, "-s_srs"), r->s_wkt);
-	if (r->have_te) {
-		av = add(av, "-te");
-		for (int k = 0; k < 4; k++)
-			av = addnum(av, r->te[k]);
-		if (r->te_srs)
-			av = add(add(av, "-te_srs"), r->te_srs);
-	}
-	if (o->have_src_nodata && o->src_nodata_none)
-		av = add(add(av, "-srcnodata"), "None");
-	else if (o->have_src_nodata)
-		av = addnum(add(av, "-srcnodata"), o->src_nodata);
-	return av;
-}
-
-static int CPL_STDCALL on_progress(double f, const char *msg, void *user)
-{
-	(void)msg;
-	const struct cs_terrainprep_opts *o = user;
-	return o->progress(o->progress_user, f) == 0;
-}
-
-/* Runs GDALWarp with av (consumed) on n sources into an unnamed dataset. */
-static int warp(struct run *r, char **av, GDALDatasetH *src, int n, int report,
-		GDALDatasetH *out)
-{
-	GDALWarpAppOptions *wo = GDALWarpAppOptionsNew(av, NULL);
-	CSLDestroy(av);
-	if (wo == NULL)
-		return gdal_fail(r, "warp options");
-	if (report && r->o->progress)
-		GDALWarpAppOptionsSetProgress(wo, on_progress, r->o);
-	int usage = 0;
-	log_reset(&r->log);
-	*out = GDALWarp("", NULL, n, src, wo, &usage);
-	GDALWarpAppOptionsFree(wo);
-	if (*out == NULL || r->log.failed) {
-		if (*out)
-			GDALClose(*out);
-		*out = NULL;
-		return gdal_fail(r, "warp");
-	}
-	return CS_OK;
-}
-
-/* Warps in memory to the final grid and reads the heights (NaN = void). */
-static int warp_heights(struct run *r, float **h, int *w, int *hh)
-{
-	struct cs_terrainprep_opts *o = r->o;
-	/* plan: the natural grid (about the inputs' own resolution) as
-	 * gdalwarp chooses it - the union of each source's suggested extent
-	 * at the finest of their resolutions (a VRT warp looks at one source) */
-	double x0 = INFINITY, x1 = -INFINITY, y0 = INFINITY, y1 = -INFINITY, res = INFINITY;
-	for (int i = 0; i < r->nsrc; i++) {
-		GDALDatasetH vrt = NULL;
-		int rc = warp(r, add(add(common_args(r), "-of"), "VRT"), &r->src[i], 1, 0, &vrt);
-		if (rc != CS_OK)
-			return rc;
-		double g[6];
-		GDALGetGeoTransform(vrt, g);
-		x0 = fmin(x0, g[0]);
-		x1 = fmax(x1, g[0] + GDALGetRasterXSize(vrt) * g[1]);
-		y1 = fmax(y1, g[3]);
-		y0 = fmin(y0, g[3] + GDALGetRasterYSize(vrt) * g[5]);
-		res = fmin(res, fmin(g[1], -g[5]));
-		GDALClose(vrt);
-	}
-	double ext_x = x1 - x0, ext_y = y1 - y0;
-	double nw = round(ext_x / res), nh = round(ext_y / res);
-
-	char **av = add(add(add(add(common_args(r), "-of"), "MEM"), "-ot"), "Float32");
-	av = add(add(av, "-dstnodata"), "nan");
-	double want_w = nw, want_h = nh;
-	if (o->res_m > 0.0) {
-		av = addnum(addnum(add(av, "-tr"), o->res_m), o->res_m);
-		want_w = ext_x / o->res_m;
-		want_h = ext_y / o->res_m;
-	} else if (o->size_w > 0) {
-		want_w = o->size_w;
-		want_h = o->size_h;
-	} else if (o->size_long > 0) {
-		want_w = ext_x >= ext_y ? o->size_long : fmax(1.0, round(ext_x / ext_y * o->size_long));
-		want_h = ext_x >= ext_y ? fmax(1.0, round(ext_y / ext_x * o->size_long)) : o->size_long;
-	} else if (o->size_unity) {
-		int n = 33;
-		while (n < (nw > nh ? nw : nh) && n < 4097)
-			n = 2 * n - 1;
-		want_w = want_h = n;
-	}
-	if (want_w * want_h > (double)CS_TERRAINPREP_MAX_SAMPLES || want_w > 65536 ||
-	    want_h > 65536) {
-		CSLDestroy(av);
-		return cs_error(CS_EINVAL, "the grid would be %.0fx%.0f samples (at most %ld): choose a coarser --res or a smaller --size",
-				want_w, want_h, CS_TERRAINPREP_MAX_SAMPLES);
-	}
-	/* --size N: the other side follows from square pixels */
-	if (o->size_long > 0)
-		av = addnum(addnum(add(av, "-ts"), ext_x >= ext_y ? want_w : 0),
-			    ext_x >= ext_y ? 0 : want_h);
-	else if (o->size_w > 0 || o->size_unity)
-		av = addnum(addnum(add(av, "-ts"), want_w), want_h);
-	/* shrinking more than 2x: bilinear would skip samples, average does not */
-	double shrink = fmax(ext_x / want_w, ext_y / want_h) / res;
-	const char *alg = o->resampling ? o->resampling : shrink > 2.0 ? "average" : "bilinear";
-	snprintf(o->resampling_used, sizeof o->resampling_used, "%s", alg);
-	av = add(add(av, "-r"), alg);
-
-	GDALDatasetH mem = NULL;
-	int rc = warp(r, av, r->src, r->nsrc, 1, &mem);
-	if (rc != CS_OK)
-		return rc;
-	*w = GDALGetRasterXSize(mem);
-	*hh = GDALGetRasterYSize(mem);
-	GDALGetGeoTransform(mem, r->gt);
-	*h = malloc((size_t)*w * (size_t)*hh * sizeof **h);
-	if (*h == NULL) {
-		GDALClose(mem);
-		return cs_error(CS_ENOMEM, "out of memory");
-	}
-	CPLErr e = GDALRasterIO(GDALGetRasterBand(mem, 1), GF_Read, 0, 0, *w, *hh,
-				*h, *w, *hh, GDT_Float32, 0, 0);
-	GDALClose(mem);
-	if (e != CE_None || r->log.failed)
-		return gdal_fail(r, "reading the warped heights");
-	if (r->gt[2] != 0.0 || r->gt[4] != 0.0 || !(r->gt[1] > 0.0) || !(r->gt[5] < 0.0))
-		return cs_error(CS_EDATA, "warp gave a rotated or flipped grid");
-	return CS_OK;
-}
-
-/* ---- voids, georeference, outputs ------------------------------------- */
-
-static int handle_voids(struct run *r, struct cs_terrain *t)
-{
-	struct cs_terrainprep_opts *o = r->o;
 	size_t n = (size_t)t->width * t->height, voids = 0;
 	for (size_t i = 0; i < n; i++)
 		if (!isfinite(t->h[i])) {
 			t->h[i] = NAN;
 			voids++;
 		}
-	o->voids = (long)voids;
+	*nvoids = (long)voids;
 	if (voids == n)
 		return cs_error(CS_EDATA,
 				"no heights in the output grid: the crop lies outside the data, or all of it is nodata");
@@ -564,105 +98,34 @@ static int handle_voids(struct run *r, struct cs_terrain *t)
 	return rc;
 }
 
-static int georeference(struct run *r, struct cs_terrain *t)
+static int write_outputs(const struct cs_terrainprep_opts *o, struct cs_reproject *rp,
+			 const struct cs_terrainprep_result *res)
 {
-	const double *gt = r->gt;
-	t->origin_x = gt[0];
-	t->origin_y = gt[3];
-	t->pixel_x_m = gt[1];
-	t->pixel_y_m = -gt[5];
-	const char *auth = OSRGetAuthorityName(r->t_srs, NULL);
-	const char *code = OSRGetAuthorityCode(r->t_srs, NULL);
-	if (auth == NULL || code == NULL) {
-		/* a CRS given as WKT or PROJ string may still be an EPSG one */
-		OSRAutoIdentifyEPSG(r->t_srs);
-		auth = OSRGetAuthorityName(r->t_srs, NULL);
-		code = OSRGetAuthorityCode(r->t_srs, NULL);
-		log_reset(&r->log); /* not identified is no failure */
-	}
-	t->epsg = auth && code && strcmp(auth, "EPSG") == 0 ? atoi(code) : 0;
-	if ((t->crs_wkt = strdup(r->t_wkt)) == NULL)
-		return cs_error(CS_ENOMEM, "out of memory");
-	double W = t->width, H = t->height;
-	double cx[5] = {0.5, W - 0.5, W - 0.5, 0.5, W / 2}, cy[5] = {0.5, 0.5, H - 0.5, H - 0.5, H / 2};
-	for (int k = 0; k < 5; k++) {
-		cx[k] = gt[0] + cx[k] * gt[1];
-		cy[k] = gt[3] + cy[k] * gt[5];
-	}
-	int rc = transform(r, r->t_srs, r->wgs84, 5, cx, cy);
-	if (rc != CS_OK)
-		return rc;
-	for (int k = 0; k < 4; k++) {
-		t->corner_lon[k] = cx[k];
-		t->corner_lat[k] = cy[k];
-	}
-	t->center_lon = cx[4];
-	t->center_lat = cy[4];
-	return CS_OK;
-}
-
-/* The heightfield as a Float32 GeoTIFF in memory (bytes owned by GDAL's
- * /vsimem file at path until it is unlinked). */
-static int encode_tif(struct run *r, const struct cs_terrain *t, const char *path,
-		      const void **bytes, size_t *len)
-{
-	GDALDriverH drv = GDALGetDriverByName("GTiff");
-	if (drv == NULL)
-		return cs_error(CS_EDATA, "this GDAL has no GTiff driver");
-	char **co = CSLSetNameValue(NULL, "COMPRESS", "DEFLATE");
-	co = CSLSetNameValue(co, "PREDICTOR", "3");
-	log_reset(&r->log);
-	GDALDatasetH ds = GDALCreate(drv, path, t->width, t->height, 1, GDT_Float32, co);
-	CSLDestroy(co);
-	if (ds == NULL)
-		return gdal_fail(r, "GeoTIFF");
-	GDALRasterBandH b = GDALGetRasterBand(ds, 1);
-	GDALSetGeoTransform(ds, r->gt);
-	GDALSetSpatialRef(ds, r->t_srs);
-	GDALSetMetadataItem(ds, "AREA_OR_POINT", "Area", NULL);
-	GDALSetMetadataItem(ds, "SOURCE", r->source, NULL);
-	if (r->o->voids > 0 && r->o->fill == CS_FILL_NONE)
-		GDALSetRasterNoDataValue(b, NAN);
-	CPLErr e = GDALRasterIO(b, GF_Write, 0, 0, t->width, t->height, t->h,
-				t->width, t->height, GDT_Float32, 0, 0);
-	GDALClose(ds);
-	vsi_l_offset n = 0;
-	*bytes = VSIGetMemFileBuffer(path, &n, FALSE);
-	*len = (size_t)n;
-	if (e != CE_None || r->log.failed || *bytes == NULL)
-		return gdal_fail(r, "GeoTIFF");
-	return CS_OK;
-}
-
-static int write_outputs(struct run *r)
-{
-	struct cs_terrainprep_opts *o = r->o;
-	const struct cs_terrain *t = &o->result;
+	const struct cs_terrain *t = &res->terrain;
 	int rc = CS_OK;
 	if (o->output) {
-		char policy[64], generator[96], tif[160];
+		char policy[64], generator[96];
 		if (o->fill == CS_FILL_VALUE)
 			snprintf(policy, sizeof policy, "fill=value=%.9g", o->fill_value);
 		else
 			snprintf(policy, sizeof policy, "fill=%s",
 				 o->fill == CS_FILL_NONE ? "none" : "nearest");
 		snprintf(generator, sizeof generator, "terrainprep %s (GDAL %s)", CS_VERSION,
-			 GDALVersionInfo("RELEASE_NAME"));
-		char nodata[sizeof policy + sizeof r->src_nodata + 32];
-		snprintf(nodata, sizeof nodata, "%s; source nodata %s", policy, r->src_nodata);
+			 cs_reproject_gdal_version());
+		char nodata[sizeof policy + 64 + 32];
+		snprintf(nodata, sizeof nodata, "%s; source nodata %s", policy,
+			 cs_reproject_src_nodata(rp));
 		struct cs_terrain_meta m = {
-			.format = o->format, .source = r->source, .driver = r->driver,
-			.nodata_policy = nodata, .voids = o->voids,
-			.resampling = o->resampling_used, .generator = generator,
-			.r16_south_up = o->r16_south_up,
+			.format = res->format, .source = cs_reproject_source(rp),
+			.driver = cs_reproject_driver(rp), .nodata_policy = nodata,
+			.voids = res->voids, .resampling = res->resampling_used,
+			.generator = generator, .r16_south_up = o->r16_south_up,
 		};
-		snprintf(tif, sizeof tif, "%s/out.tif", r->mem_dir);
-		if (o->format == CS_TERRAIN_TIF)
-			rc = encode_tif(r, t, tif, &m.bytes, &m.nbytes);
+		if (res->format == CS_TERRAIN_TIF)
+			rc = cs_reproject_geotiff(rp, t, res->voids > 0 && o->fill == CS_FILL_NONE,
+						  &m.bytes, &m.nbytes);
 		if (rc == CS_OK)
 			rc = cs_terrain_write_as(o->output, t, &m);
-		if (o->format == CS_TERRAIN_TIF)
-			VSIUnlink(tif);
 	}
 	if (rc == CS_OK && o->hillshade) {
 		unsigned char *px = malloc((size_t)t->width * t->height);
@@ -678,7 +141,7 @@ static int write_outputs(struct run *r)
 
 /* ---- the run ---------------------------------------------------------- */
 
-static int check_opts(const struct cs_terrainprep_opts *o)
+static int check_opts(const struct cs_terrainprep_opts *o, enum cs_terrain_format format)
 {
 	int nstdin = 0;
 	for (int i = 0; i < o->ninputs; i++)
@@ -714,86 +177,57 @@ static int check_opts(const struct cs_terrainprep_opts *o)
 		return cs_error(CS_EINVAL, "--bounds-srs needs --bounds");
 	if (!(o->max_void_fraction >= 0.0 && o->max_void_fraction <= 1.0))
 		return cs_error(CS_EINVAL, "--max-void-fraction must be within 0..1");
-	if (o->r16_south_up && o->format != CS_TERRAIN_R16)
+	if (o->r16_south_up && format != CS_TERRAIN_R16)
 		return cs_error(CS_EINVAL, "--flip applies to --format r16 only");
-	if (o->format == CS_TERRAIN_R16 && o->fill == CS_FILL_NONE)
+	if (format == CS_TERRAIN_R16 && o->fill == CS_FILL_NONE)
 		return cs_error(CS_EINVAL, "--format r16 cannot hold voids: use --fill nearest or --fill value");
-	int known = o->resampling == NULL;
-	for (int i = 0; !known && resamplers[i]; i++)
-		known = strcmp(o->resampling, resamplers[i]) == 0;
-	if (!known)
+	if (o->resampling && !cs_reproject_resampling_known(o->resampling))
 		return cs_error(CS_EINVAL, "-r: unknown resampling '%s'", o->resampling);
 	return CS_OK;
 }
 
-int cs_terrainprep_run(struct cs_terrainprep_opts *o)
+static void reproject_opts(const struct cs_terrainprep_opts *o, struct cs_reproject_opts *w)
 {
-	static atomic_uint serial;
-	struct run r;
-	memset(&r, 0, sizeof r);
-	memset(&o->result, 0, sizeof o->result);
-	o->voids = 0;
-	o->warning[0] = '\0';
-	o->resampling_used[0] = '\0';
-	r.o = o;
-	int rc = check_opts(o);
+	*w = (struct cs_reproject_opts){
+		.inputs = o->inputs, .ninputs = o->ninputs, .stdin_name = o->stdin_name,
+		.s_srs = o->s_srs, .t_srs = o->t_srs,
+		.have_center = o->have_center, .center_lat = o->center_lat,
+		.center_lon = o->center_lon, .radius_km = o->radius_km,
+		.have_bounds = o->have_bounds, .bounds_srs = o->bounds_srs,
+		.res_m = o->res_m, .size_long = o->size_long, .size_w = o->size_w,
+		.size_h = o->size_h, .size_unity = o->size_unity, .resampling = o->resampling,
+		.have_src_nodata = o->have_src_nodata, .src_nodata_none = o->src_nodata_none,
+		.src_nodata = o->src_nodata, .progress = o->progress,
+		.progress_user = o->progress_user,
+	};
+	memcpy(w->bounds, o->bounds, sizeof w->bounds);
+}
+
+int cs_terrainprep_run(const struct cs_terrainprep_opts *o, struct cs_terrainprep_result *res)
+{
+	memset(res, 0, sizeof *res);
+	res->format = output_format(o);
+	int rc = check_opts(o, res->format);
 	if (rc != CS_OK)
 		return rc;
-	snprintf(r.mem_dir, sizeof r.mem_dir, "/vsimem/terrainprep-%ld-%u",
-		 (long)getpid(), atomic_fetch_add(&serial, 1));
-	CPLPushErrorHandlerEx(on_gdal_error, &r.log);
-	pthread_once(&gdal_once, register_drivers);
-	char *pam = CPLStrdup(CPLGetThreadLocalConfigOption("GDAL_PAM_ENABLED", ""));
-	CPLSetThreadLocalConfigOption("GDAL_PAM_ENABLED", "NO");
-
-	r.wgs84 = OSRNewSpatialReference(NULL);
-	if (OSRImportFromEPSG(r.wgs84, 4326) != OGRERR_NONE)
-		rc = gdal_fail(&r, "WGS84");
-	OSRSetAxisMappingStrategy(r.wgs84, OAMS_TRADITIONAL_GIS_ORDER);
-	if (rc == CS_OK && o->s_srs && (rc = parse_srs(&r, "--s-srs", o->s_srs, &r.s_srs)) == CS_OK &&
-	    (r.s_wkt = export_wkt(r.s_srs)) == NULL)
-		rc = gdal_fail(&r, "--s-srs");
-	if (rc == CS_OK && o->t_srs && (rc = parse_srs(&r, "--t-srs", o->t_srs, &r.t_srs)) == CS_OK &&
-	    !is_metric_projected(r.t_srs))
-		rc = cs_error(CS_EINVAL, "--t-srs: '%s' is not a projected CRS in metres", o->t_srs);
-	if (rc == CS_OK && o->bounds_srs)
-		rc = parse_srs(&r, "--bounds-srs", o->bounds_srs, &r.b_srs);
+	struct cs_reproject_opts wo;
+	struct cs_reproject *rp = NULL;
+	reproject_opts(o, &wo);
+	struct cs_terrain *t = &res->terrain;
+	rc = cs_reproject_open(&wo, &rp);
 	if (rc == CS_OK)
-		rc = open_inputs(&r);
+		rc = cs_reproject_warp(rp, t, res->resampling_used, sizeof res->resampling_used);
 	if (rc == CS_OK)
-		rc = choose_target(&r);
-	if (rc == CS_OK && (r.t_wkt = export_wkt(r.t_srs)) == NULL)
-		rc = gdal_fail(&r, "target CRS");
+		rc = handle_voids(o, t, &res->voids);
 	if (rc == CS_OK)
-		rc = choose_extent(&r);
-	struct cs_terrain *t = &o->result;
+		rc = cs_reproject_georeference(rp, t);
 	if (rc == CS_OK)
-		rc = warp_heights(&r, &t->h, &t->width, &t->height);
-	if (rc == CS_OK)
-		rc = handle_voids(&r, t);
-	if (rc == CS_OK)
-		rc = georeference(&r, t);
-	if (rc == CS_OK)
-		rc = write_outputs(&r);
+		rc = write_outputs(o, rp, res);
 	if (rc == CS_OK && o->progress)
 		o->progress(o->progress_user, 1.0);
-
-	snprintf(o->warning, sizeof o->warning, "%s", r.log.warning);
-	for (int i = 0; i < r.nsrc; i++)
-		GDALClose(r.src[i]);
-	free(r.src);
-	if (r.stdin_path[0])
-		VSIUnlink(r.stdin_path);
-	free(r.stdin_buf);
-	OGRSpatialReferenceH srs[4] = {r.s_srs, r.t_srs, r.b_srs, r.wgs84};
-	for (int i = 0; i < 4; i++)
-		if (srs[i])
-			OSRDestroySpatialReference(srs[i]);
-	CPLFree(r.s_wkt);
-	CPLFree(r.t_wkt);
-	CPLSetThreadLocalConfigOption("GDAL_PAM_ENABLED", pam[0] ? pam : NULL);
-	CPLFree(pam);
-	CPLPopErrorHandler();
+	if (rp)
+		snprintf(res->warning, sizeof res->warning, "%s", cs_reproject_warning(rp));
+	cs_reproject_free(rp);
 	if (rc != CS_OK)
 		cs_terrain_free(t);
 	return rc;

@@ -1,14 +1,17 @@
 /* terrainprep.h - the terrainprep program as a library call: any DEM GDAL
- * reads -> a metric, north-up heightfield (see terrain.h), through GDAL's
- * warp API. */
+ * reads -> a metric, north-up heightfield (see terrain.h).  The GDAL part
+ * (opening, CRSs, warping) is terrain/reproject.h; this is the flow. */
 #ifndef CS_TERRAINPREP_H
 #define CS_TERRAINPREP_H
 
 #include "terrain/terrain.h"
-#include "noise/volume.h" /* cs_progress_fn */
+#include "terrain/reproject.h"
 
 #define CS_TERRAINPREP_MAX_INPUTS 4096
-#define CS_TERRAINPREP_MAX_SAMPLES ((long)1 << 28) /* 16384^2 */
+#define CS_TERRAINPREP_MAX_SAMPLES CS_REPROJECT_MAX_SAMPLES
+/* format: chosen from the output's extension (.exr, .r16/.raw, .tif/.tiff;
+ * EXR for any other) */
+#define CS_TERRAINPREP_FORMAT_AUTO (-1)
 
 enum cs_fill { CS_FILL_NEAREST, CS_FILL_NONE, CS_FILL_VALUE };
 
@@ -18,7 +21,7 @@ struct cs_terrainprep_opts {
 	const char *stdin_name;   /* name "-" is opened under (drivers such as
 				   * SRTMHGT take georeferencing from it) */
 	const char *output;       /* data file; the sidecar goes beside it */
-	enum cs_terrain_format format;
+	int format;               /* enum cs_terrain_format, or ..._FORMAT_AUTO */
 	const char *s_srs, *t_srs;/* any form GDAL accepts (EPSG:n, WKT, PROJ) */
 	int have_center;
 	double center_lat, center_lon, radius_km;  /* square crop */
@@ -41,15 +44,19 @@ struct cs_terrainprep_opts {
 	double azimuth_deg, altitude_deg, z_factor, scale;
 	cs_progress_fn progress;
 	void *progress_user;
+};
 
-	/* filled in by the run */
-	struct cs_terrain result;  /* freed by cs_terrainprep_free() */
-	long voids;
+/* What a run produced. */
+struct cs_terrainprep_result {
+	struct cs_terrain terrain; /* freed by cs_terrainprep_result_free() */
+	enum cs_terrain_format format; /* of the data file written */
+	long voids;                /* void samples found */
 	char resampling_used[16];
 	char warning[256];         /* GDAL's last warning, or "" */
 };
 
-/* Defaults: EXR, fill nearest, 50% voids allowed, stdin name "stdin",
+/* Defaults: format from the output's name, fill nearest, 50% voids
+ * allowed, stdin name "stdin",
  * hillshade sun at azimuth 315, altitude 45, z-factor 1, scale 1. */
 void cs_terrainprep_defaults(struct cs_terrainprep_opts *o);
 
@@ -57,7 +64,12 @@ void cs_terrainprep_defaults(struct cs_terrainprep_opts *o);
  * mistakes (a bad CRS, crop or size) return CS_EINVAL; the data's
  * problems (unreadable input, no CRS without s_srs, too many voids)
  * CS_EDATA; the system's CS_EIO. */
-int cs_terrainprep_run(struct cs_terrainprep_opts *o);
-void cs_terrainprep_free(struct cs_terrainprep_opts *o);
+int cs_terrainprep_run(const struct cs_terrainprep_opts *o,
+		       struct cs_terrainprep_result *r);
+void cs_terrainprep_result_free(struct cs_terrainprep_result *r);
+
+/* The format a name means: "exr", "r16" or "raw", "tif" or "tiff" (any
+ * case); CS_EINVAL for any other. */
+int cs_terrainprep_format(const char *name, enum cs_terrain_format *f);
 
 #endif

@@ -48,7 +48,8 @@ static struct when when(double t)
 /* ---- the program ---------------------------------------------------------- */
 
 struct run {
-	struct cs_wxinterp_opts *o;
+	const struct cs_wxinterp_opts *o;
+	struct cs_wxinterp_result *res;
 	struct cs_series main;
 	char main_label[256];
 	struct cs_wx_site site;
@@ -108,7 +109,7 @@ static void describe(const struct cs_wxinterp_opts *o, const char *path,
 
 static int read_inputs(struct run *r)
 {
-	struct cs_wxinterp_opts *o = r->o;
+	const struct cs_wxinterp_opts *o = r->o;
 	TRY(cs_series_read(o->inputs[0], &r->main));
 	describe(o, o->inputs[0], &r->main);
 	snprintf(r->main_label, sizeof r->main_label, "%s%s",
@@ -222,7 +223,7 @@ static int derive(const struct run *r, double t, struct cs_wx *wx)
 /* Derives (or takes the template), edits, validates and writes one state. */
 static int one_state(struct run *r, double t, struct cs_outfile *of)
 {
-	struct cs_wxinterp_opts *o = r->o;
+	const struct cs_wxinterp_opts *o = r->o;
 	struct cs_wx wx;
 	if (o->template_state) {
 		cs_wx_default(&wx);
@@ -257,7 +258,7 @@ static int one_state(struct run *r, double t, struct cs_outfile *of)
 	}
 	free(json);
 	free(pretty);
-	o->nstates++;
+	r->res->nstates++;
 	return rc;
 }
 
@@ -297,7 +298,7 @@ static int check_opts(const struct cs_wxinterp_opts *o)
 
 static int run_times(struct run *r)
 {
-	struct cs_wxinterp_opts *o = r->o;
+	const struct cs_wxinterp_opts *o = r->o;
 	double t0, t1;
 	if (o->have_at) {
 		t0 = t1 = o->at_utc;
@@ -333,16 +334,17 @@ static int run_times(struct run *r)
 	return rc;
 }
 
-int cs_wxinterp_run(struct cs_wxinterp_opts *o)
+int cs_wxinterp_run(const struct cs_wxinterp_opts *o, struct cs_wxinterp_result *res)
 {
-	if (o == NULL)
+	if (o == NULL || res == NULL)
 		return cs_error(CS_EINVAL, "cs_wxinterp_run: no options");
-	o->nstates = 0;
+	res->nstates = 0;
 	TRY(check_opts(o));
 	struct run *r = calloc(1, sizeof *r);
 	if (r == NULL)
 		return cs_error(CS_ENOMEM, "out of memory");
 	r->o = o;
+	r->res = res;
 	int rc = o->template_state ? CS_OK : read_inputs(r);
 	if (rc == CS_OK)
 		rc = run_times(r);

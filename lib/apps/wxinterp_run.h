@@ -39,13 +39,17 @@ struct cs_wxinterp_opts {
 	const char *output;                   /* path or "-" (default) */
 	cs_note_fn note;
 	void *note_user;
-	long nstates;                         /* out: states written */
+};
+
+/* What a run produced. */
+struct cs_wxinterp_result {
+	long nstates;                         /* states written */
 };
 
 void cs_wxinterp_defaults(struct cs_wxinterp_opts *o);
 
 /* Reads the inputs, writes the states (atomically).  CS_EINVAL for bad
  * options or --set edits, CS_EDATA for bad or insufficient data, CS_EIO. */
-int cs_wxinterp_run(struct cs_wxinterp_opts *o);
+int cs_wxinterp_run(const struct cs_wxinterp_opts *o, struct cs_wxinterp_result *res);
 
 #endif

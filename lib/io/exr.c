@@ -80,17 +80,7 @@ void cs_exr_reader_init(exr_context_initializer_t *init, struct cs_exr_mem *src)
 	exr_msg[0] = '\0';
 }
 
-/* On failure: rc = code with "name: what: the core's message", goto label. */
-#define EXR_CHECK(call, code, what, label)                                   \
-	do {                                                                 \
-		exr_result_t r_ = (call);                                    \
-		if (r_ != EXR_ERR_SUCCESS) {                                 \
-			rc = cs_error(code, "%s: %s: %s", name, what,         \
-				      cs_exr_message(r_));                   \
-			goto label;                                          \
-		}                                                            \
-	} while (0)
-#define TRY(call, what) EXR_CHECK(call, CS_EIO, what, fail)
+#define TRY(call, what) CS_EXR_CHECK(call, CS_EIO, name, what, fail)
 
 static int set_attr(exr_context_t f, const struct cs_exr_attr *a)
 {
@@ -277,7 +267,7 @@ int cs_exr_write(const char *path, int width, int height,
 }
 
 #undef TRY
-#define TRY(call, what) EXR_CHECK(call, CS_EDATA, what, done)
+#define TRY(call, what) CS_EXR_CHECK(call, CS_EDATA, name, what, done)
 
 #define MAX_READ_PIXELS ((long)1 << 28) /* 1 GiB of floats */
 

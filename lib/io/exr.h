@@ -5,6 +5,8 @@
 #ifndef CS_EXR_H
 #define CS_EXR_H
 
+#include "core/err.h"
+
 #include <openexr.h>
 
 #include <stddef.h>
@@ -61,5 +63,18 @@ int cs_exr_read_float_channel(const void *data, size_t len, const char *name,
 
 /* The core's last message on this thread, or the default text of code. */
 const char *cs_exr_message(exr_result_t code);
+
+/* Checks a call of the OpenEXR core inside a function with an int rc and
+ * a cleanup label: on failure sets rc = code with the message "name: what:
+ * the core's message" (name: the file, a string) and jumps to label. */
+#define CS_EXR_CHECK(call, code, name, what, label)                           \
+	do {                                                                  \
+		exr_result_t r_ = (call);                                     \
+		if (r_ != EXR_ERR_SUCCESS) {                                  \
+			rc = cs_error(code, "%s: %s: %s", name, what,          \
+				      cs_exr_message(r_));                     \
+			goto label;                                           \
+		}                                                             \
+	} while (0)
 
 #endif

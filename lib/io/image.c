@@ -81,13 +81,13 @@ int cs_png_read_rgb8(const char *path, uint8_t **rgb, int *width, int *height)
 	return CS_OK;
 }
 
-static double aces(double x)
+double cs_tonemap_aces(double x)
 {
 	double y = (x * (2.51 * x + 0.03)) / (x * (2.43 * x + 0.59) + 0.14);
 	return y < 0.0 ? 0.0 : y > 1.0 ? 1.0 : y;
 }
 
-static double srgb_oetf(double v)
+double cs_srgb_oetf(double v)
 {
 	return v <= 0.0031308 ? 12.92 * v : 1.055 * pow(v, 1.0 / 2.4) - 0.055;
 }
@@ -113,6 +113,6 @@ void cs_tonemap_srgb8(const float *px, size_t stride, size_t n,
 		for (int c = 0; c < 3; c++) {
 			double x = px[i * stride + c] * k;
 			x = isfinite(x) && x > 0.0 ? x : 0.0;
-			rgb[i * 3 + c] = (uint8_t)lrint(255.0 * srgb_oetf(aces(x)));
+			rgb[i * 3 + c] = (uint8_t)lrint(255.0 * cs_srgb_oetf(cs_tonemap_aces(x)));
 		}
 }

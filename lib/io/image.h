@@ -1,4 +1,5 @@
-/* image.h - image output: 8-bit PNG (libpng's simplified API). */
+/* image.h - 8-bit PNG (libpng's simplified API) and the display transform:
+ * exposure, tone curve, sRGB encoding. */
 #ifndef CS_IMAGE_H
 #define CS_IMAGE_H
 
@@ -20,6 +21,13 @@ int cs_png_read_rgb8(const char *path, uint8_t **rgb, int *width, int *height);
  * input, as a camera's automatic exposure does (Reinhard et al. 2002's
  * key); zero-radiance pixels count as 1e-9 kcd/m^2. */
 double cs_auto_exposure_ev(const float *px, size_t stride, size_t n);
+
+/* The ACES filmic tone curve, Narkowicz 2015's fit
+ * x (2.51 x + 0.03) / (x (2.43 x + 0.59) + 0.14), clamped to 0..1. */
+double cs_tonemap_aces(double x);
+
+/* The sRGB transfer function (IEC 61966-2-1): linear 0..1 to encoded 0..1. */
+double cs_srgb_oetf(double v);
 
 /* Linear radiance (kcd/m^2, linear sRGB) to 8-bit sRGB for display: scaled
  * by 2^exposure_ev / 16 kcd/m^2, ACES filmic curve (Narkowicz 2015 fit),

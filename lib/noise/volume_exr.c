@@ -59,15 +59,7 @@ int cs_volume_write_exr(const struct cs_volume *v, const char *path,
 			    (int)(sizeof attrs / sizeof attrs[0]));
 }
 
-#define EXR_TRY(call, what)                                                   \
-	do {                                                                  \
-		exr_result_t r_ = (call);                                     \
-		if (r_ != EXR_ERR_SUCCESS) {                                  \
-			rc = cs_error(CS_EDATA, "%s: %s: %s", name, what,      \
-				      cs_exr_message(r_));                     \
-			goto done;                                            \
-		}                                                             \
-	} while (0)
+#define EXR_TRY(call, what) CS_EXR_CHECK(call, CS_EDATA, name, what, done)
 
 #define BAD(...)                                                              \
 	do {                                                                  \

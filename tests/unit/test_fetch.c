@@ -180,21 +180,22 @@ static void url_holds_what_cloudscape_needs(void)
 static void run_rejects_bad_options_before_any_request(void)
 {
 	struct cs_mbfetch_opts o;
+	struct cs_mbfetch_result r;
 	cs_mbfetch_defaults(&o);
 	o.dry_run = 1;
 	o.days = 8;
-	CHECK(cs_mbfetch_run(&o) == CS_EINVAL);
+	CHECK(cs_mbfetch_run(&o, &r) == CS_EINVAL);
 	CHECK_STR_CONTAINS(cs_errmsg(), "--days: 8 is out of range 1..7 for meteoblue");
 	o.days = 3;
 	o.base_url = "ftp://example.org";
-	CHECK(cs_mbfetch_run(&o) == CS_EINVAL);
+	CHECK(cs_mbfetch_run(&o, &r) == CS_EINVAL);
 	o.base_url = NULL;
 	o.provider = CS_PROVIDER_OPENMETEO;
 	o.history_days = 93;
-	CHECK(cs_mbfetch_run(&o) == CS_EINVAL);
+	CHECK(cs_mbfetch_run(&o, &r) == CS_EINVAL);
 	o.history_days = 92;
-	CHECK(cs_mbfetch_run(&o) == CS_OK);
-	CHECK_STR_CONTAINS(o.url, "past_days=92");
+	CHECK(cs_mbfetch_run(&o, &r) == CS_OK);
+	CHECK_STR_CONTAINS(r.url, "past_days=92");
 }
 
 static void key_comes_from_file_env_or_nowhere(void)

@@ -378,14 +378,18 @@ static void hillshade_of_planes_is_lambertian(void)
 
 /* ---- terrainprep on GDAL's test DEMs ---------------------------------- */
 
-/* Runs terrainprep on one input; says why when it fails unexpectedly. */
+/* What the last prep() produced. */
+static struct cs_terrainprep_result prep_res;
+
+/* Runs terrainprep on one input into res; says why when it fails
+ * unexpectedly. */
 static int prep(struct cs_terrainprep_opts *o, const char *in, int want)
 {
 	static const char *inputs[1];
 	inputs[0] = in;
 	o->inputs = inputs;
 	o->ninputs = 1;
-	int rc = cs_terrainprep_run(o);
+	int rc = cs_terrainprep_run(o, &prep_res);
 	if (rc != want)
 		printf("  terrainprep gave %d, expected %d: %s\n", rc, want, cs_errmsg());
 	return rc;
@@ -401,15 +405,15 @@ static void terrainprep_n43_to_utm17_at_1000m(void)
 	o.res_m = 1000;
 	o.output = tmp("n43.exr");
 	CHECK(prep(&o, n43, CS_OK) == CS_OK);
-	const struct cs_terrain *t = &o.result;
+	const struct cs_terrain *t = &prep_res.terrain;
 	CHECK(t->width == 83 && t->height == 113);
 	CHECK(t->epsg == 32617);
 	CHECK_NEAR(t->min_m, 75.0, 1e-6);
 	CHECK_NEAR(t->max_m, 456.18, 0.01);    /* gdalwarp -r bilinear: 456.18 */
 	CHECK_NEAR(t->origin_x, 579834.611, 0.001);
 	CHECK_NEAR(t->origin_y, 4874288.239, 0.001);
-	CHECK(strcmp(o.resampling_used, "bilinear") == 0);
-	CHECK(o.voids > 0 && o.voids < 83 * 113 / 20); /* the warped tile's margins */
+	CHECK(strcmp(prep_res.resampling_used, "bilinear") == 0);
+	CHECK(prep_res.voids > 0 && prep_res.voids < 83 * 113 / 20); /* the warped tile's margins */
 	CHECK_NEAR(t->center_lat, 43.5, 0.01);
 	CHECK_NEAR(t->center_lon, -79.5, 0.01);
 	struct cs_terrain r;
@@ -417,7 +421,7 @@ static void terrainprep_n43_to_utm17_at_1000m(void)
 	CHECK(r.width == 83 && r.height == 113 && r.max_m == t->max_m);
 	CHECK(r.h && memcmp(r.h, t->h, sizeof(float) * 83 * 113) == 0);
 	cs_terrain_free(&r);
-	cs_terrainprep_free(&o);
+	cs_terrainprep_result_free(&prep_res);
 }
 
 /* Our hillshade of the n43 heightfield against GDALDEMProcessing's on the
@@ -437,7 +441,7 @@ static int hillshade_vs_gdaldem(const char *n43, double az, double alt, double z
 	o.z_factor = z;
 	if (prep(&o, n43, CS_OK) != CS_OK)
 		return 999;
-	cs_terrainprep_free(&o);
+	cs_terrainprep_result_free(&prep_res);
 	char azs[32], alts[32], zs[32];
 	snprintf(azs, sizeof azs, "%g", az);
 	snprintf(alts, sizeof alts, "%g", alt);
@@ -500,10 +504,10 @@ static void terrainprep_needs_s_srs_without_crs(void)
 	CHECK(access(tmp("nf.exr"), F_OK) != 0 && access(tmp("nf.json"), F_OK) != 0);
 	o.s_srs = "EPSG:32611";
 	CHECK(prep(&o, asc, CS_OK) == CS_OK);
-	CHECK(o.result.width == 5 && o.result.height == 5 && o.result.epsg == 32611);
-	CHECK(o.result.min_m == 107 && o.result.max_m == 156 && o.voids == 0);
-	CHECK(o.result.pixel_x_m == 60 && o.result.origin_y == 3750120 + 300);
-	cs_terrainprep_free(&o);
+	CHECK(prep_res.terrain.width == 5 && prep_res.terrain.height == 5 && prep_res.terrain.epsg == 32611);
+	CHECK(prep_res.terrain.min_m == 107 && prep_res.terrain.max_m == 156 && prep_res.voids == 0);
+	CHECK(prep_res.terrain.pixel_x_m == 60 && prep_res.terrain.origin_y == 3750120 + 300);
+	cs_terrainprep_result_free(&prep_res);
 	o.s_srs = "EPSG:999999999";
 	CHECK(prep(&o, asc, CS_EINVAL) == CS_EINVAL);
 }
@@ -519,27 +523,27 @@ static void terrainprep_fill_modes_on_withnodata(void)
 	o.output = tmp("wn.tif");
 	o.format = CS_TERRAIN_TIF;
 	/* nearest: the void (upper left, -999) takes its neighbours' 0 */
-	CHECK(prep(&o, asc, CS_OK) == CS_OK && o.voids == 1);
-	CHECK(o.result.h && o.result.h[0] == 0.0f && o.result.max_m == 0.0);
-	cs_terrainprep_free(&o);
+	CHECK(prep(&o, asc, CS_OK) == CS_OK && prep_res.voids == 1);
+	CHECK(prep_res.terrain.h && prep_res.terrain.h[0] == 0.0f && prep_res.terrain.max_m == 0.0);
+	cs_terrainprep_result_free(&prep_res);
 	o.fill = CS_FILL_VALUE;
 	o.fill_value = 123.5;
 	CHECK(prep(&o, asc, CS_OK) == CS_OK);
-	CHECK(o.result.h && o.result.h[0] == 123.5f && o.result.h[3] == 0.0f);
-	CHECK(o.result.max_m == 123.5);
-	cs_terrainprep_free(&o);
+	CHECK(prep_res.terrain.h && prep_res.terrain.h[0] == 123.5f && prep_res.terrain.h[3] == 0.0f);
+	CHECK(prep_res.terrain.max_m == 123.5);
+	cs_terrainprep_result_free(&prep_res);
 	o.fill = CS_FILL_NONE;
 	CHECK(prep(&o, asc, CS_OK) == CS_OK);
-	CHECK(o.result.h && isnan(o.result.h[0]) && o.result.h[1] == 0.0f);
-	cs_terrainprep_free(&o);
+	CHECK(prep_res.terrain.h && isnan(prep_res.terrain.h[0]) && prep_res.terrain.h[1] == 0.0f);
+	cs_terrainprep_result_free(&prep_res);
 	o.max_void_fraction = 0.2; /* 1 of 4 is 25% */
 	CHECK(prep(&o, asc, CS_EDATA) == CS_EDATA);
 	CHECK_STR_CONTAINS(cs_errmsg(), "25.0% of the output samples are voids");
 	/* --src-nodata none: -999 is a height like any other */
 	o.max_void_fraction = 0.5;
 	o.have_src_nodata = o.src_nodata_none = 1;
-	CHECK(prep(&o, asc, CS_OK) == CS_OK && o.voids == 0 && o.result.min_m == -999.0);
-	cs_terrainprep_free(&o);
+	CHECK(prep(&o, asc, CS_OK) == CS_OK && prep_res.voids == 0 && prep_res.terrain.min_m == -999.0);
+	cs_terrainprep_result_free(&prep_res);
 }
 
 int main(void)

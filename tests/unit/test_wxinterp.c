@@ -476,6 +476,7 @@ static void run_writes_states_with_far_sites_and_edits(void)
 	crafted(tmp("near.json"), "", 46.95, 7.44, 20, 40);
 	crafted(tmp("far.json"), "Solothurn", 47.2088, 7.5323, 60, 80);
 	struct cs_wxinterp_opts o;
+	struct cs_wxinterp_result res;
 	cs_wxinterp_defaults(&o);
 	o.inputs[o.ninputs++] = tmp("near.json");
 	o.far[o.nfar++] = tmp("far.json");
@@ -483,8 +484,8 @@ static void run_writes_states_with_far_sites_and_edits(void)
 	o.at_utc = utc("2021-06-14T00:30Z");
 	o.sets[o.nsets++] = "precipitation=0.5";
 	o.output = tmp("wx.json");
-	CHECK(cs_wxinterp_run(&o) == CS_OK);
-	CHECK(o.nstates == 1);
+	CHECK(cs_wxinterp_run(&o, &res) == CS_OK);
+	CHECK(res.nstates == 1);
 	struct cs_wx wx;
 	CHECK(cs_wx_read(tmp("wx.json"), &wx) == CS_OK);
 	CHECK(strcmp(wx.site.name, "near") == 0); /* no metadata name: the file's */
@@ -503,7 +504,7 @@ static void run_writes_states_with_far_sites_and_edits(void)
 	o.at_utc = utc("2021-06-14T00:30Z");
 	o.output = tmp("wx.json");
 	o.max_gap_s = 3600; /* bridges nothing */
-	CHECK(cs_wxinterp_run(&o) == CS_EDATA);
+	CHECK(cs_wxinterp_run(&o, &res) == CS_EDATA);
 	CHECK_STR_CONTAINS(cs_errmsg(), "near.json: visibility (data_1h.visibility) has "
 			   "no value at 2021-06-14T00:30:00Z: the nearest valid hours, "
 			   "2021-06-14T00:00:00Z and 2021-06-14T02:00:00Z, are 2 h apart");
@@ -513,6 +514,7 @@ static void run_series_is_json_lines_and_errors_leave_no_output(void)
 {
 	crafted(tmp("a.json"), "A", 46.95, 7.44, 20, 40);
 	struct cs_wxinterp_opts o;
+	struct cs_wxinterp_result res;
 	cs_wxinterp_defaults(&o);
 	o.inputs[o.ninputs++] = tmp("a.json");
 	o.have_from = o.have_to = 1;
@@ -520,8 +522,8 @@ static void run_series_is_json_lines_and_errors_leave_no_output(void)
 	o.to_utc = utc("2021-06-14T00:50Z");
 	o.step_s = 600;
 	o.output = tmp("lapse.jsonl");
-	CHECK(cs_wxinterp_run(&o) == CS_OK);
-	CHECK(o.nstates == 6);
+	CHECK(cs_wxinterp_run(&o, &res) == CS_OK);
+	CHECK(res.nstates == 6);
 	unsigned char *text;
 	size_t len;
 	CHECK(cs_read_all(tmp("lapse.jsonl"), 1 << 20, &text, &len) == CS_OK);
@@ -533,11 +535,11 @@ static void run_series_is_json_lines_and_errors_leave_no_output(void)
 	free(text);
 	/* a bad --set or a time outside the data: the old file stays */
 	o.sets[o.nsets++] = "layer.low.coverage=2";
-	CHECK(cs_wxinterp_run(&o) == CS_EINVAL);
+	CHECK(cs_wxinterp_run(&o, &res) == CS_EINVAL);
 	CHECK_STR_CONTAINS(cs_errmsg(), "after --set: layers[0].coverage: 2 is outside 0..1");
 	o.nsets = 0;
 	o.to_utc = utc("2021-06-14T03:00Z");
-	CHECK(cs_wxinterp_run(&o) == CS_EDATA);
+	CHECK(cs_wxinterp_run(&o, &res) == CS_EDATA);
 	CHECK_STR_CONTAINS(cs_errmsg(), "2021-06-14T03:00:00Z is outside the data: ");
 	CHECK_STR_CONTAINS(cs_errmsg(), "a.json covers 2021-06-14T00:00:00Z to "
 			   "2021-06-14T02:00:00Z");
@@ -545,35 +547,36 @@ static void run_series_is_json_lines_and_errors_leave_no_output(void)
 	CHECK(cs_wx_read(tmp("lapse.jsonl"), &wx) == CS_OK); /* still the old one */
 	o.have_to = 0; /* to the end of the data */
 	o.pretty = 1;
-	CHECK(cs_wxinterp_run(&o) == CS_EINVAL);
+	CHECK(cs_wxinterp_run(&o, &res) == CS_EINVAL);
 	CHECK_STR_CONTAINS(cs_errmsg(), "--pretty writes one state, not a series of 13");
 }
 
 static void run_template_and_option_errors(void)
 {
 	struct cs_wxinterp_opts o;
+	struct cs_wxinterp_result res;
 	cs_wxinterp_defaults(&o);
 	o.template_state = 1;
 	o.pretty = 1;
 	o.sets[o.nsets++] = "layer.low=nimbostratus";
 	o.output = tmp("t.json");
-	CHECK(cs_wxinterp_run(&o) == CS_OK);
+	CHECK(cs_wxinterp_run(&o, &res) == CS_OK);
 	struct cs_wx wx;
 	CHECK(cs_wx_read(tmp("t.json"), &wx) == CS_OK);
 	CHECK(wx.layers[0].genus == CS_NIMBOSTRATUS && strcmp(wx.site.name, "Bern") == 0);
 	o.inputs[o.ninputs++] = "x.json";
-	CHECK(cs_wxinterp_run(&o) == CS_EINVAL);
+	CHECK(cs_wxinterp_run(&o, &res) == CS_EINVAL);
 	CHECK_STR_CONTAINS(cs_errmsg(), "--template takes no input files");
 	cs_wxinterp_defaults(&o);
-	CHECK(cs_wxinterp_run(&o) == CS_EINVAL);
+	CHECK(cs_wxinterp_run(&o, &res) == CS_EINVAL);
 	CHECK_STR_CONTAINS(cs_errmsg(), "no input");
 	o.inputs[o.ninputs++] = "-";
 	o.far[o.nfar++] = "-";
-	CHECK(cs_wxinterp_run(&o) == CS_EINVAL);
+	CHECK(cs_wxinterp_run(&o, &res) == CS_EINVAL);
 	CHECK_STR_CONTAINS(cs_errmsg(), "standard input ('-') can be read only once");
 	o.nfar = 0;
 	o.inputs[0] = tmp("missing.json");
-	CHECK(cs_wxinterp_run(&o) == CS_EIO);
+	CHECK(cs_wxinterp_run(&o, &res) == CS_EIO);
 	CHECK_STR_CONTAINS(cs_errmsg(), "missing.json");
 }
 
