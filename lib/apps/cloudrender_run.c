@@ -7,7 +7,7 @@
 #include "terrain/heightfield.h"
 #include "render/scene.h"
 #include "terrain/terrain.h"
-#include "render/sun.h"
+#include "astro/sun.h"
 #include "core/time.h"
 #include "noise/volume.h"
 

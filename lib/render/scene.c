@@ -2,7 +2,7 @@
 
 #include "core/err.h"
 #include "render/sky.h"
-#include "render/sun.h"
+#include "astro/sun.h"
 
 #include <math.h>
 #include <string.h>

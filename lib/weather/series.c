@@ -4,7 +4,7 @@
 #include "core/fileio.h"
 #include "core/geo.h"
 #include "core/time.h"
-#include "render/sun.h"
+#include "astro/sun.h"
 
 #include <math.h>
 #include <stdio.h>

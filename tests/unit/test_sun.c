@@ -1,4 +1,4 @@
-#include "render/sun.h"
+#include "astro/sun.h"
 
 #include "core/err.h"
 #include "test.h"
