@@ -103,12 +103,10 @@ static void print_stats(const struct cs_cloudrender_opts *o,
 			i ? "," : "", cs_genus_name(sc->layers[i].genus),
 			sc->layers[i].coverage, sc->layers[i].base_m, sc->layers[i].top_m);
 	fprintf(stderr, "],\"effects\":[");
-	static const char *const names[] = {"sun", "sky", "clouds", "ground",
-					    "haze", "rain", "cloud_shadows", "terrain"};
 	int first = 1;
-	for (int b = 0; sc && b < 8; b++)
+	for (int b = 0; sc && cs_effect_name(1u << b); b++)
 		if (sc->effects & (1u << b)) {
-			fprintf(stderr, "%s\"%s\"", first ? "" : ",", names[b]);
+			fprintf(stderr, "%s\"%s\"", first ? "" : ",", cs_effect_name(1u << b));
 			first = 0;
 		}
 	fprintf(stderr, "]}\n");

@@ -1,6 +1,7 @@
 /* haze.c - aerial perspective: the haze between the eye and what it sees,
  * from the visibility (an aerosol layer thinning exponentially with
- * height), lit by the sky. */
+ * height), lit by the sky; and fog, a layer of constant extinction from
+ * the ground up. */
 #include "render/march.h"
 
 #include <math.h>
@@ -50,4 +51,19 @@ CS_HD double cs_haze_depth(const struct cs_scene *sc, double h0, double dz, doub
 	double x = -dz * t / H;
 	x = x > 50.0 ? 50.0 : x; /* going down a very long way: capped, finite */
 	return b * H * -expm1(x) / dz;
+}
+
+CS_HD double cs_fog_depth(const struct cs_scene *sc, double h0, double dz, double t)
+{
+	if (!(sc->fog_beta_per_m > 0.0))
+		return 0.0;
+	double top = sc->fog_top_m, len;
+	if (fabs(dz) < 1e-12) {
+		len = h0 < top ? t : 0.0;
+	} else {
+		double tc = (top - h0) / dz; /* where the ray crosses the top */
+		tc = tc < 0.0 ? 0.0 : tc > t ? t : tc;
+		len = dz > 0.0 ? (h0 < top ? tc : 0.0) : (h0 < top ? t : t - tc);
+	}
+	return sc->fog_beta_per_m * len;
 }

@@ -24,8 +24,10 @@ struct path {
 	double depth;    /* first cloud sample with density, or CS_SKY_DEPTH_M */
 	int terminated;  /* T fell below the settings' minimum */
 	double th;       /* the haze's transmittance to the last haze point */
+	double tau_h, tau_f; /* haze and fog optical depths to it */
 	double H[3];     /* haze light so far, weighted by T where it arose */
 	double Hw[3];    /* the same, unweighted */
+	double F[3];     /* fog light so far, weighted by T */
 };
 
 /* The per-ray constants of the march. */
@@ -39,21 +41,29 @@ struct ray_ctx {
 	int haze;        /* the scene has haze */
 	double h0, dz;   /* the eye's altitude, the ray's vertical component */
 	double hz[3];    /* the light the haze scatters toward the eye */
+	double hf[3];    /* the light the fog scatters toward the eye */
 };
 
-/* The haze from the last haze point to distance t: its light, seen through
- * the clouds and rain in front of it, and its transmittance. */
+/* The haze and fog from the last haze point to distance t: their light,
+ * seen through the clouds and rain in front of it, and their
+ * transmittance.  The fog's share of the light is its share of the
+ * optical depth over the step. */
 CS_HD static void haze_to(const struct ray_ctx *c, struct path *P, double t)
 {
 	if (!c->haze)
 		return;
-	double th = exp(-cs_haze_depth(c->sc, c->h0, c->dz, t));
+	double th = cs_haze_depth(c->sc, c->h0, c->dz, t);
+	double tf = cs_fog_depth(c->sc, c->h0, c->dz, t);
+	double dh = th - P->tau_h, df = tf - P->tau_f;
+	double wf = dh + df > 0.0 ? df / (dh + df) : 0.0;
+	double tr = exp(-(th + tf));
 	for (int k = 0; k < 3; k++) {
-		double d = c->hz[k] * (P->th - th);
-		P->H[k] += P->T * d;
-		P->Hw[k] += d;
+		double lh = (1.0 - wf) * c->hz[k] * (P->th - tr);
+		P->H[k] += P->T * lh;
+		P->Hw[k] += lh;
+		P->F[k] += P->T * wf * c->hf[k] * (P->th - tr);
 	}
-	P->th = th;
+	P->th = tr, P->tau_h = th, P->tau_f = tf;
 }
 
 /* The ground along the ray: the terrain inside its grid, the flat ground
@@ -322,17 +332,19 @@ CS_HD static void finish_ray(const struct ray_ctx *c, double tg, int on_terrain,
 			if (P->depth == CS_SKY_DEPTH_M)
 				P->depth = tg;
 		} else if (sc->effects & CS_FX_SKY) {
-			double disk[3];
+			/* the fog is not in the sky's radiance: it dims it */
+			haze_to(c, P, 1e7);
+			double disk[3], tf = exp(-P->tau_f);
 			cs_sky_radiance(&sc->sky, c->d, bg);
 			cs_sky_sun_disk(&sc->sky, c->d, disk);
 			for (int k = 0; k < 3; k++) {
-				bg[k] += disk[k];
+				bg[k] = (bg[k] + disk[k]) * tf;
 				P->H[k] -= P->T * P->Hw[k];
 			}
 		}
 	}
 	for (int k = 0; k < 3; k++) {
-		double v = P->L[k] + P->H[k] + P->T * bg[k];
+		double v = P->L[k] + P->H[k] + P->F[k] + P->T * bg[k];
 		out->rgb[k] = isfinite(v) && v > 0.0 ? v : 0.0;
 	}
 	out->transmittance = P->Tcloud >= 0.0 && P->Tcloud <= 1.0 ? P->Tcloud : 0.0;
@@ -348,23 +360,30 @@ CS_HD void cs_render_ray(const struct cs_scene *sc, const struct cs_render_setti
 	struct interval iv[2 * CS_SCENE_MAX_LAYERS + 2];
 	int n = gather_intervals(sc, o, d, isfinite(tg) ? tg : 1e7, iv);
 
-	struct ray_ctx c = {sc, s, o, d, jitter_u, {0.0}, st, 0, 0.0, 0.0, {0.0}};
-	c.haze = (sc->effects & CS_FX_HAZE) && sc->haze_beta0_per_m > 0.0;
+	struct ray_ctx c = {sc, s, o, d, jitter_u, {0.0}, st, 0, 0.0, 0.0, {0.0}, {0.0}};
+	c.haze = (sc->effects & CS_FX_HAZE) &&
+		 (sc->haze_beta0_per_m > 0.0 || sc->fog_beta_per_m > 0.0);
 	if (c.haze) {
 		double sun[3], dome[3];
 		c.h0 = cs_scene_altitude(sc, o);
 		c.dz = v3_dot(d, v3_norm(v3(o.x, o.y, o.z + sc->earth_radius_m)));
 		cs_haze_light(sc, d, sun, dome);
 		double tsun = sc->deck.on ? sc->deck.direct_below : 1.0;
-		for (int k = 0; k < 3; k++)
+		/* fog droplets are grey and their light diffuse: the radiance
+		 * of the light from above, the sun's beam and the dome */
+		double sun_h = (sc->effects & CS_FX_SUN) && sc->sun_dir.z > 0.0 ? sc->sun_dir.z : 0.0;
+		const double *dm = sc->deck.on ? sc->deck.sky_below : sc->ambient_up;
+		for (int k = 0; k < 3; k++) {
 			c.hz[k] = sun[k] * tsun + dome[k];
+			c.hf[k] = sc->sun_illuminance[k] * sun_h * tsun / CS_PI + dm[k];
+		}
 	}
 	double cos_theta = v3_dot(d, sc->sun_dir);
 	for (int k = 0; k < s->ms_octaves; k++) /* octave k: eccentricity x 0.5^k */
 		c.phase[k] = cs_phase_two_lobe(cos_theta, sc->g_forward, sc->g_back,
 					       sc->w_forward, pow(0.5, k));
-	struct path P = {{0.0, 0.0, 0.0}, 1.0, 1.0, CS_SKY_DEPTH_M, 0, 1.0,
-			 {0.0, 0.0, 0.0}, {0.0, 0.0, 0.0}};
+	struct path P = {{0.0, 0.0, 0.0}, 1.0, 1.0, CS_SKY_DEPTH_M, 0, 1.0, 0.0, 0.0,
+			 {0.0, 0.0, 0.0}, {0.0, 0.0, 0.0}, {0.0, 0.0, 0.0}};
 	march_intervals(&c, iv, n, &P);
 	if (P.terminated)
 		st->rays_terminated_early++;

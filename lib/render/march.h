@@ -31,6 +31,10 @@ CS_HD void cs_haze_light(const struct cs_scene *sc, cs_v3 d, double sun[3],
 			 double dome[3]);
 CS_HD double cs_haze_depth(const struct cs_scene *sc, double h0, double dz,
 			   double t);
+/* Fog optical depth over distance t (flat Earth): the part of the path
+ * below the fog's top, times its extinction. */
+CS_HD double cs_fog_depth(const struct cs_scene *sc, double h0, double dz,
+			  double t);
 
 /* Radiance leaving the ground at p toward the eye (ground.c): flat ground
  * or, when on_terrain, the heightfield with its normal, colour, horizon

@@ -45,3 +45,13 @@ int cs_render_settings_check(const struct cs_render_settings *s)
 		return cs_error(CS_EINVAL, "minimum transmittance must be in [0, 1)");
 	return CS_OK;
 }
+
+const char *cs_effect_name(unsigned bit)
+{
+	static const char *const names[] = {"sun", "sky", "clouds", "ground", "haze",
+					    "rain", "cloud_shadows", "terrain", "deck", "fog"};
+	for (unsigned b = 0; b < sizeof names / sizeof names[0]; b++)
+		if (bit == 1u << b)
+			return names[b];
+	return NULL;
+}

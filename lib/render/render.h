@@ -53,9 +53,21 @@ enum {
 	CS_FX_RAIN = 32,         /* rain below raining layers */
 	CS_FX_CLOUD_SHADOWS = 64, /* clouds shadowing the ground */
 	CS_FX_TERRAIN = 128,     /* a heightfield instead of flat ground */
-	CS_FX_DECK = 256         /* light under the clouds: the sky light below and
+	CS_FX_DECK = 256,        /* light under the clouds: the sky light below and
 				    inside the layers is what they transmit */
+	CS_FX_FOG = 512          /* fog: a grey medium from the ground up */
 };
+
+/* Fog: visibility below 1 km (WMO).  Its top is that of a layer resting on
+ * the ground (the weather state's fog layer) or 300 m up; the air above it
+ * is taken to have a visibility of 10 km. */
+#define CS_FOG_VISIBILITY_M 1000.0
+#define CS_FOG_DEPTH_M 300.0
+#define CS_FOG_AIR_VISIBILITY_M 10000.0
+
+/* The name of one effect bit as --stats prints it ("sun", "deck"...), or
+ * NULL past the last. */
+const char *cs_effect_name(unsigned bit);
 
 /* The light under and inside the cloud layers (deck.c), from the
  * two-stream transmittance of the layers' column optical depths over an
@@ -94,6 +106,8 @@ struct cs_scene {
 	struct cs_sky sky;            /* used when effects has CS_FX_SKY */
 	double haze_beta0_per_m;      /* aerosol extinction at sea level */
 	double haze_scale_height_m;
+	double fog_beta_per_m;        /* fog extinction, constant below fog_top_m */
+	double fog_top_m;
 	double rain_extinction_per_m; /* grey extinction of falling rain, in a shaft */
 	double rain_top_m;            /* rain falls from here to the ground */
 	int rain_layer;               /* the raining layer: shafts under its cells */

@@ -68,9 +68,15 @@ int cs_scene_build(struct cs_scene *sc, const struct cs_wx *wx, double time_utc,
 	/* clouds: only layers that have any; the wind moves them with time
 	 * counted from 2000-01-01 so that successive times move consistently */
 	double t_wind = time_utc - 946684800.0;
+	int fog = wx->visibility_m < CS_FOG_VISIBILITY_M;
+	sc->fog_top_m = wx->site.alt_m + CS_FOG_DEPTH_M;
 	for (int i = 0; i < wx->nlayers; i++) {
 		if (wx->layers[i].coverage <= 0.0)
 			continue;
+		if (fog && wx->layers[i].base_m <= wx->site.alt_m + 1.0) {
+			sc->fog_top_m = wx->layers[i].top_m; /* the fog, not a cloud */
+			continue;
+		}
 		cs_cloud_layer_init(&sc->layers[sc->nlayers++], &wx->layers[i], noise,
 				    wx->wind_speed_m_s, wx->wind_from_deg,
 				    wx->site.alt_m, t_wind);
@@ -108,7 +114,11 @@ int cs_scene_build(struct cs_scene *sc, const struct cs_wx *wx, double time_utc,
 		return rc;
 	cs_v3 sd = cs_sun_direction_enu(&sun);
 	sc->sun_dir = v3_norm(sd);
-	cs_sky_init(&sc->sky, sd, cs_turbidity_from_visibility(wx->visibility_m));
+	/* the sky's turbidity from the visibility of the air above a fog: fog
+	 * is a shallow layer and does not redden the sun above it */
+	double vis_air = fog && wx->visibility_m < CS_FOG_AIR_VISIBILITY_M ? CS_FOG_AIR_VISIBILITY_M
+									    : wx->visibility_m;
+	cs_sky_init(&sc->sky, sd, cs_turbidity_from_visibility(vis_air));
 	memcpy(sc->sun_illuminance, sc->sky.sun_illuminance, sizeof sc->sun_illuminance);
 	memcpy(sc->ambient_up, sc->sky.ambient_up, sizeof sc->ambient_up);
 	memcpy(sc->ambient_down, sc->sky.ambient_down, sizeof sc->ambient_down);
@@ -120,10 +130,16 @@ int cs_scene_build(struct cs_scene *sc, const struct cs_wx *wx, double time_utc,
 	cs_scene_deck_light(sc);
 
 	/* haze: Koschmieder's extinction 3.912 / visibility at the ground,
-	 * falling off with a 1.2 km scale height */
+	 * falling off with a 1.2 km scale height; in fog the haze is that of
+	 * the air above it, and the fog, from the ground to its top, makes up
+	 * the rest of 3.912 / visibility */
 	sc->haze_scale_height_m = 1200.0;
-	sc->haze_beta0_per_m = 3.912 / wx->visibility_m * exp(wx->site.alt_m / 1200.0);
+	sc->haze_beta0_per_m = 3.912 / vis_air * exp(wx->site.alt_m / 1200.0);
 	sc->effects |= CS_FX_HAZE;
+	if (fog) {
+		sc->fog_beta_per_m = 3.912 / wx->visibility_m - 3.912 / vis_air;
+		sc->effects |= CS_FX_FOG;
+	}
 
 	/* rain: in shafts under the cells of the lowest raining layer, at the
 	 * rate where it rains (the forecast's mean over the cover) */

@@ -557,6 +557,57 @@ static void overcast_ground_sees_the_transmitted_light(void)
 		CHECK_NEAR(r.rgb[c], 0.2 * below[c], 0.1 * 0.2 * below[c]);
 }
 
+/* Koschmieder: in fog of visibility V a black object at distance V keeps
+ * about 2 % of its contrast against the fog behind it (exp(-3.912)).
+ * The camera stands 2 m up in fog 300 m deep; one ray meets black ground
+ * 200 m away, the other runs just above the horizon through the fog. */
+static void black_object_at_the_visibility_keeps_two_percent_contrast(void)
+{
+	static struct cs_scene sc;
+	memset(&sc, 0, sizeof sc);
+	sc.earth_radius_m = CS_EARTH_RADIUS_M;
+	double e = 30.0 * CS_PI / 180.0;
+	sc.sun_dir = v3(0.0, cos(e), sin(e));
+	cs_sky_init(&sc.sky, sc.sun_dir, 3.0);
+	memcpy(sc.sun_illuminance, sc.sky.sun_illuminance, sizeof sc.sun_illuminance);
+	memcpy(sc.ambient_up, sc.sky.ambient_up, sizeof sc.ambient_up);
+	sc.effects = CS_FX_SUN | CS_FX_SKY | CS_FX_GROUND | CS_FX_HAZE | CS_FX_FOG;
+	double V = 200.0;
+	sc.fog_beta_per_m = 3.912 / V;
+	sc.fog_top_m = 300.0;
+	sc.haze_scale_height_m = 1200.0;
+	struct cs_render_settings s = plain(8, 4);
+	struct cs_ray_result obj, bg;
+	cs_v3 o = v3(0.0, 0.0, 2.0);
+	trace(&sc, &s, o, v3(sqrt(1.0 - 1e-4), 0.0, -0.01), &obj);
+	trace(&sc, &s, o, v3(sqrt(1.0 - 1e-4), 0.0, 0.01), &bg);
+	CHECK_NEAR(obj.depth_m, V, 0.5);
+	for (int k = 0; k < 3; k++) {
+		double contrast = 1.0 - obj.rgb[k] / bg.rgb[k];
+		CHECK_NEAR(contrast, 0.02, 0.002);
+	}
+	/* fog is grey: it takes the colour of the light, not the sky's blue */
+	CHECK(bg.rgb[2] / bg.rgb[0] < sc.ambient_up[2] / sc.ambient_up[0]);
+}
+
+/* A state with visibility below 1 km makes fog whose extinction at the
+ * ground, with the haze of the air above it, is 3.912 / visibility. */
+static void fog_extinction_at_the_ground_is_koschmieder(void)
+{
+	struct cs_wx wx;
+	cs_wx_default(&wx);
+	wx.visibility_m = 250.0;
+	static struct cs_scene sc;
+	CHECK(cs_scene_build(&sc, &wx, wx.time_utc, &noise) == CS_OK);
+	CHECK(sc.effects & CS_FX_FOG);
+	double haze = sc.haze_beta0_per_m * exp(-wx.site.alt_m / sc.haze_scale_height_m);
+	CHECK_NEAR(sc.fog_beta_per_m + haze, 3.912 / 250.0, 1e-9);
+	CHECK(sc.fog_top_m > wx.site.alt_m);
+	wx.visibility_m = 20000.0;
+	CHECK(cs_scene_build(&sc, &wx, wx.time_utc, &noise) == CS_OK);
+	CHECK(!(sc.effects & CS_FX_FOG) && sc.fog_beta_per_m == 0.0);
+}
+
 int main(void)
 {
 	if (cs_volume_new(&noise, 32, 32) != CS_OK ||
@@ -564,6 +615,8 @@ int main(void)
 		return 1;
 	RUN(slab_transmittance_is_beer_lambert);
 	RUN(thick_slab_transmits_like_one_over_tau);
+	RUN(black_object_at_the_visibility_keeps_two_percent_contrast);
+	RUN(fog_extinction_at_the_ground_is_koschmieder);
 	RUN(overcast_ground_sees_the_transmitted_light);
 	RUN(slab_single_scattering_matches_closed_form);
 	RUN(doubling_steps_halves_the_error);
