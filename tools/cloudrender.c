@@ -37,6 +37,9 @@ static void usage(void)
 	       "      --camera LAT,LON,ALT_M  camera position (degrees, metres above sea level)\n"
 	       "      --look AZ,EL       view azimuth (from north, clockwise) and elevation, degrees\n"
 	       "      --fov DEG          horizontal field of view, 1..179 (default 70, views 60)\n"
+	       "      --projection P     perspective (default); fisheye: an all-sky camera\n"
+	       "                         looking up (north up, east left); equirect: a\n"
+	       "                         360x180 environment map around the look azimuth\n"
 	       "      --size WxH         image size in pixels (default 640x360)\n"
 	       "      --quality NAME     low, medium (default), high or reference\n"
 	       "      --steps N          view samples across a layer's thickness, 1..100000\n"
@@ -48,7 +51,9 @@ static void usage(void)
 	       "      --exposure EV|auto PNG exposure in stops, -20..20 (default 0), or auto:\n"
 	       "                         from the image's mean luminance (twilight, night)\n"
 	       "  -t, --threads N        worker threads, 1..256 (default: all processors)\n"
-	       "      --stats            print a JSON summary on standard error\n"
+	       "      --stats            print a JSON summary on standard error, with the\n"
+	       "                         ground irradiance (GHI, DNI, DHI in W/m2) at the\n"
+	       "                         camera and over 10 km around the site\n"
 	       "  -q, --quiet            no progress bar\n"
 	       "  -v, --verbose          say what is being done\n"
 	       "  -h, --help             this help\n"
@@ -102,7 +107,13 @@ static void print_stats(const struct cs_cloudrender_opts *o,
 		fprintf(stderr, "%s{\"genus\":\"%s\",\"coverage\":%.3f,\"base_m\":%.0f,\"top_m\":%.0f}",
 			i ? "," : "", cs_genus_name(sc->layers[i].genus),
 			sc->layers[i].coverage, sc->layers[i].base_m, sc->layers[i].top_m);
-	fprintf(stderr, "],\"effects\":[");
+	fprintf(stderr, "],\"irradiance_w_m2\":{\"camera\":{\"ghi\":%.1f,\"dni\":%.1f,"
+		"\"dhi\":%.1f},\"area\":{\"size_km\":%.0f,\"ghi\":%.1f,\"dni\":%.1f,\"dhi\":%.1f},"
+		"\"wall_s\":%.3f}",
+		r->irr_camera.ghi_w_m2, r->irr_camera.dni_w_m2, r->irr_camera.dhi_w_m2,
+		r->area_size_m / 1000.0, r->irr_area.ghi_w_m2, r->irr_area.dni_w_m2,
+		r->irr_area.dhi_w_m2, r->t_irradiance_s);
+	fprintf(stderr, ",\"effects\":[");
 	int first = 1;
 	for (int b = 0; sc && cs_effect_name(1u << b); b++)
 		if (sc->effects & (1u << b)) {
@@ -130,6 +141,7 @@ enum {
 	OPT_CAMERA, OPT_LOOK, OPT_FOV, OPT_SIZE, OPT_QUALITY, OPT_STEPS,
 	OPT_LIGHT_STEPS, OPT_MS, OPT_NO_AMBIENT, OPT_NO_JITTER, OPT_SEED,
 	OPT_EXPOSURE, OPT_STATS, OPT_VERSION, OPT_TERRAIN, OPT_TERRAIN_COLOR,
+	OPT_PROJECTION,
 };
 
 int main(int argc, char **argv)
@@ -147,6 +159,7 @@ int main(int argc, char **argv)
 		{"camera", required_argument, NULL, OPT_CAMERA},
 		{"look", required_argument, NULL, OPT_LOOK},
 		{"fov", required_argument, NULL, OPT_FOV},
+		{"projection", required_argument, NULL, OPT_PROJECTION},
 		{"size", required_argument, NULL, OPT_SIZE},
 		{"quality", required_argument, NULL, OPT_QUALITY},
 		{"steps", required_argument, NULL, OPT_STEPS},
@@ -215,6 +228,10 @@ int main(int argc, char **argv)
 			o.have_look = 1;
 			break;
 		case OPT_FOV: o.fov_deg = cli_double("--fov", optarg, 1.0, 179.0); break;
+		case OPT_PROJECTION:
+			if (cs_projection_parse(optarg, &o.projection) != CS_OK)
+				cli_usage_error("--projection: %s", cs_errmsg());
+			break;
 		case OPT_SIZE: {
 			char *x = strchr(optarg, 'x');
 			if (x == NULL)
@@ -245,7 +262,7 @@ int main(int argc, char **argv)
 				o.exposure_ev = cli_double("--exposure", optarg, -20.0, 20.0);
 			break;
 		case 't': o.threads = (int)cli_long("--threads", optarg, 1, 256); break;
-		case OPT_STATS: stats = 1; break;
+		case OPT_STATS: stats = o.irradiance = 1; break;
 		case 'q': cli_quiet = 1; break;
 		case 'v': cli_verbose = 1; break;
 		case 'h': usage(); return EXIT_OK;

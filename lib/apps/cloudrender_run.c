@@ -138,6 +138,18 @@ static int check_streams(const struct cs_cloudrender_opts *o)
 	return CS_OK;
 }
 
+/* The ground irradiance at the camera and over 10 km around the site
+ * (5 x 5 points): a forecast's radiation is a mean over its grid cell, and
+ * under broken cloud one point is either in a shadow or not. */
+static void measure_irradiance(const struct cs_scene *sc, const struct cs_render_settings *s,
+			       cs_v3 pos, struct cs_cloudrender_result *r)
+{
+	struct cs_render_stats st = {0};
+	r->area_size_m = 10000.0;
+	cs_irradiance_at(sc, s, pos, &r->irr_camera, &st);
+	cs_irradiance_area(sc, s, r->area_size_m, 5, &r->irr_area, &st);
+}
+
 int cs_cloudrender_run(const struct cs_cloudrender_opts *o, struct cs_cloudrender_result *r)
 {
 	int rc;
@@ -262,6 +274,7 @@ int cs_cloudrender_run(const struct cs_cloudrender_opts *o, struct cs_cloudrende
 	rc = cs_camera_init(&cam, sc, pos, r->wx.site.lat_deg, az, el, fov, o->width, o->height);
 	if (rc != CS_OK)
 		goto done;
+	cam.projection = o->projection;
 	r->camera_site_km = cs_great_circle_m(lat, lon, r->wx.site.lat_deg,
 					      r->wx.site.lon_deg) / 1000.0;
 	r->camera_terrain_km = have_terrain ? cs_great_circle_m(lat, lon, terrain.center_lat,
@@ -280,6 +293,11 @@ int cs_cloudrender_run(const struct cs_cloudrender_opts *o, struct cs_cloudrende
 	r->t_render_s = now_s() - t0;
 	if (rc != CS_OK)
 		goto done;
+	if (o->irradiance) {
+		t0 = now_s();
+		measure_irradiance(sc, &r->settings, pos, r);
+		r->t_irradiance_s = now_s() - t0;
+	}
 	t0 = now_s();
 	rc = write_outputs(o, r, px);
 	r->t_write_s = now_s() - t0;

@@ -21,6 +21,8 @@ struct cs_cloudrender_opts {
 	int have_look;
 	double look_az_deg, look_el_deg;
 	double fov_deg;           /* 0: the view's, or 70 */
+	enum cs_projection projection; /* perspective (default), fisheye, equirect */
+	int irradiance;           /* measure the ground irradiance (--stats) */
 	int width, height;
 	struct cs_render_settings settings; /* the quality preset */
 	/* explicit settings that refine the preset: 0 (seed -1) keeps the
@@ -49,6 +51,11 @@ struct cs_cloudrender_result {
 	double sun_azimuth_deg, sun_elevation_deg;
 	double camera_site_km;    /* from the camera to the weather site */
 	double camera_terrain_km; /* to the terrain's centre (-1 without terrain) */
+	/* with opts.irradiance: at the camera, and the mean over a square of
+	 * area_size_m around the weather site (a forecast's grid cell) */
+	struct cs_irradiance irr_camera, irr_area;
+	double area_size_m;
+	double t_irradiance_s;
 };
 
 /* Defaults: built-in weather, in-memory noise, the default camera at the

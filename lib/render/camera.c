@@ -4,6 +4,7 @@
 #include "render/render.h"
 
 #include <math.h>
+#include <string.h>
 
 int cs_camera_init(struct cs_camera *c, const struct cs_scene *sc, cs_v3 pos,
 		   double origin_lat_deg, double azimuth_deg, double elevation_deg,
@@ -35,14 +36,51 @@ int cs_camera_init(struct cs_camera *c, const struct cs_scene *sc, cs_v3 pos,
 	c->width = width;
 	c->height = height;
 	c->tan_half_fov = tan(fov_deg * CS_PI / 360.0);
+	c->projection = CS_PROJ_PERSPECTIVE;
+	c->east = east, c->north = north, c->zenith = up;
+	c->azimuth_rad = az;
 	return CS_OK;
 }
 
-CS_HD cs_v3 cs_camera_ray(const struct cs_camera *c, int i, int j)
+int cs_projection_parse(const char *name, enum cs_projection *p)
 {
-	double sx = (2.0 * (i + 0.5) / c->width - 1.0) * c->tan_half_fov;
-	double sy = (1.0 - 2.0 * (j + 0.5) / c->height) * c->tan_half_fov *
-		    c->height / c->width;
-	return v3_norm(v3_add(c->fwd, v3_add(v3_scale(c->right, sx),
-					     v3_scale(c->up, sy))));
+	static const char *const names[] = {"perspective", "fisheye", "equirect"};
+	for (int i = 0; i < 3; i++)
+		if (strcmp(name, names[i]) == 0) {
+			*p = (enum cs_projection)i;
+			return CS_OK;
+		}
+	return cs_error(CS_EINVAL, "unknown projection '%s' (expected perspective, fisheye "
+			"or equirect)", name);
+}
+
+/* The direction at zenith angle th and azimuth az (from north, clockwise). */
+CS_HD static cs_v3 local_dir(const struct cs_camera *c, double th, double az)
+{
+	cs_v3 h = v3_add(v3_scale(c->east, sin(az)), v3_scale(c->north, cos(az)));
+	return v3_norm(v3_add(v3_scale(h, sin(th)), v3_scale(c->zenith, cos(th))));
+}
+
+CS_HD int cs_camera_ray(const struct cs_camera *c, int i, int j, cs_v3 *d)
+{
+	double u = (i + 0.5) / c->width, v = (j + 0.5) / c->height;
+	if (c->projection == CS_PROJ_FISHEYE) {
+		/* the largest centred circle; x right, y up, in units of its radius */
+		double r = (c->width < c->height ? c->width : c->height) * 0.5;
+		double x = (i + 0.5 - c->width * 0.5) / r, y = (c->height * 0.5 - j - 0.5) / r;
+		double rho = sqrt(x * x + y * y);
+		if (rho > 1.0)
+			return 0;
+		*d = local_dir(c, rho * (CS_PI / 2.0), atan2(-x, y));
+		return 1;
+	}
+	if (c->projection == CS_PROJ_EQUIRECT) {
+		double el = (0.5 - v) * CS_PI;
+		*d = local_dir(c, CS_PI / 2.0 - el, c->azimuth_rad + (u - 0.5) * 2.0 * CS_PI);
+		return 1;
+	}
+	double sx = (2.0 * u - 1.0) * c->tan_half_fov;
+	double sy = (1.0 - 2.0 * v) * c->tan_half_fov * c->height / c->width;
+	*d = v3_norm(v3_add(c->fwd, v3_add(v3_scale(c->right, sx), v3_scale(c->up, sy))));
+	return 1;
 }

@@ -8,12 +8,30 @@
 
 struct cs_scene;
 
+/* How pixels map to directions. */
+enum cs_projection {
+	CS_PROJ_PERSPECTIVE, /* pinhole, horizontal field of view */
+	CS_PROJ_FISHEYE,     /* all-sky camera looking up: equidistant, the
+				horizon on the largest circle, north up and
+				east left (the sky seen from below) */
+	CS_PROJ_EQUIRECT     /* 360 x 180 environment map: azimuth across (the
+				look azimuth in the middle, east to its
+				right), elevation from +90 at the top to -90 */
+};
+
 struct cs_camera {
 	int width, height;      /* pixels */
 	cs_v3 pos;              /* world position */
 	cs_v3 fwd, right, up;   /* orthonormal: view direction, image right, image up */
 	double tan_half_fov;    /* horizontal */
+	enum cs_projection projection;
+	cs_v3 east, north, zenith; /* the local frame at pos */
+	double azimuth_rad;     /* the look azimuth (equirect's middle) */
 };
+
+/* The projection's name ("perspective", "fisheye", "equirect") to its
+ * value: 0 or CS_EINVAL. */
+int cs_projection_parse(const char *name, enum cs_projection *p);
 
 /* A camera at world position pos looking at azimuth (deg from north,
  * clockwise) and elevation (deg) in the local frame at pos, with a
@@ -23,7 +41,8 @@ int cs_camera_init(struct cs_camera *c, const struct cs_scene *sc, cs_v3 pos,
 		   double origin_lat_deg, double azimuth_deg, double elevation_deg,
 		   double fov_deg, int width, int height);
 
-/* The world ray through the centre of pixel (i, j), j = 0 at the top. */
-CS_HD cs_v3 cs_camera_ray(const struct cs_camera *c, int i, int j);
+/* The world direction through the centre of pixel (i, j), j = 0 at the
+ * top, into *d: 1, or 0 for a pixel outside a fisheye's circle. */
+CS_HD int cs_camera_ray(const struct cs_camera *c, int i, int j, cs_v3 *d);
 
 #endif

@@ -49,9 +49,10 @@ static void render_rows(void *user, int task, int worker)
 				uint32_t h = cs_hash3i(i, j, 0x6a697474, job->s->seed);
 				u = 0.5 + job->s->jitter * (cs_hash_unit(h) - 0.5);
 			}
-			struct cs_ray_result r;
-			cs_render_ray(job->sc, job->s, cam->pos, cs_camera_ray(cam, i, j), u,
-				      &st, &r);
+			struct cs_ray_result r = {{0.0, 0.0, 0.0}, 1.0, 0.0};
+			cs_v3 d;
+			if (cs_camera_ray(cam, i, j, &d))
+				cs_render_ray(job->sc, job->s, cam->pos, d, u, &st, &r);
 			float *px = job->out + ((size_t)j * cam->width + i) * 5;
 			px[0] = (float)r.rgb[0];
 			px[1] = (float)r.rgb[1];

@@ -157,6 +157,27 @@ CS_HD void cs_render_ray(const struct cs_scene *sc, const struct cs_render_setti
 		   cs_v3 o, cs_v3 d, double jitter_u, struct cs_render_stats *st,
 		   struct cs_ray_result *out);
 
+/* Ground irradiance from the renderer's light transport, W/m^2
+ * (radiometry.c): the sun's beam on a plane facing it, the diffuse light
+ * on a horizontal plane, and their sum on it. */
+struct cs_irradiance {
+	double ghi_w_m2, dni_w_m2, dhi_w_m2;
+};
+
+/* At world point p (horizontal plane), from 192 rays over the sky's
+ * hemisphere and the light march toward the sun. */
+void cs_irradiance_at(const struct cs_scene *sc, const struct cs_render_settings *s,
+		      cs_v3 p, struct cs_irradiance *out, struct cs_render_stats *st);
+/* The mean over n x n points 2 m above the ground on a square of side
+ * size_m centred at the scene origin (a forecast's grid cell). */
+void cs_irradiance_area(const struct cs_scene *sc, const struct cs_render_settings *s,
+			double size_m, int n, struct cs_irradiance *out,
+			struct cs_render_stats *st);
+/* Luminous efficacy of daylight, lm/W (Littlefair 1988): of the sun's beam
+ * at a sun elevation, and of diffuse light at a share of clear sky 0..1. */
+double cs_beam_efficacy_lm_w(double elevation_deg);
+double cs_diffuse_efficacy_lm_w(double clear_fraction);
+
 /* Renders the image into out: 5 floats per pixel (R, G, B, alpha, Z), rows
  * top to bottom, on the CPU pool.  Deterministic for any nthreads (<= 0:
  * all processors).  progress may cancel: CS_ECANCELED. */
