@@ -2,6 +2,7 @@
 #include "cli.h"
 
 #include "apps/cloudrender_run.h"
+#include "io/skyclass.h"
 #include "core/err.h"
 #include "render/scene.h"
 #include "core/time.h"
@@ -113,6 +114,10 @@ static void print_stats(const struct cs_cloudrender_opts *o,
 		r->irr_camera.ghi_w_m2, r->irr_camera.dni_w_m2, r->irr_camera.dhi_w_m2,
 		r->area_size_m / 1000.0, r->irr_area.ghi_w_m2, r->irr_area.dni_w_m2,
 		r->irr_area.dhi_w_m2, r->t_irradiance_s);
+	if (r->cloud_fraction_rb >= 0.0)
+		fprintf(stderr, ",\"sky_imager\":{\"cloud_fraction\":%.3f,\"rb_threshold\":%.2f,"
+			"\"opaque_fraction\":%.3f}", r->cloud_fraction_rb, CS_SKY_RB_THRESHOLD,
+			r->cloud_fraction_alpha);
 	fprintf(stderr, ",\"effects\":[");
 	int first = 1;
 	for (int b = 0; sc && cs_effect_name(1u << b); b++)

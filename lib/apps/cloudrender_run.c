@@ -1,5 +1,7 @@
 #include "apps/cloudrender_run.h"
 
+#include "io/skyclass.h"
+
 #include "core/err.h"
 #include "core/geo.h"
 #include "io/exr.h"
@@ -135,6 +137,39 @@ static int check_streams(const struct cs_cloudrender_opts *o)
 	if (o->wx_path && o->noise_path && strcmp(o->wx_path, "-") == 0 &&
 	    strcmp(o->noise_path, "-") == 0)
 		return cs_error(CS_EINVAL, "--wx - and --noise - cannot both read standard input");
+	return CS_OK;
+}
+
+/* What an all-sky imager would see in a fisheye render: the sky's pixels
+ * above the horizon (not ground, not within 8 degrees of the sun, which
+ * imagers shade) classified by their red/blue ratio. */
+static int sky_imager(const struct cs_camera *cam, const struct cs_scene *sc, const float *px,
+		      struct cs_cloudrender_result *r)
+{
+	size_t n = (size_t)cam->width * cam->height;
+	unsigned char *use = calloc(n, 1);
+	if (use == NULL)
+		return cs_error(CS_ENOMEM, "out of memory");
+	long opaque = 0;
+	for (int j = 0; j < cam->height; j++)
+		for (int i = 0; i < cam->width; i++) {
+			size_t k = (size_t)j * cam->width + i;
+			const float *p = px + k * 5;
+			cs_v3 d;
+			if (!cs_camera_ray(cam, i, j, &d) || v3_dot(d, cam->zenith) <= 0.0)
+				continue;
+			if ((sc->effects & CS_FX_SUN) && v3_dot(d, sc->sun_dir) > cos(8.0 * CS_PI / 180.0))
+				continue;
+			if (p[3] <= 0.0f && p[4] < 0.5f * (float)CS_SKY_DEPTH_M)
+				continue; /* ground or terrain */
+			use[k] = 1;
+			opaque += p[3] > 0.5f;
+		}
+	struct cs_sky_class c;
+	cs_sky_classify(px, 5, n, use, CS_SKY_RB_THRESHOLD, &c);
+	r->cloud_fraction_rb = c.cloud_fraction;
+	r->cloud_fraction_alpha = c.sky_pixels ? (double)opaque / c.sky_pixels : 0.0;
+	free(use);
 	return CS_OK;
 }
 
@@ -292,6 +327,9 @@ int cs_cloudrender_run(const struct cs_cloudrender_opts *o, struct cs_cloudrende
 			     o->progress_user, px, &r->stats);
 	r->t_render_s = now_s() - t0;
 	if (rc != CS_OK)
+		goto done;
+	r->cloud_fraction_rb = r->cloud_fraction_alpha = -1.0;
+	if (o->projection == CS_PROJ_FISHEYE && (rc = sky_imager(&cam, sc, px, r)) != CS_OK)
 		goto done;
 	if (o->irradiance) {
 		t0 = now_s();

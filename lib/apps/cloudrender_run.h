@@ -56,6 +56,10 @@ struct cs_cloudrender_result {
 	struct cs_irradiance irr_camera, irr_area;
 	double area_size_m;
 	double t_irradiance_s;
+	/* fisheye only: the sky imager's cloud fraction of the rendered sky
+	 * (red/blue ratio, io/skyclass.h; -1 otherwise), and the fraction of
+	 * the same pixels whose clouds are more than half opaque */
+	double cloud_fraction_rb, cloud_fraction_alpha;
 };
 
 /* Defaults: built-in weather, in-memory noise, the default camera at the

@@ -1,0 +1,29 @@
+/* skyclass.h - cloud or clear, pixel by pixel, as ground-based sky imagers
+ * decide it: by the red/blue ratio (Long et al. 2006, "Retrieving cloud
+ * characteristics from ground-based daytime color all-sky images", J.
+ * Atmos. Oceanic Technol. 23).  Clear sky scatters blue far more than red
+ * (Rayleigh) and has a low ratio, about 0.5-0.6 on linear RGB; cloud
+ * droplets scatter all colours alike and give 0.8-1. */
+#ifndef CS_SKYCLASS_H
+#define CS_SKYCLASS_H
+
+#include <stddef.h>
+
+/* The threshold of R/B on linear (not gamma-encoded) RGB above which a
+ * pixel is cloud: chosen once for cloudrender's linear output, halfway
+ * between clear sky (0.5-0.6) and grey cloud (0.9-1). */
+#define CS_SKY_RB_THRESHOLD 0.75
+
+struct cs_sky_class {
+	long sky_pixels;       /* pixels classified */
+	long cloud_pixels;     /* of those, cloud */
+	double cloud_fraction; /* cloud / sky, 0 when there is no sky */
+};
+
+/* Classifies n pixels of linear RGB (stride floats apart, R, G, B first);
+ * a pixel counts only where use is NULL or use[i] is nonzero.  A pixel
+ * with B <= 0 (black) is not classified. */
+void cs_sky_classify(const float *px, size_t stride, size_t n, const unsigned char *use,
+		     double rb_threshold, struct cs_sky_class *out);
+
+#endif
