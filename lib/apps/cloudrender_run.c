@@ -141,8 +141,9 @@ static int check_streams(const struct cs_cloudrender_opts *o)
 }
 
 /* What an all-sky imager would see in a fisheye render: the sky's pixels
- * above the horizon (not ground, not within 8 degrees of the sun, which
- * imagers shade) classified by their red/blue ratio. */
+ * more than CS_SKY_MIN_ELEVATION_DEG above the horizon (not ground, not
+ * within 8 degrees of the sun, which imagers shade) classified by their
+ * red/blue ratio. */
 static int sky_imager(const struct cs_camera *cam, const struct cs_scene *sc, const float *px,
 		      struct cs_cloudrender_result *r)
 {
@@ -156,7 +157,8 @@ static int sky_imager(const struct cs_camera *cam, const struct cs_scene *sc, co
 			size_t k = (size_t)j * cam->width + i;
 			const float *p = px + k * 5;
 			cs_v3 d;
-			if (!cs_camera_ray(cam, i, j, &d) || v3_dot(d, cam->zenith) <= 0.0)
+			if (!cs_camera_ray(cam, i, j, &d) ||
+			    v3_dot(d, cam->zenith) < sin(CS_SKY_MIN_ELEVATION_DEG * CS_PI / 180.0))
 				continue;
 			if ((sc->effects & CS_FX_SUN) && v3_dot(d, sc->sun_dir) > cos(8.0 * CS_PI / 180.0))
 				continue;

@@ -13,6 +13,10 @@
  * pixel is cloud: chosen once for cloudrender's linear output, halfway
  * between clear sky (0.5-0.6) and grey cloud (0.9-1). */
 #define CS_SKY_RB_THRESHOLD 0.75
+/* Imagers analyse the sky above this elevation (a zenith angle of 70 deg,
+ * as Long et al. do): near the horizon haze whitens the clear sky and
+ * obstructions hide it. */
+#define CS_SKY_MIN_ELEVATION_DEG 20.0
 
 struct cs_sky_class {
 	long sky_pixels;       /* pixels classified */

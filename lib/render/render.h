@@ -62,6 +62,13 @@ enum {
  * the ground (the weather state's fog layer) or 300 m up; the air above it
  * is taken to have a visibility of 10 km. */
 #define CS_FOG_VISIBILITY_M 1000.0
+/* The Preetham sky is used up to this turbidity: beyond it the model's
+ * luminance patterns stop resembling real skies (Zotti, Wilkie &
+ * Purgathofer 2007, "A Critical Review of the Preetham Skylight Model")
+ * and its sky turns yellow-white and too bright; the aerosol of a hazier
+ * day is the haze medium's, which takes the full visibility, and the sun's
+ * beam is attenuated by the full turbidity. */
+#define CS_SKY_MAX_TURBIDITY 4.0
 #define CS_FOG_DEPTH_M 300.0
 #define CS_FOG_AIR_VISIBILITY_M 10000.0
 

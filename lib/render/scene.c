@@ -118,7 +118,10 @@ int cs_scene_build(struct cs_scene *sc, const struct cs_wx *wx, double time_utc,
 	 * is a shallow layer and does not redden the sun above it */
 	double vis_air = fog && wx->visibility_m < CS_FOG_AIR_VISIBILITY_M ? CS_FOG_AIR_VISIBILITY_M
 									    : wx->visibility_m;
-	cs_sky_init(&sc->sky, sd, cs_turbidity_from_visibility(vis_air));
+	double turbidity = cs_turbidity_from_visibility(vis_air);
+	cs_sky_init_beam(&sc->sky, sd, turbidity < CS_SKY_MAX_TURBIDITY ? turbidity
+									 : CS_SKY_MAX_TURBIDITY,
+			 turbidity);
 	memcpy(sc->sun_illuminance, sc->sky.sun_illuminance, sizeof sc->sun_illuminance);
 	memcpy(sc->ambient_up, sc->sky.ambient_up, sizeof sc->ambient_up);
 	memcpy(sc->ambient_down, sc->sky.ambient_down, sizeof sc->ambient_down);

@@ -143,13 +143,13 @@ static double disk_fraction(double elev)
 	       (1.0 - LIMB_U / 3.0);
 }
 
-static void init_sun(struct cs_sky *sky, double elev)
+static void init_sun(struct cs_sky *sky, double elev, double beam_turbidity)
 {
 	double omega = 2.0 * CS_PI * (1.0 - cos(SUN_RADIUS));
 	double frac = disk_fraction(elev);
 	double m = air_mass(elev);
 	for (int i = 0; i < 3; i++) {
-		double tau = TAU_R[i] + (sky->turbidity - 1.0) * 0.0973 *
+		double tau = TAU_R[i] + (beam_turbidity - 1.0) * 0.0973 *
 						pow(LAMBDA[i] / 550.0, -1.3);
 		double L = frac > 0.0 ? SUN_E0 / omega * exp(-tau * m) : 0.0;
 		sky->sun_radiance[i] = L;
@@ -189,6 +189,11 @@ static void init_ambient(struct cs_sky *sky, double elev)
 }
 
 void cs_sky_init(struct cs_sky *sky, cs_v3 sun, double turbidity)
+{
+	cs_sky_init_beam(sky, sun, turbidity, turbidity);
+}
+
+void cs_sky_init_beam(struct cs_sky *sky, cs_v3 sun, double turbidity, double beam_turbidity)
 {
 	/* Scaled by the largest component first so huge ones don't overflow. */
 	const double sun_dir[3] = {sun.x, sun.y, sun.z};
@@ -240,7 +245,8 @@ void cs_sky_init(struct cs_sky *sky, cs_v3 sun, double turbidity)
 	for (int i = 0; i < 3; i++)
 		sky->night[i] = 1e-6 * night[i] / ny;
 
-	init_sun(sky, elev);
+	double Tb = clampd(beam_turbidity, 1.7, 10.0);
+	init_sun(sky, elev, isnan(Tb) ? T : Tb);
 	init_ambient(sky, elev);
 }
 

@@ -44,6 +44,10 @@ double cs_turbidity_from_visibility(double visibility_m);
  * need not be unit (a zero or non-finite one is taken as the zenith).
  * Turbidity is clamped to 1.7..10 (NaN gives 1.7). */
 void cs_sky_init(struct cs_sky *sky, cs_v3 sun_dir, double turbidity);
+/* The same with the sun's beam attenuated by another turbidity (the
+ * aerosol's true one, where the sky's pattern uses a capped one). */
+void cs_sky_init_beam(struct cs_sky *sky, cs_v3 sun_dir, double turbidity,
+		      double beam_turbidity);
 
 /* Sky radiance seen along dir (unit), kcd/m², without the sun disk; finite
  * and >= 0.  For dir below the horizon, the value at the horizon in that
