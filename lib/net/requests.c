@@ -19,7 +19,7 @@
 #define MB_PACKAGES "/packages/basic-1h_clouds-1h"
 #define OM_PATH "/v1/forecast"
 #define OM_HOURLY "cloud_cover,cloud_cover_low,cloud_cover_mid,cloud_cover_high," \
-	"precipitation,showers,wind_speed_10m,wind_direction_10m,visibility," \
+	"precipitation,showers,snowfall,wind_speed_10m,wind_direction_10m,visibility," \
 	"relative_humidity_2m,temperature_2m,is_day"
 
 const char *cs_mbfetch_provider_name(enum cs_provider p)

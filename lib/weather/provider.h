@@ -26,6 +26,10 @@ enum cs_wxvar {
 	CS_VAR_HUMIDITY,        /* relative humidity, % */
 	CS_VAR_TEMPERATURE,     /* deg C */
 	CS_VAR_IS_DAY,          /* 0 or 1 */
+	CS_VAR_SNOW_FRACTION,   /* 0..1 of the precipitation; meteoblue
+				   snowfraction */
+	CS_VAR_SNOWFALL,        /* cm of snow in the preceding hour;
+				   Open-Meteo snowfall */
 	CS_VAR_COUNT
 };
 

@@ -203,6 +203,24 @@ static int optional(const struct cs_series *s, enum cs_wxvar k, double t,
 	return s->v[k] == NULL ? CS_OK : cs_series_value(s, k, t, gap, out);
 }
 
+/* The fraction of the precipitation falling as snow at t: the provider's
+ * (meteoblue snowfraction), else from Open-Meteo's snowfall when it
+ * precipitates, else by the temperature rule, else none. */
+static double snow_fraction(const struct cs_series *s, double t, double gap,
+			    const struct cs_wx_obs *o)
+{
+	double f = NAN, cm = NAN;
+	if (s->v[CS_VAR_SNOW_FRACTION] != NULL &&
+	    cs_series_value(s, CS_VAR_SNOW_FRACTION, t, gap, &f) == CS_OK)
+		return f < 0 ? 0 : f > 1 ? 1 : f;
+	if (s->v[CS_VAR_SNOWFALL] != NULL &&
+	    cs_series_value(s, CS_VAR_SNOWFALL, t, gap, &cm) == CS_OK)
+		f = cs_snow_fraction_of(cm, o->precipitation_mm_h);
+	if (isnan(f))
+		f = cs_snow_fraction_rule(o->temperature_c);
+	return isnan(f) ? 0 : f;
+}
+
 int cs_series_obs(const struct cs_series *s, double t, double gap,
 		  struct cs_wx_obs *o)
 {
@@ -227,6 +245,7 @@ int cs_series_obs(const struct cs_series *s, double t, double gap,
 		o->convective_mm_h = 0;
 	if (o->convective_mm_h > o->precipitation_mm_h)
 		o->convective_mm_h = o->precipitation_mm_h;
+	o->snow_fraction = snow_fraction(s, t, gap, o);
 	struct cs_sun sun;
 	o->sun_elevation_deg = cs_sun_position(t, s->lat_deg, s->lon_deg, &sun)
 			       == CS_OK ? sun.elevation_deg : NAN;

@@ -156,7 +156,7 @@ expect_rc 0
 cmp -s "$T/out" "$T/om6.json" || bad "standard output differs from what the server sent"
 for p in /omok/v1/forecast? latitude=46.95 longitude=7.45 wind_speed_unit=ms timezone=GMT \
 	past_days=2 forecast_days=3 \
-	hourly=cloud_cover,cloud_cover_low,cloud_cover_mid,cloud_cover_high,precipitation,showers,wind_speed_10m,wind_direction_10m,visibility,relative_humidity_2m,temperature_2m,is_day; do
+	hourly=cloud_cover,cloud_cover_low,cloud_cover_mid,cloud_cover_high,precipitation,showers,snowfall,wind_speed_10m,wind_direction_10m,visibility,relative_humidity_2m,temperature_2m,is_day; do
 	grep "^omok " "$T/req.log" | grep -qF -- "$p" || bad "request lacks $p"
 done
 grep "^omok " "$T/req.log" | grep -q apikey && bad "a key went to Open-Meteo"

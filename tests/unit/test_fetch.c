@@ -171,7 +171,7 @@ static void url_holds_what_cloudscape_needs(void)
 	CHECK(cs_mbfetch_url(&o, NULL, url, sizeof url) == CS_OK);
 	CHECK(strcmp(url, "https://api.open-meteo.com/v1/forecast?latitude=0&longitude=7.5"
 		     "&hourly=cloud_cover,cloud_cover_low,cloud_cover_mid,cloud_cover_high,"
-		     "precipitation,showers,wind_speed_10m,wind_direction_10m,visibility,"
+		     "precipitation,showers,snowfall,wind_speed_10m,wind_direction_10m,visibility,"
 		     "relative_humidity_2m,temperature_2m,is_day&temperature_unit=celsius"
 		     "&wind_speed_unit=ms&precipitation_unit=mm&timezone=GMT&past_days=1"
 		     "&forecast_days=3") == 0);

@@ -127,6 +127,9 @@ static void real_meteoblue_capture_checks_clean_and_parses(void)
 	CHECK_NEAR(s.v[CS_VAR_TEMPERATURE][0], 14.75, 0);
 	CHECK_NEAR(s.v[CS_VAR_IS_DAY][9], 1, 0);
 	CHECK(s.v[CS_VAR_CONV_PRECIP] != NULL && s.v[CS_VAR_HUMIDITY] != NULL);
+	CHECK(s.v[CS_VAR_SNOW_FRACTION] != NULL && s.v[CS_VAR_SNOWFALL] == NULL);
+	if (s.v[CS_VAR_SNOW_FRACTION] != NULL) /* 0.0 at every hour of the file */
+		CHECK(s.v[CS_VAR_SNOW_FRACTION][180] == 0);
 	CHECK_STR_CONTAINS(s.key[CS_VAR_CLOUD_LOW], "data_1h.lowclouds");
 	cs_series_free(&s);
 }
@@ -190,6 +193,32 @@ static void openmeteo_units_offset_and_showers_convert(void)
 	CHECK(s.v[CS_VAR_FOG_PROBABILITY] == NULL && s.v[CS_VAR_VISIBILITY] == NULL);
 	CHECK_STR_CONTAINS(s.key[CS_VAR_CONV_PRECIP], "hourly.showers");
 	cs_series_free(&s);
+}
+
+/* Open-Meteo's snowfall is in cm (inch with precipitation_unit=inch). */
+static void openmeteo_snowfall_is_read_in_cm(void)
+{
+	char j[4096];
+	snprintf(j, sizeof j, "%s", edited(om_base, "\"is_day\":\"\"",
+					    "\"is_day\":\"\",\"snowfall\":\"cm\""));
+	snprintf(j, sizeof j, "%s", edited(j, "\"is_day\":[0,1]",
+					    "\"is_day\":[0,1],\"snowfall\":[0.7,null]"));
+	struct cs_series s;
+	CHECK(cs_provider_parse(j, strlen(j), "om", &s) == CS_OK);
+	if (s.v[CS_VAR_SNOWFALL] != NULL) {
+		CHECK(s.v[CS_VAR_SNOWFALL][0] == 0.7 && isnan(s.v[CS_VAR_SNOWFALL][1]));
+		CHECK_STR_CONTAINS(s.key[CS_VAR_SNOWFALL], "hourly.snowfall");
+	}
+	CHECK(s.v[CS_VAR_SNOWFALL] != NULL && s.v[CS_VAR_SNOW_FRACTION] == NULL);
+	cs_series_free(&s);
+	snprintf(j, sizeof j, "%s", edited(j, "\"snowfall\":\"cm\"", "\"snowfall\":\"inch\""));
+	CHECK(cs_provider_parse(j, strlen(j), "om", &s) == CS_OK);
+	if (s.v[CS_VAR_SNOWFALL] != NULL)
+		CHECK_NEAR(s.v[CS_VAR_SNOWFALL][0], 0.7 * 2.54, 1e-12);
+	cs_series_free(&s);
+	snprintf(j, sizeof j, "%s", edited(j, "[0.7,null]", "[-1,null]"));
+	CHECK(cs_provider_parse(j, strlen(j), "om", &s) == CS_EDATA);
+	CHECK_STR_CONTAINS(cs_errmsg(), "hourly.snowfall[0]: -1 inch");
 }
 
 static void openmeteo_legacy_names_and_unixtime_are_read(void)
@@ -398,6 +427,7 @@ int main(void)
 	RUN(provider_is_detected_from_content);
 	RUN(meteoblue_values_and_wall_times_convert_with_the_offset);
 	RUN(openmeteo_units_offset_and_showers_convert);
+	RUN(openmeteo_snowfall_is_read_in_cm);
 	RUN(openmeteo_legacy_names_and_unixtime_are_read);
 	RUN(arrays_of_another_length_name_the_field_and_index);
 	RUN(nulls_are_kept_as_nan_never_zero);

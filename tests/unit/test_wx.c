@@ -98,7 +98,10 @@ static int same_wx(const struct cs_wx *a, const struct cs_wx *b)
 	    a->wind_speed_m_s != b->wind_speed_m_s ||
 	    a->wind_from_deg != b->wind_from_deg ||
 	    a->visibility_m != b->visibility_m ||
-	    a->fog_probability != b->fog_probability || a->nfar != b->nfar)
+	    a->fog_probability != b->fog_probability || a->nfar != b->nfar ||
+	    a->snow_fraction != b->snow_fraction ||
+	    !(a->temperature_c == b->temperature_c ||
+	      (isnan(a->temperature_c) && isnan(b->temperature_c))))
 		return 0;
 	for (int i = 0; i < a->nfar; i++) {
 		const struct cs_wx_far *p = &a->far[i], *q = &b->far[i];
@@ -143,6 +146,7 @@ static void default_state_is_the_documented_fair_weather_over_bern(void)
 	CHECK(wx.visibility_m == 30000);
 	CHECK(wx.precipitation_mm_h == 0 && wx.convective_mm_h == 0);
 	CHECK(wx.fog_probability == 0 && wx.nfar == 0);
+	CHECK(wx.snow_fraction == 0 && isnan(wx.temperature_c));
 	CHECK(cs_wx_validate(&wx) == CS_OK);
 }
 
@@ -172,6 +176,8 @@ static void awkward_state_with_far_sites_round_trips_bit_exactly(void)
 	wx.wind_from_deg = 359.99999999999994;
 	wx.visibility_m = 1234.5678;
 	wx.fog_probability = 0.7;
+	wx.snow_fraction = 1.0 / 3.0;
+	wx.temperature_c = -0.1;
 	wx.nfar = CS_WX_MAX_FAR;
 	for (int i = 0; i < wx.nfar; i++) {
 		wx.far[i].site = wx.site;
@@ -271,6 +277,7 @@ static void minimal_state_gets_the_documented_defaults(void)
 	CHECK(wx.precipitation_mm_h == 0 && wx.convective_mm_h == 0);
 	CHECK(wx.wind_speed_m_s == 0 && wx.wind_from_deg == 0);
 	CHECK(wx.visibility_m == 30000 && wx.fog_probability == 0);
+	CHECK(wx.snow_fraction == 0 && isnan(wx.temperature_c));
 	CHECK(wx.nfar == 1 && wx.far[0].site.name[0] == '\0');
 	CHECK(wx.far[0].site.alt_m == 0 && wx.far[0].nlayers == 0);
 	CHECK(wx.far[0].precipitation_mm_h == 0 &&
@@ -400,8 +407,47 @@ static void each_range_violation_names_the_field_and_value(void)
 		{"1800", "1200", "far[0].layers[0].top_m: 1200 is not at least"},
 		{"0.4", "-0.4", "far[0].precipitation_mm_h: -0.4 is outside 0..500"},
 		{"25000", "0", "far[0].visibility_m: 0 is outside 1..1000000"},
+		{"\"fog_probability\": 0", "\"fog_probability\": 0, "
+		 "\"snow_fraction\": 1.5", "snow_fraction: 1.5 is outside 0..1"},
+		{"\"fog_probability\": 0", "\"fog_probability\": 0, "
+		 "\"snow_fraction\": -0.1", "snow_fraction: -0.1 is outside 0..1"},
+		{"\"fog_probability\": 0", "\"fog_probability\": 0, "
+		 "\"temperature_c\": 70.5", "temperature_c: 70.5 is outside -100..70"},
+		{"\"fog_probability\": 0", "\"fog_probability\": 0, "
+		 "\"temperature_c\": \"cold\"", "temperature_c: expected a finite "
+		 "number or null"},
 	};
 	check_edits(e, sizeof e / sizeof *e);
+}
+
+/* snow_fraction is always written; temperature_c only when known, and
+ * absent or null reads back as unknown (NaN). */
+static void snow_and_temperature_are_written_and_read_back(void)
+{
+	struct cs_wx wx, back;
+	char *json = NULL;
+	cs_wx_default(&wx);
+	CHECK(cs_wx_to_json(&wx, &json) == CS_OK);
+	if (json != NULL) {
+		CHECK_STR_CONTAINS(json, "\"fog_probability\":0,\"snow_fraction\":0}");
+		CHECK(strstr(json, "temperature") == NULL);
+	}
+	free(json);
+	wx.snow_fraction = 0.25;
+	wx.temperature_c = -3.5;
+	CHECK(cs_wx_to_json(&wx, &json) == CS_OK);
+	if (json != NULL)
+		CHECK_STR_CONTAINS(json, "\"snow_fraction\":0.25,\"temperature_c\":-3.5}");
+	free(json);
+	CHECK(round_trip(&wx, &back) == CS_OK);
+	CHECK(back.snow_fraction == 0.25 && back.temperature_c == -3.5);
+	CHECK(parse_edited("\"fog_probability\": 0", "\"fog_probability\": 0, "
+			   "\"temperature_c\": null, \"snow_fraction\": 1", &back)
+	      == CS_OK);
+	CHECK(isnan(back.temperature_c) && back.snow_fraction == 1);
+	wx.temperature_c = INFINITY;
+	CHECK(cs_wx_validate(&wx) == CS_EDATA);
+	CHECK_STR_CONTAINS(cs_errmsg(), "temperature_c: ");
 }
 
 static void range_limits_themselves_are_accepted(void)
@@ -713,6 +759,7 @@ int main(void)
 	RUN(genus_in_json_is_case_insensitive_and_unknown_names_are_listed);
 	RUN(each_range_violation_names_the_field_and_value);
 	RUN(range_limits_themselves_are_accepted);
+	RUN(snow_and_temperature_are_written_and_read_back);
 	RUN(validate_rejects_nan_and_impossible_counts_in_a_struct);
 	RUN(missing_required_fields_are_named);
 	RUN(wrong_json_types_are_named);

@@ -71,7 +71,9 @@ static const struct {
 	{"windspeed", CS_VAR_WIND_SPEED}, {"winddirection", CS_VAR_WIND_FROM},
 	{"visibility", CS_VAR_VISIBILITY}, {"fog_probability", CS_VAR_FOG_PROBABILITY},
 	{"temperature", CS_VAR_TEMPERATURE}, {"relativehumidity", CS_VAR_HUMIDITY},
+	{"snowfraction", CS_VAR_SNOW_FRACTION},
 };
+#define NREAL ((int)(sizeof real_vars / sizeof *real_vars))
 
 /* The capture as parsed by the library and, independently, by cJSON. */
 static int load_real(struct cs_series *s, cJSON **root)
@@ -112,7 +114,7 @@ static void real_data_at_exact_hours_equals_the_file(void)
 			checked++;
 		}
 	}
-	CHECK(checked == 11 * 193);
+	CHECK(checked == NREAL * 193);
 	/* and the state: coverage = percent / 100 at 2024-10-06T07:00Z */
 	struct cs_wx_obs o;
 	CHECK(cs_series_obs(&s, utc("2024-10-06T07:00Z"), 10800, &o) == CS_OK);
@@ -157,6 +159,83 @@ static void real_data_half_way_is_the_mean(void)
 }
 
 /* ---- crafted series ------------------------------------------------------- */
+
+/* The state's snow fraction: the provider's (meteoblue), else Open-Meteo's
+ * snowfall as water (7 cm = 10 mm) over the precipitation, else by the
+ * temperature rule (snow <= 0.5 C, rain >= 2.5 C), else none. */
+static void snow_fraction_comes_from_the_best_source_there_is(void)
+{
+	static const double zero[3] = {0, 0, 0}, wind[3] = {3, 3, 3};
+	static const double precip[3] = {10, 10, 0}, snowfall[3] = {3.5, 7, 0};
+	static const double mb_snow[3] = {0, 0.5, 1}, temp[3] = {1.5, 1.5, 1.0};
+	struct cs_series s;
+	struct cs_wx_obs o;
+	double t0 = utc("2021-06-14T00:00Z");
+	make_series(&s, 3, NULL);
+	set_var(&s, CS_VAR_CLOUD_LOW, zero);
+	set_var(&s, CS_VAR_CLOUD_MID, zero);
+	set_var(&s, CS_VAR_CLOUD_HIGH, zero);
+	set_var(&s, CS_VAR_WIND_SPEED, wind);
+	set_var(&s, CS_VAR_WIND_FROM, wind);
+	set_var(&s, CS_VAR_PRECIP, precip);
+	/* nothing about snow or temperature: none */
+	CHECK(cs_series_obs(&s, t0, 10800, &o) == CS_OK);
+	CHECK(o.snow_fraction == 0);
+	/* the temperature rule: 1.5 C is half way from 2.5 to 0.5 */
+	set_var(&s, CS_VAR_TEMPERATURE, temp);
+	CHECK(cs_series_obs(&s, t0, 10800, &o) == CS_OK);
+	CHECK_NEAR(o.snow_fraction, 0.5, 1e-12);
+	/* Open-Meteo snowfall: 3.5 cm is 5 mm of water of the 10 mm; at
+	 * 00:30 5.25 cm (7.5 mm) of 10 mm; dry at 02:00: the rule (1 C) */
+	set_var(&s, CS_VAR_SNOWFALL, snowfall);
+	CHECK(cs_series_obs(&s, t0, 10800, &o) == CS_OK);
+	CHECK_NEAR(o.snow_fraction, 0.5, 1e-12);
+	CHECK(cs_series_obs(&s, t0 + 1800, 10800, &o) == CS_OK);
+	CHECK_NEAR(o.snow_fraction, 0.75, 1e-12);
+	CHECK(cs_series_obs(&s, t0 + 7200, 10800, &o) == CS_OK);
+	CHECK_NEAR(o.snow_fraction, 0.75, 1e-12);
+	/* the provider's own fraction wins, interpolated */
+	set_var(&s, CS_VAR_SNOW_FRACTION, mb_snow);
+	CHECK(cs_series_obs(&s, t0 + 5400, 10800, &o) == CS_OK);
+	CHECK_NEAR(o.snow_fraction, 0.75, 1e-12);
+	CHECK(cs_series_obs(&s, t0, 10800, &o) == CS_OK);
+	CHECK(o.snow_fraction == 0);
+	cs_series_free(&s);
+}
+
+/* wxinterp on the capture: snow_fraction and temperature_c of the state
+ * are the file's snowfraction and temperature at that hour. */
+static void real_data_state_has_the_files_snow_and_temperature(void)
+{
+	struct cs_series s;
+	cJSON *root = NULL;
+	if (!load_real(&s, &root))
+		SKIP("%s is absent (the shared data folder is not here)", real_path());
+	cs_series_free(&s);
+	const cJSON *d = cJSON_GetObjectItem(root, "data_1h");
+	const cJSON *times = cJSON_GetObjectItem(d, "time");
+	int i = 0;
+	while (i < cJSON_GetArraySize(times) &&
+	       strcmp(cJSON_GetArrayItem(times, i)->valuestring, "2024-10-13 12:00"))
+		i++;
+	double want_t = cJSON_GetArrayItem(cJSON_GetObjectItem(d, "temperature"),
+					   i)->valuedouble;
+	double want_s = cJSON_GetArrayItem(cJSON_GetObjectItem(d, "snowfraction"),
+					   i)->valuedouble;
+	cJSON_Delete(root);
+	struct cs_wxinterp_opts o;
+	struct cs_wxinterp_result res;
+	cs_wxinterp_defaults(&o);
+	o.inputs[o.ninputs++] = real_path();
+	o.have_at = 1;
+	o.at_utc = utc("2024-10-13T12:00Z"); /* the file's offset is GMT */
+	o.output = tmp("real.json");
+	CHECK(cs_wxinterp_run(&o, &res) == CS_OK);
+	struct cs_wx wx;
+	CHECK(cs_wx_read(tmp("real.json"), &wx) == CS_OK);
+	CHECK(wx.temperature_c == want_t && want_t == 16.21);
+	CHECK(wx.snow_fraction == want_s);
+}
 
 static void wind_direction_across_north_passes_through_zero(void)
 {
@@ -307,6 +386,12 @@ static void set_edits_each_kind_of_path(void)
 	      wx.wind_from_deg == 90 && wx.fog_probability == 0.25 && wx.site.alt_m == 858);
 	CHECK(strcmp(wx.site.name, "Gurten") == 0);
 	CHECK_NEAR(wx.time_utc, utc("2024-01-01T12:00Z"), 0);
+	CHECK(cs_wx_set(&wx, "snow_fraction=0.4") == CS_OK && wx.snow_fraction == 0.4);
+	CHECK(cs_wx_set(&wx, "snow=1") == CS_OK && wx.snow_fraction == 1);
+	CHECK(cs_wx_set(&wx, "temperature_c=-2.5") == CS_OK && wx.temperature_c == -2.5);
+	CHECK(cs_wx_set(&wx, "temperature=none") == CS_OK && isnan(wx.temperature_c));
+	CHECK(cs_wx_set(&wx, "snow=none") == CS_EINVAL);
+	CHECK_STR_CONTAINS(cs_errmsg(), "snow=none: 'none' is not a number");
 	/* a missing étage is added with its default genus, in its place:
 	 * the layers stay ordered low to high */
 	CHECK(cs_wx_set(&wx, "layer.mid.coverage=0.6") == CS_OK);
@@ -602,6 +687,8 @@ int main(void)
 		return 1;
 	RUN(real_data_at_exact_hours_equals_the_file);
 	RUN(real_data_half_way_is_the_mean);
+	RUN(snow_fraction_comes_from_the_best_source_there_is);
+	RUN(real_data_state_has_the_files_snow_and_temperature);
 	RUN(wind_direction_across_north_passes_through_zero);
 	RUN(null_is_bridged_within_max_gap_and_reported_beyond);
 	RUN(null_at_the_ends_is_reported_never_zero);
