@@ -216,6 +216,7 @@ static int derive(const struct run *r, double t, struct cs_wx *wx)
 			      ob.fog_probability;
 	wx->snow_fraction = ob.snow_fraction;
 	wx->temperature_c = ob.temperature_c;
+	wx->observed = ob.observed;
 	explain(r->o, wx, &ob);
 	wx->nfar = r->o->nfar;
 	for (int i = 0; i < r->o->nfar; i++)

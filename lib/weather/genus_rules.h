@@ -21,6 +21,8 @@ struct cs_wx_obs {
 	double sun_elevation_deg;    /* optional (NaN: unknown, no daytime rule) */
 	double snow_fraction;        /* 0..1 of the precipitation (always set by
 					cs_series_obs: see cs_snow_fraction_of) */
+	struct cs_wx_observed observed; /* radiation and total cover, when the
+					   file has them (not used by the rules) */
 };
 
 /* The rules, in the order they are tried within each étage. */

@@ -221,6 +221,27 @@ static double snow_fraction(const struct cs_series *s, double t, double gap,
 	return isnan(f) ? 0 : f;
 }
 
+/* The provider's radiation and total cover at t, where the file has them
+ * and they interpolate (an observation that is missing is left out, not
+ * an error: it is for comparing only). */
+static void observed(const struct cs_series *s, double t, double gap,
+		     struct cs_wx_observed *ob)
+{
+	memset(ob, 0, sizeof *ob);
+	ob->has_radiation =
+		s->v[CS_VAR_GHI] && s->v[CS_VAR_DNI] && s->v[CS_VAR_DHI] &&
+		cs_series_value(s, CS_VAR_GHI, t, gap, &ob->ghi_w_m2) == CS_OK &&
+		cs_series_value(s, CS_VAR_DNI, t, gap, &ob->dni_w_m2) == CS_OK &&
+		cs_series_value(s, CS_VAR_DHI, t, gap, &ob->dhi_w_m2) == CS_OK;
+	if (!ob->has_radiation)
+		ob->ghi_w_m2 = ob->dni_w_m2 = ob->dhi_w_m2 = 0;
+	ob->has_cloud_cover = s->v[CS_VAR_CLOUD_TOTAL] &&
+		cs_series_value(s, CS_VAR_CLOUD_TOTAL, t, gap,
+				&ob->total_cloud_cover) == CS_OK;
+	ob->total_cloud_cover = ob->has_cloud_cover ?
+		ob->total_cloud_cover / 100 : 0;
+}
+
 int cs_series_obs(const struct cs_series *s, double t, double gap,
 		  struct cs_wx_obs *o)
 {
@@ -246,6 +267,7 @@ int cs_series_obs(const struct cs_series *s, double t, double gap,
 	if (o->convective_mm_h > o->precipitation_mm_h)
 		o->convective_mm_h = o->precipitation_mm_h;
 	o->snow_fraction = snow_fraction(s, t, gap, o);
+	observed(s, t, gap, &o->observed);
 	struct cs_sun sun;
 	o->sun_elevation_deg = cs_sun_position(t, s->lat_deg, s->lon_deg, &sun)
 			       == CS_OK ? sun.elevation_deg : NAN;

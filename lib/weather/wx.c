@@ -92,6 +92,15 @@ static const struct field wx_fields[] = {
 	F(struct cs_wx, fog_probability, 0, 0, 0, 1),
 	F(struct cs_wx, snow_fraction, 0, 0, 0, 1),
 };
+/* "observed": the radiation keys all three or none; the cover alone. */
+static const struct field radiation_fields[] = {
+	F(struct cs_wx_observed, ghi_w_m2, 1, 0, 0, 2000),
+	F(struct cs_wx_observed, dni_w_m2, 1, 0, 0, 2000),
+	F(struct cs_wx_observed, dhi_w_m2, 1, 0, 0, 2000),
+};
+static const struct field cover_fields[] = {
+	F(struct cs_wx_observed, total_cloud_cover, 1, 0, 0, 1),
+};
 /* Optional: NaN (unknown) when absent or null, and then not written. */
 #define TEMP_LO -100.0
 #define TEMP_HI 70.0
@@ -173,6 +182,12 @@ int cs_wx_validate(const struct cs_wx *wx)
 	if (!isnan(wx->temperature_c))
 		TRY(check("", "temperature_c", wx->temperature_c, TEMP_LO,
 			  TEMP_HI));
+	if (wx->observed.has_radiation)
+		TRY(check_fields("observed.", radiation_fields,
+				 COUNT(radiation_fields), &wx->observed));
+	if (wx->observed.has_cloud_cover)
+		TRY(check_fields("observed.", cover_fields, COUNT(cover_fields),
+				 &wx->observed));
 	TRY(check_fields("wind.", wind_fields, COUNT(wind_fields), wx));
 	if (wx->nfar < 0 || wx->nfar > CS_WX_MAX_FAR)
 		return cs_error(CS_EDATA, "far: %d sites, at most %d", wx->nfar,
@@ -314,6 +329,28 @@ static int parse_temperature(const cJSON *root, struct cs_wx *wx)
 	return CS_OK;
 }
 
+/* "observed" (optional): ghi_w_m2, dni_w_m2 and dhi_w_m2 together, and
+ * total_cloud_cover, each group optional. */
+static int parse_observed(const cJSON *root, struct cs_wx_observed *ob)
+{
+	const cJSON *obj;
+	static const char *const rad[3] = {"ghi_w_m2", "dni_w_m2", "dhi_w_m2"};
+	memset(ob, 0, sizeof *ob);
+	TRY(get(root, "", "observed", cJSON_Object, 0, &obj));
+	if (obj == NULL)
+		return CS_OK;
+	for (int i = 0; i < 3; i++)
+		ob->has_radiation |= cJSON_HasObjectItem(obj, rad[i]);
+	if (ob->has_radiation)
+		TRY(parse_fields(obj, "observed.", radiation_fields,
+				 COUNT(radiation_fields), ob));
+	ob->has_cloud_cover = cJSON_HasObjectItem(obj, "total_cloud_cover");
+	if (ob->has_cloud_cover)
+		TRY(parse_fields(obj, "observed.", cover_fields,
+				 COUNT(cover_fields), ob));
+	return CS_OK;
+}
+
 /* Fills *wx from the parsed document; the ranges are checked after. */
 static int parse_root(const cJSON *root, struct cs_wx *wx)
 {
@@ -332,6 +369,7 @@ static int parse_root(const cJSON *root, struct cs_wx *wx)
 	TRY(parse_layers(root, "", &wx->nlayers, wx->layers));
 	TRY(parse_fields(root, "", wx_fields, COUNT(wx_fields), wx));
 	TRY(parse_temperature(root, wx));
+	TRY(parse_observed(root, &wx->observed));
 	TRY(get(root, "", "wind", cJSON_Object, 0, &it));
 	TRY(parse_fields(it, "wind.", wind_fields, COUNT(wind_fields), wx));
 	wx->nfar = 0;
@@ -437,6 +475,23 @@ static void put_layers(FILE *f, int n, const struct cs_wx_layer *l)
 	fputc(']', f);
 }
 
+/* "observed", only with what the provider had. */
+static void put_observed(FILE *f, const struct cs_wx_observed *ob)
+{
+	if (!ob->has_radiation && !ob->has_cloud_cover)
+		return;
+	fputs(",\"observed\":{", f);
+	if (ob->has_radiation)
+		fprintf(f, "\"ghi_w_m2\":%s,\"dni_w_m2\":%s,\"dhi_w_m2\":%s",
+			cs_num(ob->ghi_w_m2).s, cs_num(ob->dni_w_m2).s,
+			cs_num(ob->dhi_w_m2).s);
+	if (ob->has_cloud_cover)
+		fprintf(f, "%s\"total_cloud_cover\":%s",
+			ob->has_radiation ? "," : "",
+			cs_num(ob->total_cloud_cover).s);
+	fputc('}', f);
+}
+
 int cs_wx_to_json(const struct cs_wx *wx, char **json)
 {
 	if (json == NULL)
@@ -463,6 +518,7 @@ int cs_wx_to_json(const struct cs_wx *wx, char **json)
 	fprintf(f, ",\"snow_fraction\":%s", cs_num(wx->snow_fraction).s);
 	if (!isnan(wx->temperature_c))
 		fprintf(f, ",\"temperature_c\":%s", cs_num(wx->temperature_c).s);
+	put_observed(f, &wx->observed);
 	for (int i = 0; i < wx->nfar; i++) {
 		fputs(i ? ",{" : ",\"far\":[{", f);
 		put_site(f, &wx->far[i].site);

@@ -131,7 +131,47 @@ static void real_meteoblue_capture_checks_clean_and_parses(void)
 	if (s.v[CS_VAR_SNOW_FRACTION] != NULL) /* 0.0 at every hour of the file */
 		CHECK(s.v[CS_VAR_SNOW_FRACTION][180] == 0);
 	CHECK_STR_CONTAINS(s.key[CS_VAR_CLOUD_LOW], "data_1h.lowclouds");
+	/* solar-1h at "2024-10-13 12:00" (index 180), the _instant values:
+	 * ghi 458.11, dni 507.1, dif 167.6 W/m2; totalcloudcover 12 at 179 */
+	CHECK(s.v[CS_VAR_GHI] && s.v[CS_VAR_DNI] && s.v[CS_VAR_DHI] &&
+	      s.v[CS_VAR_CLOUD_TOTAL]);
+	if (s.v[CS_VAR_GHI] && s.v[CS_VAR_DNI] && s.v[CS_VAR_DHI] &&
+	    s.v[CS_VAR_CLOUD_TOTAL]) {
+		CHECK(s.v[CS_VAR_GHI][180] == 458.11);
+		CHECK(s.v[CS_VAR_DNI][180] == 507.1);
+		CHECK(s.v[CS_VAR_DHI][180] == 167.6);
+		CHECK(s.v[CS_VAR_CLOUD_TOTAL][179] == 12);
+	}
+	CHECK_STR_CONTAINS(s.key[CS_VAR_DHI], "data_1h.dif_instant");
 	cs_series_free(&s);
+}
+
+/* Open-Meteo's instant irradiances in W/m2 (the unit as it spells it). */
+static void openmeteo_instant_radiation_is_read_in_w_m2(void)
+{
+	char j[4096];
+	snprintf(j, sizeof j, "%s", edited(om_base, "\"is_day\":\"\"",
+		 "\"is_day\":\"\",\"shortwave_radiation_instant\":\"W/m\xc2\xb2\","
+		 "\"direct_normal_irradiance_instant\":\"W/m\xc2\xb2\","
+		 "\"diffuse_radiation_instant\":\"W/m\xc2\xb2\""));
+	snprintf(j, sizeof j, "%s", edited(j, "\"is_day\":[0,1]",
+		 "\"is_day\":[0,1],\"shortwave_radiation_instant\":[0,612.5],"
+		 "\"direct_normal_irradiance_instant\":[0,701.25],"
+		 "\"diffuse_radiation_instant\":[0,null]"));
+	struct cs_series s;
+	CHECK(cs_provider_parse(j, strlen(j), "om", &s) == CS_OK);
+	if (s.v[CS_VAR_GHI] && s.v[CS_VAR_DNI] && s.v[CS_VAR_DHI]) {
+		CHECK(s.v[CS_VAR_GHI][1] == 612.5 && s.v[CS_VAR_DNI][1] == 701.25);
+		CHECK(s.v[CS_VAR_DHI][0] == 0 && isnan(s.v[CS_VAR_DHI][1]));
+	} else {
+		t_case_failed = 1;
+	}
+	cs_series_free(&s);
+	expect_problem(edited(j, "[0,612.5]", "[0,2500]"),
+		       "hourly.shortwave_radiation_instant[1]: 2500 is outside 0..2000");
+	expect_problem(edited(j, "\"shortwave_radiation_instant\":\"W/m\xc2\xb2\"",
+			      "\"shortwave_radiation_instant\":\"kW/m\xc2\xb2\""),
+		       "hourly_units.shortwave_radiation_instant: unit \"kW/m\xc2\xb2\"");
 }
 
 static void provider_is_detected_from_content(void)
@@ -428,6 +468,7 @@ int main(void)
 	RUN(meteoblue_values_and_wall_times_convert_with_the_offset);
 	RUN(openmeteo_units_offset_and_showers_convert);
 	RUN(openmeteo_snowfall_is_read_in_cm);
+	RUN(openmeteo_instant_radiation_is_read_in_w_m2);
 	RUN(openmeteo_legacy_names_and_unixtime_are_read);
 	RUN(arrays_of_another_length_name_the_field_and_index);
 	RUN(nulls_are_kept_as_nan_never_zero);

@@ -100,6 +100,7 @@ static int same_wx(const struct cs_wx *a, const struct cs_wx *b)
 	    a->visibility_m != b->visibility_m ||
 	    a->fog_probability != b->fog_probability || a->nfar != b->nfar ||
 	    a->snow_fraction != b->snow_fraction ||
+	    memcmp(&a->observed, &b->observed, sizeof a->observed) != 0 ||
 	    !(a->temperature_c == b->temperature_c ||
 	      (isnan(a->temperature_c) && isnan(b->temperature_c))))
 		return 0;
@@ -178,6 +179,7 @@ static void awkward_state_with_far_sites_round_trips_bit_exactly(void)
 	wx.fog_probability = 0.7;
 	wx.snow_fraction = 1.0 / 3.0;
 	wx.temperature_c = -0.1;
+	wx.observed = (struct cs_wx_observed){1, 458.11, 507.1, 167.6, 1, 0.12};
 	wx.nfar = CS_WX_MAX_FAR;
 	for (int i = 0; i < wx.nfar; i++) {
 		wx.far[i].site = wx.site;
@@ -448,6 +450,49 @@ static void snow_and_temperature_are_written_and_read_back(void)
 	wx.temperature_c = INFINITY;
 	CHECK(cs_wx_validate(&wx) == CS_EDATA);
 	CHECK_STR_CONTAINS(cs_errmsg(), "temperature_c: ");
+}
+
+/* "observed": written only with what the provider had; the radiation keys
+ * all three or none; ranges checked. */
+static void observed_is_optional_and_written_only_when_known(void)
+{
+	struct cs_wx wx, back;
+	char *json = NULL;
+	cs_wx_default(&wx);
+	CHECK(!wx.observed.has_radiation && !wx.observed.has_cloud_cover);
+	wx.observed.has_cloud_cover = 1;
+	wx.observed.total_cloud_cover = 0.5;
+	CHECK(cs_wx_to_json(&wx, &json) == CS_OK);
+	if (json != NULL) {
+		CHECK_STR_CONTAINS(json, ",\"observed\":{\"total_cloud_cover\":0.5}");
+		CHECK(strstr(json, "ghi") == NULL);
+	}
+	free(json);
+	CHECK(round_trip(&wx, &back) == CS_OK && same_wx(&wx, &back));
+	wx.observed = (struct cs_wx_observed){1, 458.11, 507.1, 167.6, 0, 0};
+	CHECK(cs_wx_to_json(&wx, &json) == CS_OK);
+	if (json != NULL)
+		CHECK_STR_CONTAINS(json, ",\"observed\":{\"ghi_w_m2\":458.11,"
+				   "\"dni_w_m2\":507.1,\"dhi_w_m2\":167.6}}");
+	free(json);
+	CHECK(round_trip(&wx, &back) == CS_OK && same_wx(&wx, &back));
+	const char *fog = "\"fog_probability\": 0";
+	CHECK(parse_edited(fog, "\"fog_probability\": 0, \"observed\": "
+			   "{\"ghi_w_m2\": 100, \"dhi_w_m2\": 100}", &back) == CS_EDATA);
+	CHECK_STR_CONTAINS(cs_errmsg(), "observed.dni_w_m2: missing (required)");
+	CHECK(parse_edited(fog, "\"fog_probability\": 0, \"observed\": "
+			   "{\"ghi_w_m2\": 2001, \"dni_w_m2\": 0, \"dhi_w_m2\": 0}",
+			   &back) == CS_EDATA);
+	CHECK_STR_CONTAINS(cs_errmsg(), "observed.ghi_w_m2: 2001 is outside 0..2000");
+	CHECK(parse_edited(fog, "\"fog_probability\": 0, \"observed\": "
+			   "{\"total_cloud_cover\": 12}", &back) == CS_EDATA);
+	CHECK_STR_CONTAINS(cs_errmsg(), "observed.total_cloud_cover: 12 is outside 0..1");
+	CHECK(parse_edited(fog, "\"fog_probability\": 0, \"observed\": []",
+			   &back) == CS_EDATA);
+	CHECK_STR_CONTAINS(cs_errmsg(), "observed: expected an object");
+	CHECK(parse_edited(fog, "\"fog_probability\": 0, \"observed\": {}",
+			   &back) == CS_OK);
+	CHECK(!back.observed.has_radiation && !back.observed.has_cloud_cover);
 }
 
 static void range_limits_themselves_are_accepted(void)
@@ -760,6 +805,7 @@ int main(void)
 	RUN(each_range_violation_names_the_field_and_value);
 	RUN(range_limits_themselves_are_accepted);
 	RUN(snow_and_temperature_are_written_and_read_back);
+	RUN(observed_is_optional_and_written_only_when_known);
 	RUN(validate_rejects_nan_and_impossible_counts_in_a_struct);
 	RUN(missing_required_fields_are_named);
 	RUN(wrong_json_types_are_named);

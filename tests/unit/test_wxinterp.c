@@ -6,6 +6,8 @@
 #include "core/time.h"
 #include "apps/wxinterp_run.h"
 #include "weather/wxset.h"
+#include "astro/sun.h"
+#include "core/vec.h"
 
 #include <cjson/cJSON.h>
 #include <stdlib.h>
@@ -235,6 +237,81 @@ static void real_data_state_has_the_files_snow_and_temperature(void)
 	CHECK(cs_wx_read(tmp("real.json"), &wx) == CS_OK);
 	CHECK(wx.temperature_c == want_t && want_t == 16.21);
 	CHECK(wx.snow_fraction == want_s);
+}
+
+/* The value of key at "2024-10-13 12:00" + hour hours in the capture. */
+static double file_at(const cJSON *d, const char *key, int hour)
+{
+	const cJSON *times = cJSON_GetObjectItem(d, "time");
+	int i = 0;
+	while (i < cJSON_GetArraySize(times) &&
+	       strcmp(cJSON_GetArrayItem(times, i)->valuestring, "2024-10-13 12:00"))
+		i++;
+	const cJSON *v = cJSON_GetArrayItem(cJSON_GetObjectItem(d, key), i + hour);
+	return cJSON_IsNumber(v) ? v->valuedouble : NAN;
+}
+
+/* The capture's solar-1h _instant values and total cover come through to
+ * the state's "observed" unchanged at the hour, as the mean half way, and
+ * they close GHI = DNI cos(zenith) + DHI with the sun at that time. */
+static void real_data_observed_radiation_equals_the_file(void)
+{
+	struct cs_series s;
+	cJSON *root = NULL;
+	if (!load_real(&s, &root))
+		SKIP("%s is absent (the shared data folder is not here)", real_path());
+	cs_series_free(&s);
+	const cJSON *d = cJSON_GetObjectItem(root, "data_1h");
+	const char *keys[4] = {"ghi_instant", "dni_instant", "dif_instant",
+			       "totalcloudcover"};
+	double want[2][4];
+	for (int h = 0; h < 2; h++)
+		for (int k = 0; k < 4; k++)
+			want[h][k] = file_at(d, keys[k], h);
+	cJSON_Delete(root);
+	CHECK(want[0][0] == 458.11); /* looked up by hand too */
+	struct cs_wxinterp_opts o;
+	struct cs_wxinterp_result res;
+	cs_wxinterp_defaults(&o);
+	o.inputs[o.ninputs++] = real_path();
+	o.have_from = o.have_to = 1;
+	o.from_utc = utc("2024-10-13T12:00Z");
+	o.to_utc = utc("2024-10-13T12:30Z");
+	o.step_s = 1800;
+	o.output = tmp("observed.jsonl");
+	CHECK(cs_wxinterp_run(&o, &res) == CS_OK && res.nstates == 2);
+	struct cs_wx wx;
+	CHECK(cs_wx_read(tmp("observed.jsonl"), &wx) == CS_OK);
+	const struct cs_wx_observed *ob = &wx.observed;
+	CHECK(ob->has_radiation && ob->has_cloud_cover);
+	CHECK(ob->ghi_w_m2 == want[0][0] && ob->dni_w_m2 == want[0][1] &&
+	      ob->dhi_w_m2 == want[0][2]);
+	CHECK(ob->total_cloud_cover == want[0][3] / 100);
+	struct cs_sun sun;
+	CHECK(cs_sun_position(wx.time_utc, wx.site.lat_deg, wx.site.lon_deg,
+			      &sun) == CS_OK);
+	double closure = ob->dni_w_m2 * sin(sun.elevation_deg * CS_PI / 180) +
+			 ob->dhi_w_m2;
+	printf("  12:00Z: GHI %g, DNI cos z + DHI %.1f (sun %.2f deg)\n",
+	       ob->ghi_w_m2, closure, sun.elevation_deg);
+	CHECK_NEAR(closure / ob->ghi_w_m2, 1, 0.005);
+	/* the second line: 12:30Z, half way */
+	char *text = NULL;
+	size_t len = 0;
+	CHECK(cs_read_all(tmp("observed.jsonl"), 1 << 20, (unsigned char **)&text,
+			  &len) == CS_OK);
+	const char *line2 = text ? memchr(text, '\n', len) : NULL;
+	CHECK(line2 != NULL);
+	if (line2 != NULL) {
+		line2++;
+		CHECK(cs_wx_parse(line2, len - (size_t)(line2 - text), &wx) == CS_OK);
+		CHECK_NEAR(wx.observed.ghi_w_m2, (want[0][0] + want[1][0]) / 2, 1e-9);
+		CHECK_NEAR(wx.observed.dni_w_m2, (want[0][1] + want[1][1]) / 2, 1e-9);
+		CHECK_NEAR(wx.observed.dhi_w_m2, (want[0][2] + want[1][2]) / 2, 1e-9);
+		CHECK_NEAR(wx.observed.total_cloud_cover,
+			   (want[0][3] + want[1][3]) / 200, 1e-12);
+	}
+	free(text);
 }
 
 static void wind_direction_across_north_passes_through_zero(void)
@@ -583,6 +660,16 @@ static void run_writes_states_with_far_sites_and_edits(void)
 	CHECK_NEAR(wx.far[0].site.lat_deg, 47.2088, 0);
 	CHECK_NEAR(wx.far[0].layers[0].coverage, 0.7, 1e-12);
 	CHECK(wx.far[0].nlayers == 1);
+	/* the file has no radiation and no total cover: no "observed" */
+	CHECK(!wx.observed.has_radiation && !wx.observed.has_cloud_cover);
+	char text[4096] = "";
+	FILE *f = fopen(tmp("wx.json"), "r");
+	size_t len = f ? fread(text, 1, sizeof text - 1, f) : 0;
+	if (f)
+		fclose(f);
+	text[len] = '\0';
+	CHECK(len > 0 && strstr(text, "\"snow_fraction\":0") != NULL);
+	CHECK(strstr(text, "observed") == NULL);
 	cs_wxinterp_defaults(&o);
 	o.inputs[o.ninputs++] = tmp("near.json");
 	o.have_at = 1;
@@ -689,6 +776,7 @@ int main(void)
 	RUN(real_data_half_way_is_the_mean);
 	RUN(snow_fraction_comes_from_the_best_source_there_is);
 	RUN(real_data_state_has_the_files_snow_and_temperature);
+	RUN(real_data_observed_radiation_equals_the_file);
 	RUN(wind_direction_across_north_passes_through_zero);
 	RUN(null_is_bridged_within_max_gap_and_reported_beyond);
 	RUN(null_at_the_ends_is_reported_never_zero);
