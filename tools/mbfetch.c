@@ -37,6 +37,9 @@ static void usage(void)
 	       "                           (default: the provider's)\n"
 	       "      --history-days N     days before today: meteoblue 0..4, open-meteo\n"
 	       "                           0..92 (default 0)\n"
+	       "      --radiation          also the radiation at each hour (GHI, DNI, DHI):\n"
+	       "                           meteoblue's solar-1h package (the key must\n"
+	       "                           include it), Open-Meteo's *_instant variables\n"
 	       "      --key-file FILE      meteoblue API key file, mode 600 (default:\n"
 	       "                           $MBFETCH_APIKEY, then\n"
 	       "                           ~/.config/cloudscape/meteoblue.key)\n"
@@ -160,7 +163,7 @@ enum {
 	OPT_PROVIDER = 256, OPT_SITE, OPT_LAT, OPT_LON, OPT_ASL, OPT_DAYS, OPT_HISTORY,
 	OPT_KEY_FILE, OPT_BASE_URL, OPT_CONNECT_TIMEOUT, OPT_TIMEOUT, OPT_RETRIES,
 	OPT_RETRY_DELAY, OPT_RETRY_MAX_WAIT, OPT_MAX_BYTES, OPT_CACHE, OPT_CACHE_AGE,
-	OPT_DRY_RUN, OPT_CHECK, OPT_LIST_SITES, OPT_VERSION,
+	OPT_DRY_RUN, OPT_CHECK, OPT_LIST_SITES, OPT_VERSION, OPT_RADIATION,
 };
 
 int main(int argc, char **argv)
@@ -185,6 +188,7 @@ int main(int argc, char **argv)
 		{"cache", required_argument, NULL, OPT_CACHE},
 		{"cache-max-age", required_argument, NULL, OPT_CACHE_AGE},
 		{"dry-run", no_argument, NULL, OPT_DRY_RUN},
+		{"radiation", no_argument, NULL, OPT_RADIATION},
 		{"check", no_argument, NULL, OPT_CHECK},
 		{"list-sites", no_argument, NULL, OPT_LIST_SITES},
 		{"quiet", no_argument, NULL, 'q'},
@@ -248,6 +252,7 @@ int main(int argc, char **argv)
 			o.cache_max_age_s = cli_double("--cache-max-age", optarg, 0.0, 1e9);
 			break;
 		case OPT_DRY_RUN: o.dry_run = 1; break;
+		case OPT_RADIATION: o.radiation = 1; break;
 		case OPT_CHECK: check = 1; break;
 		case OPT_LIST_SITES: list_sites(); return EXIT_OK;
 		case 'q': cli_quiet = 1; break;

@@ -75,6 +75,7 @@ static struct cs_request request_of(const struct cs_mbfetch_opts *o)
 		.provider = o->provider, .lat_deg = o->lat_deg, .lon_deg = o->lon_deg,
 		.asl_m = o->asl_m, .name = o->name, .days = o->days,
 		.history_days = o->history_days, .base_url = o->base_url,
+		.radiation = o->radiation,
 	};
 	return r;
 }
@@ -217,8 +218,11 @@ static int fetch_loop(const struct cs_mbfetch_opts *o, struct cs_mbfetch_result 
 		if (a > 1)
 			snprintf(tail, sizeof tail, "; gave up after %d attempts", a);
 		if (v.code == CS_EAUTH && key_source)
-			return cs_error_redacted(v.code, key, "%s%s; the key came from %s", v.msg,
-				    tail, key_source);
+			return cs_error_redacted(v.code, key, "%s%s; the key came from %s%s",
+				    v.msg, tail, key_source, o->radiation ?
+				    "; the request included meteoblue's solar-1h package "
+				    "(--radiation), which the key may not cover: try "
+				    "without --radiation" : "");
 		if (!v.retry || a >= total)
 			return cs_error_redacted(v.code, key, "%s%s", v.msg, tail);
 		double wait = o->retry_delay_s * ldexp(1.0, a - 1);

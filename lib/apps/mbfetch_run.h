@@ -36,6 +36,8 @@ struct cs_mbfetch_opts {
 	size_t max_bytes;          /* response size cap */
 	const char *cache_dir;     /* NULL: no cache (the default) */
 	double cache_max_age_s;
+	int radiation;             /* also ask for the radiation at the hour
+				      (meteoblue solar-1h, Open-Meteo *_instant) */
 	int dry_run;               /* build the request into url; no network */
 	cs_log_fn log;
 	void *log_user;

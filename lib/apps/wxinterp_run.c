@@ -169,9 +169,10 @@ static void explain(const struct cs_wxinterp_opts *o, const struct cs_wx *wx,
 	size_t k = 0;
 	cs_wx_rules(ob, rules);
 	k += (size_t)snprintf(msg, sizeof msg, "%s: sun %.1f deg, rain %g mm/h "
-			      "(convective %g)", when(wx->time_utc).s,
-			      ob->sun_elevation_deg, ob->precipitation_mm_h,
-			      ob->convective_mm_h);
+			      "(convective %g, snow fraction %g)",
+			      when(wx->time_utc).s, ob->sun_elevation_deg,
+			      ob->precipitation_mm_h, ob->convective_mm_h,
+			      ob->snow_fraction);
 	for (int e = 0; e < 3 && k < sizeof msg; e++)
 		k += (size_t)snprintf(msg + k, sizeof msg - k, "; %s %g%%: %s",
 				      etage[e], cover[e] * 100,
@@ -213,6 +214,9 @@ static int derive(const struct run *r, double t, struct cs_wx *wx)
 			   ob.visibility_m < 1 ? 1 : ob.visibility_m;
 	wx->fog_probability = isnan(ob.fog_probability) ? 0 :
 			      ob.fog_probability;
+	wx->snow_fraction = ob.snow_fraction;
+	wx->temperature_c = ob.temperature_c;
+	wx->observed = ob.observed;
 	explain(r->o, wx, &ob);
 	wx->nfar = r->o->nfar;
 	for (int i = 0; i < r->o->nfar; i++)

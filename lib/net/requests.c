@@ -17,10 +17,13 @@
 #define MB_BASE "https://my.meteoblue.com"
 #define OM_BASE "https://api.open-meteo.com"
 #define MB_PACKAGES "/packages/basic-1h_clouds-1h"
+#define MB_SOLAR "_solar-1h"
 #define OM_PATH "/v1/forecast"
 #define OM_HOURLY "cloud_cover,cloud_cover_low,cloud_cover_mid,cloud_cover_high," \
-	"precipitation,showers,wind_speed_10m,wind_direction_10m,visibility," \
+	"precipitation,showers,snowfall,wind_speed_10m,wind_direction_10m,visibility," \
 	"relative_humidity_2m,temperature_2m,is_day"
+#define OM_RADIATION "shortwave_radiation_instant,direct_normal_irradiance_instant," \
+	"diffuse_radiation_instant"
 
 const char *cs_mbfetch_provider_name(enum cs_provider p)
 {
@@ -155,7 +158,8 @@ int cs_request_url(const struct cs_request *o, const char *key, char *url,
 	size_t bl = strlen(base);
 	while (bl > 0 && base[bl - 1] == '/')
 		bl--;
-	int n = snprintf(url, size, "%.*s%s", (int)bl, base, mb ? MB_PACKAGES : OM_PATH);
+	int n = snprintf(url, size, "%.*s%s%s", (int)bl, base, mb ? MB_PACKAGES : OM_PATH,
+			 mb && o->radiation ? MB_SOLAR : "");
 	if (n < 0 || (size_t)n >= size)
 		return cs_error(CS_EINVAL, "URL too long");
 	char lat[32], lon[32], asl[32], days[16], hist[16];
@@ -191,7 +195,7 @@ int cs_request_url(const struct cs_request *o, const char *key, char *url,
 		ADD("longitude", lon, NULL);
 		if (!isnan(o->asl_m))
 			ADD("elevation", asl, NULL);
-		ADD("hourly", OM_HOURLY, ",");
+		ADD("hourly", o->radiation ? OM_HOURLY "," OM_RADIATION : OM_HOURLY, ",");
 		ADD("temperature_unit", "celsius", NULL);
 		ADD("wind_speed_unit", "ms", NULL);
 		ADD("precipitation_unit", "mm", NULL);

@@ -22,6 +22,9 @@ struct cs_request {
 	int days;                  /* forecast days; -1: the provider's default */
 	int history_days;          /* days before today, 0.. */
 	const char *base_url;      /* NULL: the provider's https server */
+	int radiation;             /* also the radiation at the hour: meteoblue's
+				      solar-1h package, Open-Meteo's
+				      *_instant irradiances */
 };
 
 /* Checks a request: position, days and history per provider, the base

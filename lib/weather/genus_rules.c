@@ -105,6 +105,25 @@ static int cumulus_base_agl(const struct cs_wx_obs *o, double *agl)
 	return 1;
 }
 
+double cs_snow_fraction_rule(double t_c)
+{
+	if (isnan(t_c))
+		return NAN;
+	if (t_c <= CS_WX_SNOW_T_C)
+		return 1;
+	if (t_c >= CS_WX_RAIN_T_C)
+		return 0;
+	return (CS_WX_RAIN_T_C - t_c) / (CS_WX_RAIN_T_C - CS_WX_SNOW_T_C);
+}
+
+double cs_snow_fraction_of(double snowfall_cm, double precipitation_mm)
+{
+	if (!(precipitation_mm > 0) || !(snowfall_cm >= 0))
+		return NAN;
+	double f = snowfall_cm / CS_WX_SNOW_CM_PER_MM / precipitation_mm;
+	return f > 1 ? 1 : f;
+}
+
 static double max2(double a, double b)
 {
 	return a > b ? a : b;

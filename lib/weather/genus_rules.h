@@ -19,6 +19,10 @@ struct cs_wx_obs {
 	double temperature_c;        /* 2 m, optional */
 	double humidity_pct;         /* 2 m relative humidity, optional */
 	double sun_elevation_deg;    /* optional (NaN: unknown, no daytime rule) */
+	double snow_fraction;        /* 0..1 of the precipitation (always set by
+					cs_series_obs: see cs_snow_fraction_of) */
+	struct cs_wx_observed observed; /* radiation and total cover, when the
+					   file has them (not used by the rules) */
 };
 
 /* The rules, in the order they are tried within each étage. */
@@ -58,6 +62,21 @@ enum cs_wx_rule {
 #define CS_WX_CU_SUN_DEG 30.0    /* sun elevation of daytime convection */
 #define CS_WX_FOG_DEPTH_M 300.0  /* thickness of ground fog */
 #define CS_WX_DEFAULT_VIS_M 30000.0 /* visibility when the file has none */
+#define CS_WX_SNOW_T_C 0.5       /* all snow at or below this 2 m temperature */
+#define CS_WX_RAIN_T_C 2.5       /* all rain at or above it (linear between) */
+#define CS_WX_SNOW_CM_PER_MM 0.7 /* Open-Meteo: "7 cm snow = 10 mm
+				    precipitation water equivalent" */
+
+/* The fraction of precipitation falling as snow at a 2 m temperature:
+ * 1 at or below CS_WX_SNOW_T_C, 0 at or above CS_WX_RAIN_T_C, linear
+ * between; NaN for NaN. */
+double cs_snow_fraction_rule(double temperature_c);
+
+/* The snow fraction from Open-Meteo's snowfall (cm) and precipitation (mm)
+ * of one hour: snowfall / CS_WX_SNOW_CM_PER_MM mm of water over the
+ * precipitation, at most 1; NaN when there is no precipitation (the
+ * caller falls back to the temperature rule). */
+double cs_snow_fraction_of(double snowfall_cm, double precipitation_mm);
 
 /* "L6 low cover < 70 % and sun >= 30 deg: cumulus". */
 const char *cs_wx_rule_text(enum cs_wx_rule r);

@@ -17,10 +17,11 @@
 
 /* ---- the variables and their units -------------------------------------- */
 
-enum unit_kind { U_NONE, U_PERCENT, U_PRECIP, U_SPEED, U_DEGREE, U_LENGTH, U_TEMP };
+enum unit_kind { U_NONE, U_PERCENT, U_PRECIP, U_SPEED, U_DEGREE, U_LENGTH, U_TEMP,
+		 U_SNOW, U_IRRADIANCE };
 
 /* The unit of each kind after parsing, for messages. */
-static const char *const si_unit[] = {"", "%", "mm", "m/s", "deg", "m", "C"};
+static const char *const si_unit[] = {"", "%", "mm", "m/s", "deg", "m", "C", "cm", "W/m2"};
 
 /* A unit as each provider spells it: value in cloudscape units =
  * value * scale + offset. */
@@ -40,6 +41,10 @@ static const struct unit unit_table[][5] = {
 	[U_LENGTH] = {{"m", "m", 1, 0}, {"ft", "ft", 0.3048, 0}, {NULL, NULL, 0, 0}},
 	[U_TEMP] = {{"C", "\xc2\xb0""C", 1, 0}, {"F", "\xc2\xb0""F", 5.0 / 9, -160.0 / 9},
 		    {NULL, NULL, 0, 0}},
+	/* snow depth: Open-Meteo's snowfall is in cm (inch with
+	 * precipitation_unit=inch); meteoblue sends none */
+	[U_SNOW] = {{"cm", "cm", 1, 0}, {"inch", "inch", 2.54, 0}, {NULL, NULL, 0, 0}},
+	[U_IRRADIANCE] = {{"Wm-2", "W/m\xc2\xb2", 1, 0}, {NULL, NULL, 0, 0}},
 };
 
 /* The hourly arrays cloudscape reads or range-checks.  mb: meteoblue's
@@ -83,7 +88,16 @@ static const struct key keys[] = {
 	{"pictocode", NULL, NULL, NULL, -1, U_NONE, 1, 35, 0},
 	{NULL, "weather_code", "weathercode", NULL, -1, U_NONE, 0, 99, 0},
 	{"sunshinetime", NULL, NULL, NULL, -1, U_NONE, 0, 60, 0},
-	{"snowfraction", NULL, NULL, NULL, -1, U_NONE, 0, 1, 0},
+	{"snowfraction", NULL, NULL, NULL, CS_VAR_SNOW_FRACTION, U_NONE, 0, 1, 0},
+	{NULL, "snowfall", NULL, NULL, CS_VAR_SNOWFALL, U_SNOW, 0, 500, 0},
+	/* the values at the hour (_instant), not meteoblue's _backwards or
+	 * Open-Meteo's plain names, which are means over the preceding hour */
+	{"ghi_instant", "shortwave_radiation_instant", NULL, "radiation",
+	 CS_VAR_GHI, U_IRRADIANCE, 0, 2000, 0},
+	{"dni_instant", "direct_normal_irradiance_instant", NULL, "radiation",
+	 CS_VAR_DNI, U_IRRADIANCE, 0, 2000, 0},
+	{"dif_instant", "diffuse_radiation_instant", NULL, "radiation",
+	 CS_VAR_DHI, U_IRRADIANCE, 0, 2000, 0},
 	{"precipitation_probability", "precipitation_probability", NULL, NULL,
 	 -1, U_NONE, 0, 100, 0},
 	{"uvindex", NULL, NULL, NULL, -1, U_NONE, 0, 25, 0},
@@ -94,7 +108,9 @@ static const char *const var_names[CS_VAR_COUNT] = {
 	"total cloud cover", "low cloud cover", "mid cloud cover",
 	"high cloud cover", "precipitation", "convective precipitation",
 	"wind speed", "wind direction", "visibility", "fog probability",
-	"relative humidity", "temperature", "daylight flag",
+	"relative humidity", "temperature", "daylight flag", "snow fraction",
+	"snowfall", "global horizontal irradiance", "direct normal irradiance",
+	"diffuse horizontal irradiance",
 };
 
 const char *cs_wxvar_name(enum cs_wxvar k)

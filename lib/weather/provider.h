@@ -1,5 +1,5 @@
 /* provider.h - hourly weather from the providers: meteoblue's Packages API
- * (basic-1h + clouds-1h) and Open-Meteo's forecast API.  Detection,
+ * (basic-1h + clouds-1h, solar-1h) and Open-Meteo's forecast API.  Detection,
  * validation (what mbfetch --check reports) and parsing into UTC series
  * (what wxinterp interpolates).  Facts about both formats:
  * ../shared/WEATHER-APIS.md. */
@@ -26,6 +26,17 @@ enum cs_wxvar {
 	CS_VAR_HUMIDITY,        /* relative humidity, % */
 	CS_VAR_TEMPERATURE,     /* deg C */
 	CS_VAR_IS_DAY,          /* 0 or 1 */
+	CS_VAR_SNOW_FRACTION,   /* 0..1 of the precipitation; meteoblue
+				   snowfraction */
+	CS_VAR_SNOWFALL,        /* cm of snow in the preceding hour;
+				   Open-Meteo snowfall */
+	CS_VAR_GHI,             /* W/m2, global horizontal, at the hour
+				   (meteoblue ghi_instant, Open-Meteo
+				   shortwave_radiation_instant) */
+	CS_VAR_DNI,             /* W/m2, direct normal, at the hour
+				   (dni_instant, direct_normal_irradiance_instant) */
+	CS_VAR_DHI,             /* W/m2, diffuse horizontal, at the hour
+				   (dif_instant, diffuse_radiation_instant) */
 	CS_VAR_COUNT
 };
 

@@ -203,6 +203,45 @@ static int optional(const struct cs_series *s, enum cs_wxvar k, double t,
 	return s->v[k] == NULL ? CS_OK : cs_series_value(s, k, t, gap, out);
 }
 
+/* The fraction of the precipitation falling as snow at t: the provider's
+ * (meteoblue snowfraction), else from Open-Meteo's snowfall when it
+ * precipitates, else by the temperature rule, else none. */
+static double snow_fraction(const struct cs_series *s, double t, double gap,
+			    const struct cs_wx_obs *o)
+{
+	double f = NAN, cm = NAN;
+	if (s->v[CS_VAR_SNOW_FRACTION] != NULL &&
+	    cs_series_value(s, CS_VAR_SNOW_FRACTION, t, gap, &f) == CS_OK)
+		return f < 0 ? 0 : f > 1 ? 1 : f;
+	if (s->v[CS_VAR_SNOWFALL] != NULL &&
+	    cs_series_value(s, CS_VAR_SNOWFALL, t, gap, &cm) == CS_OK)
+		f = cs_snow_fraction_of(cm, o->precipitation_mm_h);
+	if (isnan(f))
+		f = cs_snow_fraction_rule(o->temperature_c);
+	return isnan(f) ? 0 : f;
+}
+
+/* The provider's radiation and total cover at t, where the file has them
+ * and they interpolate (an observation that is missing is left out, not
+ * an error: it is for comparing only). */
+static void observed(const struct cs_series *s, double t, double gap,
+		     struct cs_wx_observed *ob)
+{
+	memset(ob, 0, sizeof *ob);
+	ob->has_radiation =
+		s->v[CS_VAR_GHI] && s->v[CS_VAR_DNI] && s->v[CS_VAR_DHI] &&
+		cs_series_value(s, CS_VAR_GHI, t, gap, &ob->ghi_w_m2) == CS_OK &&
+		cs_series_value(s, CS_VAR_DNI, t, gap, &ob->dni_w_m2) == CS_OK &&
+		cs_series_value(s, CS_VAR_DHI, t, gap, &ob->dhi_w_m2) == CS_OK;
+	if (!ob->has_radiation)
+		ob->ghi_w_m2 = ob->dni_w_m2 = ob->dhi_w_m2 = 0;
+	ob->has_cloud_cover = s->v[CS_VAR_CLOUD_TOTAL] &&
+		cs_series_value(s, CS_VAR_CLOUD_TOTAL, t, gap,
+				&ob->total_cloud_cover) == CS_OK;
+	ob->total_cloud_cover = ob->has_cloud_cover ?
+		ob->total_cloud_cover / 100 : 0;
+}
+
 int cs_series_obs(const struct cs_series *s, double t, double gap,
 		  struct cs_wx_obs *o)
 {
@@ -227,6 +266,8 @@ int cs_series_obs(const struct cs_series *s, double t, double gap,
 		o->convective_mm_h = 0;
 	if (o->convective_mm_h > o->precipitation_mm_h)
 		o->convective_mm_h = o->precipitation_mm_h;
+	o->snow_fraction = snow_fraction(s, t, gap, o);
+	observed(s, t, gap, &o->observed);
 	struct cs_sun sun;
 	o->sun_elevation_deg = cs_sun_position(t, s->lat_deg, s->lon_deg, &sun)
 			       == CS_OK ? sun.elevation_deg : NAN;

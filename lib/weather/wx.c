@@ -52,6 +52,7 @@ void cs_wx_default(struct cs_wx *wx)
 	wx->wind_speed_m_s = 4;
 	wx->wind_from_deg = 250;
 	wx->visibility_m = 30000;
+	wx->temperature_c = NAN;
 }
 
 /* Returns from the calling function on an error. */
@@ -89,7 +90,20 @@ static const struct field wx_fields[] = {
 	F(struct cs_wx, convective_mm_h, 0, 0, 0, 500),
 	F(struct cs_wx, visibility_m, 0, 30000, 1, 1e6),
 	F(struct cs_wx, fog_probability, 0, 0, 0, 1),
+	F(struct cs_wx, snow_fraction, 0, 0, 0, 1),
 };
+/* "observed": the radiation keys all three or none; the cover alone. */
+static const struct field radiation_fields[] = {
+	F(struct cs_wx_observed, ghi_w_m2, 1, 0, 0, 2000),
+	F(struct cs_wx_observed, dni_w_m2, 1, 0, 0, 2000),
+	F(struct cs_wx_observed, dhi_w_m2, 1, 0, 0, 2000),
+};
+static const struct field cover_fields[] = {
+	F(struct cs_wx_observed, total_cloud_cover, 1, 0, 0, 1),
+};
+/* Optional: NaN (unknown) when absent or null, and then not written. */
+#define TEMP_LO -100.0
+#define TEMP_HI 70.0
 /* Required only inside a "wind" object (a speed without a direction is no
  * wind); no object at all is calm. */
 static const struct field wind_fields[] = {
@@ -165,6 +179,15 @@ int cs_wx_validate(const struct cs_wx *wx)
 	TRY(check_fields("", wx_fields, COUNT(wx_fields), wx));
 	TRY(check("", "convective_mm_h", wx->convective_mm_h, 0,
 		  wx->precipitation_mm_h));
+	if (!isnan(wx->temperature_c))
+		TRY(check("", "temperature_c", wx->temperature_c, TEMP_LO,
+			  TEMP_HI));
+	if (wx->observed.has_radiation)
+		TRY(check_fields("observed.", radiation_fields,
+				 COUNT(radiation_fields), &wx->observed));
+	if (wx->observed.has_cloud_cover)
+		TRY(check_fields("observed.", cover_fields, COUNT(cover_fields),
+				 &wx->observed));
 	TRY(check_fields("wind.", wind_fields, COUNT(wind_fields), wx));
 	if (wx->nfar < 0 || wx->nfar > CS_WX_MAX_FAR)
 		return cs_error(CS_EDATA, "far: %d sites, at most %d", wx->nfar,
@@ -292,6 +315,42 @@ static int parse_far(const cJSON *root, struct cs_wx *wx)
 	return CS_OK;
 }
 
+/* "temperature_c": a number, or absent or null (unknown: NaN). */
+static int parse_temperature(const cJSON *root, struct cs_wx *wx)
+{
+	const cJSON *it = cJSON_GetObjectItemCaseSensitive(root, "temperature_c");
+	wx->temperature_c = NAN;
+	if (it == NULL || cJSON_IsNull(it))
+		return CS_OK;
+	if (!cJSON_IsNumber(it) || !isfinite(it->valuedouble))
+		return cs_error(CS_EDATA, "temperature_c: expected a finite number "
+				"or null");
+	wx->temperature_c = it->valuedouble;
+	return CS_OK;
+}
+
+/* "observed" (optional): ghi_w_m2, dni_w_m2 and dhi_w_m2 together, and
+ * total_cloud_cover, each group optional. */
+static int parse_observed(const cJSON *root, struct cs_wx_observed *ob)
+{
+	const cJSON *obj;
+	static const char *const rad[3] = {"ghi_w_m2", "dni_w_m2", "dhi_w_m2"};
+	memset(ob, 0, sizeof *ob);
+	TRY(get(root, "", "observed", cJSON_Object, 0, &obj));
+	if (obj == NULL)
+		return CS_OK;
+	for (int i = 0; i < 3; i++)
+		ob->has_radiation |= cJSON_HasObjectItem(obj, rad[i]);
+	if (ob->has_radiation)
+		TRY(parse_fields(obj, "observed.", radiation_fields,
+				 COUNT(radiation_fields), ob));
+	ob->has_cloud_cover = cJSON_HasObjectItem(obj, "total_cloud_cover");
+	if (ob->has_cloud_cover)
+		TRY(parse_fields(obj, "observed.", cover_fields,
+				 COUNT(cover_fields), ob));
+	return CS_OK;
+}
+
 /* Fills *wx from the parsed document; the ranges are checked after. */
 static int parse_root(const cJSON *root, struct cs_wx *wx)
 {
@@ -309,6 +368,8 @@ static int parse_root(const cJSON *root, struct cs_wx *wx)
 	TRY(parse_site(root, "", &wx->site));
 	TRY(parse_layers(root, "", &wx->nlayers, wx->layers));
 	TRY(parse_fields(root, "", wx_fields, COUNT(wx_fields), wx));
+	TRY(parse_temperature(root, wx));
+	TRY(parse_observed(root, &wx->observed));
 	TRY(get(root, "", "wind", cJSON_Object, 0, &it));
 	TRY(parse_fields(it, "wind.", wind_fields, COUNT(wind_fields), wx));
 	wx->nfar = 0;
@@ -414,6 +475,23 @@ static void put_layers(FILE *f, int n, const struct cs_wx_layer *l)
 	fputc(']', f);
 }
 
+/* "observed", only with what the provider had. */
+static void put_observed(FILE *f, const struct cs_wx_observed *ob)
+{
+	if (!ob->has_radiation && !ob->has_cloud_cover)
+		return;
+	fputs(",\"observed\":{", f);
+	if (ob->has_radiation)
+		fprintf(f, "\"ghi_w_m2\":%s,\"dni_w_m2\":%s,\"dhi_w_m2\":%s",
+			cs_num(ob->ghi_w_m2).s, cs_num(ob->dni_w_m2).s,
+			cs_num(ob->dhi_w_m2).s);
+	if (ob->has_cloud_cover)
+		fprintf(f, "%s\"total_cloud_cover\":%s",
+			ob->has_radiation ? "," : "",
+			cs_num(ob->total_cloud_cover).s);
+	fputc('}', f);
+}
+
 int cs_wx_to_json(const struct cs_wx *wx, char **json)
 {
 	if (json == NULL)
@@ -437,6 +515,10 @@ int cs_wx_to_json(const struct cs_wx *wx, char **json)
 		cs_num(wx->convective_mm_h).s, cs_num(wx->wind_speed_m_s).s,
 		cs_num(wx->wind_from_deg).s, cs_num(wx->visibility_m).s,
 		cs_num(wx->fog_probability).s);
+	fprintf(f, ",\"snow_fraction\":%s", cs_num(wx->snow_fraction).s);
+	if (!isnan(wx->temperature_c))
+		fprintf(f, ",\"temperature_c\":%s", cs_num(wx->temperature_c).s);
+	put_observed(f, &wx->observed);
 	for (int i = 0; i < wx->nfar; i++) {
 		fputs(i ? ",{" : ",\"far\":[{", f);
 		put_site(f, &wx->far[i].site);

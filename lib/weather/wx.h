@@ -54,6 +54,19 @@ struct cs_wx_far {
 	double visibility_m;
 };
 
+/* What the provider says about the light and the sky, for comparing a
+ * render with (never used to render).  Instant values at the state's
+ * time, W/m2; GHI = DNI cos(zenith) + DHI.  The has_ flags say which the
+ * provider had ("observed" in the JSON, written only with them). */
+struct cs_wx_observed {
+	int has_radiation;        /* ghi, dni and dhi known */
+	double ghi_w_m2;          /* global horizontal irradiance, 0..2000 */
+	double dni_w_m2;          /* direct normal irradiance, 0..2000 */
+	double dhi_w_m2;          /* diffuse horizontal irradiance, 0..2000 */
+	int has_cloud_cover;
+	double total_cloud_cover; /* the provider's total cover, 0..1 */
+};
+
 struct cs_wx {
 	double time_utc;               /* seconds since 1970-01-01T00:00Z */
 	struct cs_wx_site site;
@@ -65,13 +78,19 @@ struct cs_wx {
 	double wind_from_deg;          /* direction the wind blows from, 0..360 */
 	double visibility_m;           /* > 0 */
 	double fog_probability;        /* 0..1 */
+	double snow_fraction;          /* 0..1, the fraction of the
+					  precipitation that falls as snow */
+	double temperature_c;          /* 2 m air temperature, -100..70;
+					  NaN: unknown (no JSON key) */
+	struct cs_wx_observed observed;
 	int nfar;
 	struct cs_wx_far far[CS_WX_MAX_FAR];
 };
 
 /* The built-in fair-weather state: Bern (46.95N 7.44E, 540 m),
  * 2021-06-14T14:00Z, cumulus 0.35 from 1500 to 2700 m, cirrus 0.2 from
- * 9000 to 9600 m, wind 4 m/s from 250 deg, visibility 30 km, no rain. */
+ * 9000 to 9600 m, wind 4 m/s from 250 deg, visibility 30 km, no rain, no
+ * snow, temperature unknown (NaN). */
 void cs_wx_default(struct cs_wx *wx);
 
 /* Parses and validates one JSON object of schema cloudwx/1.  Errors name

@@ -13,7 +13,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-enum ftype { T_NUM, T_TEXT, T_TIME, T_GENUS };
+enum ftype { T_NUM, T_OPTNUM, T_TEXT, T_TIME, T_GENUS };
 
 /* A field: its names (canonical first) and where it lives. */
 struct fdef {
@@ -33,6 +33,8 @@ static const struct fdef top_fields[] = {
 	{"convective_mm_h", "convective", T_NUM, WX(convective_mm_h)},
 	{"visibility_m", "visibility", T_NUM, WX(visibility_m)},
 	{"fog_probability", "fog", T_NUM, WX(fog_probability)},
+	{"snow_fraction", "snow", T_NUM, WX(snow_fraction)},
+	{"temperature_c", "temperature", T_OPTNUM, WX(temperature_c)},
 	{NULL, NULL, T_NUM, 0},
 };
 static const struct fdef wind_fields[] = {
@@ -119,7 +121,8 @@ static int bad_path(const struct assign *a)
 {
 	return fail(a, "%s", "unknown path (expected e.g. layer.low.coverage, "
 		    "layers[0].genus, precipitation, wind.speed, visibility, "
-		    "fog, site.name, far[0].visibility; see wxinterp(1))");
+		    "fog, snow, temperature, site.name, far[0].visibility; "
+		    "see wxinterp(1))");
 }
 
 /* The layer part of a path: "layers[N][.F]" or "layer.ETAGE[.F]". */
@@ -180,7 +183,9 @@ static int parse_value(struct assign *a)
 {
 	const char *v = a->value;
 	enum ftype t = a->field ? a->field->type : T_GENUS;
-	if (t == T_NUM) {
+	if (t == T_OPTNUM && strcmp(v, "none") == 0) {
+		a->num = NAN; /* unknown */
+	} else if (t == T_NUM || t == T_OPTNUM) {
 		char *end;
 		errno = 0;
 		a->num = strtod(v, &end);

@@ -4,7 +4,8 @@
  *
  *   time_utc                     ISO 8601 time with zone
  *   precipitation_mm_h | precipitation, convective_mm_h | convective,
- *   visibility_m | visibility, fog_probability | fog
+ *   visibility_m | visibility, fog_probability | fog,
+ *   snow_fraction | snow, temperature_c | temperature (=none: unknown)
  *   site.name, site.lat_deg | lat, site.lon_deg | lon, site.alt_m | alt
  *   wind.speed_m_s | speed, wind.from_deg | from
  *   layers[N].genus|coverage|base_m|base|top_m|top   an existing layer

@@ -81,6 +81,7 @@ mb_json 6 >"$T/mb6.json"
 om_json 6 >"$T/om6.json"
 printf '400 Bad Request\nContent-Type: application/json\n\n{"error":true,"reason":"Cannot initialize WeatherVariable from invalid String value tempeture_2m for key hourly"}' | resp om400 1
 printf '401 Unauthorized\nContent-Type: application/json\n\n{"error_message": "MB_REQUEST::DISPATCH: Invalid api key (request @QUERY@)"}' | resp mb401 1
+printf '200 OK\nContent-Type: application/json\n\n{"error_message": "MB_REQUEST::DISPATCH: This datafeed is not authorized for your api key"}' | resp mbnosolar 1
 printf '429 Too Many Requests\nContent-Type: application/json\n\n{"reason":"Daily API request limit exceeded. Please try again tomorrow.","error":true}' | resp om429day 1
 printf '429 Too Many Requests\nContent-Type: application/json\n\n{"reason":"Minutely API request limit exceeded. Please try again in one minute.","error":true}' | resp om429min 1
 printf '429 Too Many Requests\nRetry-After: 1\nContent-Type: application/json\n\n{"error_message":"slow down"}' | resp mb429after 1
@@ -156,7 +157,7 @@ expect_rc 0
 cmp -s "$T/out" "$T/om6.json" || bad "standard output differs from what the server sent"
 for p in /omok/v1/forecast? latitude=46.95 longitude=7.45 wind_speed_unit=ms timezone=GMT \
 	past_days=2 forecast_days=3 \
-	hourly=cloud_cover,cloud_cover_low,cloud_cover_mid,cloud_cover_high,precipitation,showers,wind_speed_10m,wind_direction_10m,visibility,relative_humidity_2m,temperature_2m,is_day; do
+	hourly=cloud_cover,cloud_cover_low,cloud_cover_mid,cloud_cover_high,precipitation,showers,snowfall,wind_speed_10m,wind_direction_10m,visibility,relative_humidity_2m,temperature_2m,is_day; do
 	grep "^omok " "$T/req.log" | grep -qF -- "$p" || bad "request lacks $p"
 done
 grep "^omok " "$T/req.log" | grep -q apikey && bad "a key went to Open-Meteo"
@@ -181,6 +182,18 @@ expect_err "apikey=REDACTED"
 expect_err "the key came from MBFETCH_APIKEY"
 expect_requests mb401 1
 expect_no_key "$T/err" "$T/out"
+expect_kept
+end
+
+begin mbfetch_radiation_asks_for_solar_1h_and_names_it_when_refused
+fresh
+run "$MB" $FAST --radiation --base-url "$BASE/mbnosolar" -o "$T/o/out.json"
+expect_rc 3
+grep "^mbnosolar " "$T/req.log" | grep -qF "/packages/basic-1h_clouds-1h_solar-1h?" ||
+	bad "the request lacks the solar-1h package"
+expect_err "This datafeed is not authorized for your api key"
+expect_err "the request included meteoblue's solar-1h package (--radiation), which the key may not cover: try without --radiation"
+expect_no_key "$T/err"
 expect_kept
 end
 

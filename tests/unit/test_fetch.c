@@ -171,10 +171,20 @@ static void url_holds_what_cloudscape_needs(void)
 	CHECK(cs_mbfetch_url(&o, NULL, url, sizeof url) == CS_OK);
 	CHECK(strcmp(url, "https://api.open-meteo.com/v1/forecast?latitude=0&longitude=7.5"
 		     "&hourly=cloud_cover,cloud_cover_low,cloud_cover_mid,cloud_cover_high,"
-		     "precipitation,showers,wind_speed_10m,wind_direction_10m,visibility,"
+		     "precipitation,showers,snowfall,wind_speed_10m,wind_direction_10m,visibility,"
 		     "relative_humidity_2m,temperature_2m,is_day&temperature_unit=celsius"
 		     "&wind_speed_unit=ms&precipitation_unit=mm&timezone=GMT&past_days=1"
 		     "&forecast_days=3") == 0);
+	/* --radiation: the instant irradiances (cloud_cover is there already) */
+	o.radiation = 1;
+	CHECK(cs_mbfetch_url(&o, NULL, url, sizeof url) == CS_OK);
+	CHECK_STR_CONTAINS(url, "temperature_2m,is_day,shortwave_radiation_instant,"
+			   "direct_normal_irradiance_instant,diffuse_radiation_instant"
+			   "&temperature_unit=celsius");
+	o.provider = CS_PROVIDER_METEOBLUE;
+	CHECK(cs_mbfetch_url(&o, NULL, url, sizeof url) == CS_OK);
+	CHECK_STR_CONTAINS(url, "https://my.meteoblue.com/packages/"
+			   "basic-1h_clouds-1h_solar-1h?lat=0&lon=7.5&");
 }
 
 static void run_rejects_bad_options_before_any_request(void)

@@ -127,8 +127,51 @@ static void real_meteoblue_capture_checks_clean_and_parses(void)
 	CHECK_NEAR(s.v[CS_VAR_TEMPERATURE][0], 14.75, 0);
 	CHECK_NEAR(s.v[CS_VAR_IS_DAY][9], 1, 0);
 	CHECK(s.v[CS_VAR_CONV_PRECIP] != NULL && s.v[CS_VAR_HUMIDITY] != NULL);
+	CHECK(s.v[CS_VAR_SNOW_FRACTION] != NULL && s.v[CS_VAR_SNOWFALL] == NULL);
+	if (s.v[CS_VAR_SNOW_FRACTION] != NULL) /* 0.0 at every hour of the file */
+		CHECK(s.v[CS_VAR_SNOW_FRACTION][180] == 0);
 	CHECK_STR_CONTAINS(s.key[CS_VAR_CLOUD_LOW], "data_1h.lowclouds");
+	/* solar-1h at "2024-10-13 12:00" (index 180), the _instant values:
+	 * ghi 458.11, dni 507.1, dif 167.6 W/m2; totalcloudcover 12 at 179 */
+	CHECK(s.v[CS_VAR_GHI] && s.v[CS_VAR_DNI] && s.v[CS_VAR_DHI] &&
+	      s.v[CS_VAR_CLOUD_TOTAL]);
+	if (s.v[CS_VAR_GHI] && s.v[CS_VAR_DNI] && s.v[CS_VAR_DHI] &&
+	    s.v[CS_VAR_CLOUD_TOTAL]) {
+		CHECK(s.v[CS_VAR_GHI][180] == 458.11);
+		CHECK(s.v[CS_VAR_DNI][180] == 507.1);
+		CHECK(s.v[CS_VAR_DHI][180] == 167.6);
+		CHECK(s.v[CS_VAR_CLOUD_TOTAL][179] == 12);
+	}
+	CHECK_STR_CONTAINS(s.key[CS_VAR_DHI], "data_1h.dif_instant");
 	cs_series_free(&s);
+}
+
+/* Open-Meteo's instant irradiances in W/m2 (the unit as it spells it). */
+static void openmeteo_instant_radiation_is_read_in_w_m2(void)
+{
+	char j[4096];
+	snprintf(j, sizeof j, "%s", edited(om_base, "\"is_day\":\"\"",
+		 "\"is_day\":\"\",\"shortwave_radiation_instant\":\"W/m\xc2\xb2\","
+		 "\"direct_normal_irradiance_instant\":\"W/m\xc2\xb2\","
+		 "\"diffuse_radiation_instant\":\"W/m\xc2\xb2\""));
+	snprintf(j, sizeof j, "%s", edited(j, "\"is_day\":[0,1]",
+		 "\"is_day\":[0,1],\"shortwave_radiation_instant\":[0,612.5],"
+		 "\"direct_normal_irradiance_instant\":[0,701.25],"
+		 "\"diffuse_radiation_instant\":[0,null]"));
+	struct cs_series s;
+	CHECK(cs_provider_parse(j, strlen(j), "om", &s) == CS_OK);
+	if (s.v[CS_VAR_GHI] && s.v[CS_VAR_DNI] && s.v[CS_VAR_DHI]) {
+		CHECK(s.v[CS_VAR_GHI][1] == 612.5 && s.v[CS_VAR_DNI][1] == 701.25);
+		CHECK(s.v[CS_VAR_DHI][0] == 0 && isnan(s.v[CS_VAR_DHI][1]));
+	} else {
+		t_case_failed = 1;
+	}
+	cs_series_free(&s);
+	expect_problem(edited(j, "[0,612.5]", "[0,2500]"),
+		       "hourly.shortwave_radiation_instant[1]: 2500 is outside 0..2000");
+	expect_problem(edited(j, "\"shortwave_radiation_instant\":\"W/m\xc2\xb2\"",
+			      "\"shortwave_radiation_instant\":\"kW/m\xc2\xb2\""),
+		       "hourly_units.shortwave_radiation_instant: unit \"kW/m\xc2\xb2\"");
 }
 
 static void provider_is_detected_from_content(void)
@@ -190,6 +233,32 @@ static void openmeteo_units_offset_and_showers_convert(void)
 	CHECK(s.v[CS_VAR_FOG_PROBABILITY] == NULL && s.v[CS_VAR_VISIBILITY] == NULL);
 	CHECK_STR_CONTAINS(s.key[CS_VAR_CONV_PRECIP], "hourly.showers");
 	cs_series_free(&s);
+}
+
+/* Open-Meteo's snowfall is in cm (inch with precipitation_unit=inch). */
+static void openmeteo_snowfall_is_read_in_cm(void)
+{
+	char j[4096];
+	snprintf(j, sizeof j, "%s", edited(om_base, "\"is_day\":\"\"",
+					    "\"is_day\":\"\",\"snowfall\":\"cm\""));
+	snprintf(j, sizeof j, "%s", edited(j, "\"is_day\":[0,1]",
+					    "\"is_day\":[0,1],\"snowfall\":[0.7,null]"));
+	struct cs_series s;
+	CHECK(cs_provider_parse(j, strlen(j), "om", &s) == CS_OK);
+	if (s.v[CS_VAR_SNOWFALL] != NULL) {
+		CHECK(s.v[CS_VAR_SNOWFALL][0] == 0.7 && isnan(s.v[CS_VAR_SNOWFALL][1]));
+		CHECK_STR_CONTAINS(s.key[CS_VAR_SNOWFALL], "hourly.snowfall");
+	}
+	CHECK(s.v[CS_VAR_SNOWFALL] != NULL && s.v[CS_VAR_SNOW_FRACTION] == NULL);
+	cs_series_free(&s);
+	snprintf(j, sizeof j, "%s", edited(j, "\"snowfall\":\"cm\"", "\"snowfall\":\"inch\""));
+	CHECK(cs_provider_parse(j, strlen(j), "om", &s) == CS_OK);
+	if (s.v[CS_VAR_SNOWFALL] != NULL)
+		CHECK_NEAR(s.v[CS_VAR_SNOWFALL][0], 0.7 * 2.54, 1e-12);
+	cs_series_free(&s);
+	snprintf(j, sizeof j, "%s", edited(j, "[0.7,null]", "[-1,null]"));
+	CHECK(cs_provider_parse(j, strlen(j), "om", &s) == CS_EDATA);
+	CHECK_STR_CONTAINS(cs_errmsg(), "hourly.snowfall[0]: -1 inch");
 }
 
 static void openmeteo_legacy_names_and_unixtime_are_read(void)
@@ -398,6 +467,8 @@ int main(void)
 	RUN(provider_is_detected_from_content);
 	RUN(meteoblue_values_and_wall_times_convert_with_the_offset);
 	RUN(openmeteo_units_offset_and_showers_convert);
+	RUN(openmeteo_snowfall_is_read_in_cm);
+	RUN(openmeteo_instant_radiation_is_read_in_w_m2);
 	RUN(openmeteo_legacy_names_and_unixtime_are_read);
 	RUN(arrays_of_another_length_name_the_field_and_index);
 	RUN(nulls_are_kept_as_nan_never_zero);

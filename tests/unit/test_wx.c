@@ -98,7 +98,11 @@ static int same_wx(const struct cs_wx *a, const struct cs_wx *b)
 	    a->wind_speed_m_s != b->wind_speed_m_s ||
 	    a->wind_from_deg != b->wind_from_deg ||
 	    a->visibility_m != b->visibility_m ||
-	    a->fog_probability != b->fog_probability || a->nfar != b->nfar)
+	    a->fog_probability != b->fog_probability || a->nfar != b->nfar ||
+	    a->snow_fraction != b->snow_fraction ||
+	    memcmp(&a->observed, &b->observed, sizeof a->observed) != 0 ||
+	    !(a->temperature_c == b->temperature_c ||
+	      (isnan(a->temperature_c) && isnan(b->temperature_c))))
 		return 0;
 	for (int i = 0; i < a->nfar; i++) {
 		const struct cs_wx_far *p = &a->far[i], *q = &b->far[i];
@@ -143,6 +147,7 @@ static void default_state_is_the_documented_fair_weather_over_bern(void)
 	CHECK(wx.visibility_m == 30000);
 	CHECK(wx.precipitation_mm_h == 0 && wx.convective_mm_h == 0);
 	CHECK(wx.fog_probability == 0 && wx.nfar == 0);
+	CHECK(wx.snow_fraction == 0 && isnan(wx.temperature_c));
 	CHECK(cs_wx_validate(&wx) == CS_OK);
 }
 
@@ -172,6 +177,9 @@ static void awkward_state_with_far_sites_round_trips_bit_exactly(void)
 	wx.wind_from_deg = 359.99999999999994;
 	wx.visibility_m = 1234.5678;
 	wx.fog_probability = 0.7;
+	wx.snow_fraction = 1.0 / 3.0;
+	wx.temperature_c = -0.1;
+	wx.observed = (struct cs_wx_observed){1, 458.11, 507.1, 167.6, 1, 0.12};
 	wx.nfar = CS_WX_MAX_FAR;
 	for (int i = 0; i < wx.nfar; i++) {
 		wx.far[i].site = wx.site;
@@ -271,6 +279,7 @@ static void minimal_state_gets_the_documented_defaults(void)
 	CHECK(wx.precipitation_mm_h == 0 && wx.convective_mm_h == 0);
 	CHECK(wx.wind_speed_m_s == 0 && wx.wind_from_deg == 0);
 	CHECK(wx.visibility_m == 30000 && wx.fog_probability == 0);
+	CHECK(wx.snow_fraction == 0 && isnan(wx.temperature_c));
 	CHECK(wx.nfar == 1 && wx.far[0].site.name[0] == '\0');
 	CHECK(wx.far[0].site.alt_m == 0 && wx.far[0].nlayers == 0);
 	CHECK(wx.far[0].precipitation_mm_h == 0 &&
@@ -400,8 +409,90 @@ static void each_range_violation_names_the_field_and_value(void)
 		{"1800", "1200", "far[0].layers[0].top_m: 1200 is not at least"},
 		{"0.4", "-0.4", "far[0].precipitation_mm_h: -0.4 is outside 0..500"},
 		{"25000", "0", "far[0].visibility_m: 0 is outside 1..1000000"},
+		{"\"fog_probability\": 0", "\"fog_probability\": 0, "
+		 "\"snow_fraction\": 1.5", "snow_fraction: 1.5 is outside 0..1"},
+		{"\"fog_probability\": 0", "\"fog_probability\": 0, "
+		 "\"snow_fraction\": -0.1", "snow_fraction: -0.1 is outside 0..1"},
+		{"\"fog_probability\": 0", "\"fog_probability\": 0, "
+		 "\"temperature_c\": 70.5", "temperature_c: 70.5 is outside -100..70"},
+		{"\"fog_probability\": 0", "\"fog_probability\": 0, "
+		 "\"temperature_c\": \"cold\"", "temperature_c: expected a finite "
+		 "number or null"},
 	};
 	check_edits(e, sizeof e / sizeof *e);
+}
+
+/* snow_fraction is always written; temperature_c only when known, and
+ * absent or null reads back as unknown (NaN). */
+static void snow_and_temperature_are_written_and_read_back(void)
+{
+	struct cs_wx wx, back;
+	char *json = NULL;
+	cs_wx_default(&wx);
+	CHECK(cs_wx_to_json(&wx, &json) == CS_OK);
+	if (json != NULL) {
+		CHECK_STR_CONTAINS(json, "\"fog_probability\":0,\"snow_fraction\":0}");
+		CHECK(strstr(json, "temperature") == NULL);
+	}
+	free(json);
+	wx.snow_fraction = 0.25;
+	wx.temperature_c = -3.5;
+	CHECK(cs_wx_to_json(&wx, &json) == CS_OK);
+	if (json != NULL)
+		CHECK_STR_CONTAINS(json, "\"snow_fraction\":0.25,\"temperature_c\":-3.5}");
+	free(json);
+	CHECK(round_trip(&wx, &back) == CS_OK);
+	CHECK(back.snow_fraction == 0.25 && back.temperature_c == -3.5);
+	CHECK(parse_edited("\"fog_probability\": 0", "\"fog_probability\": 0, "
+			   "\"temperature_c\": null, \"snow_fraction\": 1", &back)
+	      == CS_OK);
+	CHECK(isnan(back.temperature_c) && back.snow_fraction == 1);
+	wx.temperature_c = INFINITY;
+	CHECK(cs_wx_validate(&wx) == CS_EDATA);
+	CHECK_STR_CONTAINS(cs_errmsg(), "temperature_c: ");
+}
+
+/* "observed": written only with what the provider had; the radiation keys
+ * all three or none; ranges checked. */
+static void observed_is_optional_and_written_only_when_known(void)
+{
+	struct cs_wx wx, back;
+	char *json = NULL;
+	cs_wx_default(&wx);
+	CHECK(!wx.observed.has_radiation && !wx.observed.has_cloud_cover);
+	wx.observed.has_cloud_cover = 1;
+	wx.observed.total_cloud_cover = 0.5;
+	CHECK(cs_wx_to_json(&wx, &json) == CS_OK);
+	if (json != NULL) {
+		CHECK_STR_CONTAINS(json, ",\"observed\":{\"total_cloud_cover\":0.5}");
+		CHECK(strstr(json, "ghi") == NULL);
+	}
+	free(json);
+	CHECK(round_trip(&wx, &back) == CS_OK && same_wx(&wx, &back));
+	wx.observed = (struct cs_wx_observed){1, 458.11, 507.1, 167.6, 0, 0};
+	CHECK(cs_wx_to_json(&wx, &json) == CS_OK);
+	if (json != NULL)
+		CHECK_STR_CONTAINS(json, ",\"observed\":{\"ghi_w_m2\":458.11,"
+				   "\"dni_w_m2\":507.1,\"dhi_w_m2\":167.6}}");
+	free(json);
+	CHECK(round_trip(&wx, &back) == CS_OK && same_wx(&wx, &back));
+	const char *fog = "\"fog_probability\": 0";
+	CHECK(parse_edited(fog, "\"fog_probability\": 0, \"observed\": "
+			   "{\"ghi_w_m2\": 100, \"dhi_w_m2\": 100}", &back) == CS_EDATA);
+	CHECK_STR_CONTAINS(cs_errmsg(), "observed.dni_w_m2: missing (required)");
+	CHECK(parse_edited(fog, "\"fog_probability\": 0, \"observed\": "
+			   "{\"ghi_w_m2\": 2001, \"dni_w_m2\": 0, \"dhi_w_m2\": 0}",
+			   &back) == CS_EDATA);
+	CHECK_STR_CONTAINS(cs_errmsg(), "observed.ghi_w_m2: 2001 is outside 0..2000");
+	CHECK(parse_edited(fog, "\"fog_probability\": 0, \"observed\": "
+			   "{\"total_cloud_cover\": 12}", &back) == CS_EDATA);
+	CHECK_STR_CONTAINS(cs_errmsg(), "observed.total_cloud_cover: 12 is outside 0..1");
+	CHECK(parse_edited(fog, "\"fog_probability\": 0, \"observed\": []",
+			   &back) == CS_EDATA);
+	CHECK_STR_CONTAINS(cs_errmsg(), "observed: expected an object");
+	CHECK(parse_edited(fog, "\"fog_probability\": 0, \"observed\": {}",
+			   &back) == CS_OK);
+	CHECK(!back.observed.has_radiation && !back.observed.has_cloud_cover);
 }
 
 static void range_limits_themselves_are_accepted(void)
@@ -713,6 +804,8 @@ int main(void)
 	RUN(genus_in_json_is_case_insensitive_and_unknown_names_are_listed);
 	RUN(each_range_violation_names_the_field_and_value);
 	RUN(range_limits_themselves_are_accepted);
+	RUN(snow_and_temperature_are_written_and_read_back);
+	RUN(observed_is_optional_and_written_only_when_known);
 	RUN(validate_rejects_nan_and_impossible_counts_in_a_struct);
 	RUN(missing_required_fields_are_named);
 	RUN(wrong_json_types_are_named);

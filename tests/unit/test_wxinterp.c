@@ -6,6 +6,8 @@
 #include "core/time.h"
 #include "apps/wxinterp_run.h"
 #include "weather/wxset.h"
+#include "astro/sun.h"
+#include "core/vec.h"
 
 #include <cjson/cJSON.h>
 #include <stdlib.h>
@@ -71,7 +73,9 @@ static const struct {
 	{"windspeed", CS_VAR_WIND_SPEED}, {"winddirection", CS_VAR_WIND_FROM},
 	{"visibility", CS_VAR_VISIBILITY}, {"fog_probability", CS_VAR_FOG_PROBABILITY},
 	{"temperature", CS_VAR_TEMPERATURE}, {"relativehumidity", CS_VAR_HUMIDITY},
+	{"snowfraction", CS_VAR_SNOW_FRACTION},
 };
+#define NREAL ((int)(sizeof real_vars / sizeof *real_vars))
 
 /* The capture as parsed by the library and, independently, by cJSON. */
 static int load_real(struct cs_series *s, cJSON **root)
@@ -112,7 +116,7 @@ static void real_data_at_exact_hours_equals_the_file(void)
 			checked++;
 		}
 	}
-	CHECK(checked == 11 * 193);
+	CHECK(checked == NREAL * 193);
 	/* and the state: coverage = percent / 100 at 2024-10-06T07:00Z */
 	struct cs_wx_obs o;
 	CHECK(cs_series_obs(&s, utc("2024-10-06T07:00Z"), 10800, &o) == CS_OK);
@@ -157,6 +161,158 @@ static void real_data_half_way_is_the_mean(void)
 }
 
 /* ---- crafted series ------------------------------------------------------- */
+
+/* The state's snow fraction: the provider's (meteoblue), else Open-Meteo's
+ * snowfall as water (7 cm = 10 mm) over the precipitation, else by the
+ * temperature rule (snow <= 0.5 C, rain >= 2.5 C), else none. */
+static void snow_fraction_comes_from_the_best_source_there_is(void)
+{
+	static const double zero[3] = {0, 0, 0}, wind[3] = {3, 3, 3};
+	static const double precip[3] = {10, 10, 0}, snowfall[3] = {3.5, 7, 0};
+	static const double mb_snow[3] = {0, 0.5, 1}, temp[3] = {1.5, 1.5, 1.0};
+	struct cs_series s;
+	struct cs_wx_obs o;
+	double t0 = utc("2021-06-14T00:00Z");
+	make_series(&s, 3, NULL);
+	set_var(&s, CS_VAR_CLOUD_LOW, zero);
+	set_var(&s, CS_VAR_CLOUD_MID, zero);
+	set_var(&s, CS_VAR_CLOUD_HIGH, zero);
+	set_var(&s, CS_VAR_WIND_SPEED, wind);
+	set_var(&s, CS_VAR_WIND_FROM, wind);
+	set_var(&s, CS_VAR_PRECIP, precip);
+	/* nothing about snow or temperature: none */
+	CHECK(cs_series_obs(&s, t0, 10800, &o) == CS_OK);
+	CHECK(o.snow_fraction == 0);
+	/* the temperature rule: 1.5 C is half way from 2.5 to 0.5 */
+	set_var(&s, CS_VAR_TEMPERATURE, temp);
+	CHECK(cs_series_obs(&s, t0, 10800, &o) == CS_OK);
+	CHECK_NEAR(o.snow_fraction, 0.5, 1e-12);
+	/* Open-Meteo snowfall: 3.5 cm is 5 mm of water of the 10 mm; at
+	 * 00:30 5.25 cm (7.5 mm) of 10 mm; dry at 02:00: the rule (1 C) */
+	set_var(&s, CS_VAR_SNOWFALL, snowfall);
+	CHECK(cs_series_obs(&s, t0, 10800, &o) == CS_OK);
+	CHECK_NEAR(o.snow_fraction, 0.5, 1e-12);
+	CHECK(cs_series_obs(&s, t0 + 1800, 10800, &o) == CS_OK);
+	CHECK_NEAR(o.snow_fraction, 0.75, 1e-12);
+	CHECK(cs_series_obs(&s, t0 + 7200, 10800, &o) == CS_OK);
+	CHECK_NEAR(o.snow_fraction, 0.75, 1e-12);
+	/* the provider's own fraction wins, interpolated */
+	set_var(&s, CS_VAR_SNOW_FRACTION, mb_snow);
+	CHECK(cs_series_obs(&s, t0 + 5400, 10800, &o) == CS_OK);
+	CHECK_NEAR(o.snow_fraction, 0.75, 1e-12);
+	CHECK(cs_series_obs(&s, t0, 10800, &o) == CS_OK);
+	CHECK(o.snow_fraction == 0);
+	cs_series_free(&s);
+}
+
+/* wxinterp on the capture: snow_fraction and temperature_c of the state
+ * are the file's snowfraction and temperature at that hour. */
+static void real_data_state_has_the_files_snow_and_temperature(void)
+{
+	struct cs_series s;
+	cJSON *root = NULL;
+	if (!load_real(&s, &root))
+		SKIP("%s is absent (the shared data folder is not here)", real_path());
+	cs_series_free(&s);
+	const cJSON *d = cJSON_GetObjectItem(root, "data_1h");
+	const cJSON *times = cJSON_GetObjectItem(d, "time");
+	int i = 0;
+	while (i < cJSON_GetArraySize(times) &&
+	       strcmp(cJSON_GetArrayItem(times, i)->valuestring, "2024-10-13 12:00"))
+		i++;
+	double want_t = cJSON_GetArrayItem(cJSON_GetObjectItem(d, "temperature"),
+					   i)->valuedouble;
+	double want_s = cJSON_GetArrayItem(cJSON_GetObjectItem(d, "snowfraction"),
+					   i)->valuedouble;
+	cJSON_Delete(root);
+	struct cs_wxinterp_opts o;
+	struct cs_wxinterp_result res;
+	cs_wxinterp_defaults(&o);
+	o.inputs[o.ninputs++] = real_path();
+	o.have_at = 1;
+	o.at_utc = utc("2024-10-13T12:00Z"); /* the file's offset is GMT */
+	o.output = tmp("real.json");
+	CHECK(cs_wxinterp_run(&o, &res) == CS_OK);
+	struct cs_wx wx;
+	CHECK(cs_wx_read(tmp("real.json"), &wx) == CS_OK);
+	CHECK(wx.temperature_c == want_t && want_t == 16.21);
+	CHECK(wx.snow_fraction == want_s);
+}
+
+/* The value of key at "2024-10-13 12:00" + hour hours in the capture. */
+static double file_at(const cJSON *d, const char *key, int hour)
+{
+	const cJSON *times = cJSON_GetObjectItem(d, "time");
+	int i = 0;
+	while (i < cJSON_GetArraySize(times) &&
+	       strcmp(cJSON_GetArrayItem(times, i)->valuestring, "2024-10-13 12:00"))
+		i++;
+	const cJSON *v = cJSON_GetArrayItem(cJSON_GetObjectItem(d, key), i + hour);
+	return cJSON_IsNumber(v) ? v->valuedouble : NAN;
+}
+
+/* The capture's solar-1h _instant values and total cover come through to
+ * the state's "observed" unchanged at the hour, as the mean half way, and
+ * they close GHI = DNI cos(zenith) + DHI with the sun at that time. */
+static void real_data_observed_radiation_equals_the_file(void)
+{
+	struct cs_series s;
+	cJSON *root = NULL;
+	if (!load_real(&s, &root))
+		SKIP("%s is absent (the shared data folder is not here)", real_path());
+	cs_series_free(&s);
+	const cJSON *d = cJSON_GetObjectItem(root, "data_1h");
+	const char *keys[4] = {"ghi_instant", "dni_instant", "dif_instant",
+			       "totalcloudcover"};
+	double want[2][4];
+	for (int h = 0; h < 2; h++)
+		for (int k = 0; k < 4; k++)
+			want[h][k] = file_at(d, keys[k], h);
+	cJSON_Delete(root);
+	CHECK(want[0][0] == 458.11); /* looked up by hand too */
+	struct cs_wxinterp_opts o;
+	struct cs_wxinterp_result res;
+	cs_wxinterp_defaults(&o);
+	o.inputs[o.ninputs++] = real_path();
+	o.have_from = o.have_to = 1;
+	o.from_utc = utc("2024-10-13T12:00Z");
+	o.to_utc = utc("2024-10-13T12:30Z");
+	o.step_s = 1800;
+	o.output = tmp("observed.jsonl");
+	CHECK(cs_wxinterp_run(&o, &res) == CS_OK && res.nstates == 2);
+	struct cs_wx wx;
+	CHECK(cs_wx_read(tmp("observed.jsonl"), &wx) == CS_OK);
+	const struct cs_wx_observed *ob = &wx.observed;
+	CHECK(ob->has_radiation && ob->has_cloud_cover);
+	CHECK(ob->ghi_w_m2 == want[0][0] && ob->dni_w_m2 == want[0][1] &&
+	      ob->dhi_w_m2 == want[0][2]);
+	CHECK(ob->total_cloud_cover == want[0][3] / 100);
+	struct cs_sun sun;
+	CHECK(cs_sun_position(wx.time_utc, wx.site.lat_deg, wx.site.lon_deg,
+			      &sun) == CS_OK);
+	double closure = ob->dni_w_m2 * sin(sun.elevation_deg * CS_PI / 180) +
+			 ob->dhi_w_m2;
+	printf("  12:00Z: GHI %g, DNI cos z + DHI %.1f (sun %.2f deg)\n",
+	       ob->ghi_w_m2, closure, sun.elevation_deg);
+	CHECK_NEAR(closure / ob->ghi_w_m2, 1, 0.005);
+	/* the second line: 12:30Z, half way */
+	char *text = NULL;
+	size_t len = 0;
+	CHECK(cs_read_all(tmp("observed.jsonl"), 1 << 20, (unsigned char **)&text,
+			  &len) == CS_OK);
+	const char *line2 = text ? memchr(text, '\n', len) : NULL;
+	CHECK(line2 != NULL);
+	if (line2 != NULL) {
+		line2++;
+		CHECK(cs_wx_parse(line2, len - (size_t)(line2 - text), &wx) == CS_OK);
+		CHECK_NEAR(wx.observed.ghi_w_m2, (want[0][0] + want[1][0]) / 2, 1e-9);
+		CHECK_NEAR(wx.observed.dni_w_m2, (want[0][1] + want[1][1]) / 2, 1e-9);
+		CHECK_NEAR(wx.observed.dhi_w_m2, (want[0][2] + want[1][2]) / 2, 1e-9);
+		CHECK_NEAR(wx.observed.total_cloud_cover,
+			   (want[0][3] + want[1][3]) / 200, 1e-12);
+	}
+	free(text);
+}
 
 static void wind_direction_across_north_passes_through_zero(void)
 {
@@ -307,6 +463,12 @@ static void set_edits_each_kind_of_path(void)
 	      wx.wind_from_deg == 90 && wx.fog_probability == 0.25 && wx.site.alt_m == 858);
 	CHECK(strcmp(wx.site.name, "Gurten") == 0);
 	CHECK_NEAR(wx.time_utc, utc("2024-01-01T12:00Z"), 0);
+	CHECK(cs_wx_set(&wx, "snow_fraction=0.4") == CS_OK && wx.snow_fraction == 0.4);
+	CHECK(cs_wx_set(&wx, "snow=1") == CS_OK && wx.snow_fraction == 1);
+	CHECK(cs_wx_set(&wx, "temperature_c=-2.5") == CS_OK && wx.temperature_c == -2.5);
+	CHECK(cs_wx_set(&wx, "temperature=none") == CS_OK && isnan(wx.temperature_c));
+	CHECK(cs_wx_set(&wx, "snow=none") == CS_EINVAL);
+	CHECK_STR_CONTAINS(cs_errmsg(), "snow=none: 'none' is not a number");
 	/* a missing étage is added with its default genus, in its place:
 	 * the layers stay ordered low to high */
 	CHECK(cs_wx_set(&wx, "layer.mid.coverage=0.6") == CS_OK);
@@ -498,6 +660,16 @@ static void run_writes_states_with_far_sites_and_edits(void)
 	CHECK_NEAR(wx.far[0].site.lat_deg, 47.2088, 0);
 	CHECK_NEAR(wx.far[0].layers[0].coverage, 0.7, 1e-12);
 	CHECK(wx.far[0].nlayers == 1);
+	/* the file has no radiation and no total cover: no "observed" */
+	CHECK(!wx.observed.has_radiation && !wx.observed.has_cloud_cover);
+	char text[4096] = "";
+	FILE *f = fopen(tmp("wx.json"), "r");
+	size_t len = f ? fread(text, 1, sizeof text - 1, f) : 0;
+	if (f)
+		fclose(f);
+	text[len] = '\0';
+	CHECK(len > 0 && strstr(text, "\"snow_fraction\":0") != NULL);
+	CHECK(strstr(text, "observed") == NULL);
 	cs_wxinterp_defaults(&o);
 	o.inputs[o.ninputs++] = tmp("near.json");
 	o.have_at = 1;
@@ -602,6 +774,9 @@ int main(void)
 		return 1;
 	RUN(real_data_at_exact_hours_equals_the_file);
 	RUN(real_data_half_way_is_the_mean);
+	RUN(snow_fraction_comes_from_the_best_source_there_is);
+	RUN(real_data_state_has_the_files_snow_and_temperature);
+	RUN(real_data_observed_radiation_equals_the_file);
 	RUN(wind_direction_across_north_passes_through_zero);
 	RUN(null_is_bridged_within_max_gap_and_reported_beyond);
 	RUN(null_at_the_ends_is_reported_never_zero);

@@ -242,9 +242,30 @@ static void high_ground_lifts_mid_and_high_layers(void)
 	      cs_genus_etage(CS_CIRROCUMULUS) == 2);
 }
 
+/* The temperature rule: all snow at or below 0.5 C, all rain at or above
+ * 2.5 C, linear between; and Open-Meteo's "7 cm snow = 10 mm water". */
+static void snow_fraction_by_temperature_and_by_open_meteo_snowfall(void)
+{
+	CHECK(cs_snow_fraction_rule(-10) == 1);
+	CHECK(cs_snow_fraction_rule(0.5) == 1);
+	CHECK_NEAR(cs_snow_fraction_rule(1.0), 0.75, 1e-12);
+	CHECK_NEAR(cs_snow_fraction_rule(1.5), 0.5, 1e-12);
+	CHECK(cs_snow_fraction_rule(2.5) == 0);
+	CHECK(cs_snow_fraction_rule(20) == 0);
+	CHECK(isnan(cs_snow_fraction_rule(NAN)));
+	CHECK_NEAR(cs_snow_fraction_of(7, 10), 1, 1e-12);    /* 7 cm = 10 mm */
+	CHECK_NEAR(cs_snow_fraction_of(3.5, 10), 0.5, 1e-12);
+	CHECK_NEAR(cs_snow_fraction_of(0.7, 4), 0.25, 1e-12); /* 1 mm of 4 */
+	CHECK(cs_snow_fraction_of(0, 2) == 0);
+	CHECK(cs_snow_fraction_of(14, 10) == 1);              /* at most all */
+	CHECK(isnan(cs_snow_fraction_of(1, 0)));              /* no precipitation */
+	CHECK(isnan(cs_snow_fraction_of(NAN, 1)));
+}
+
 int main(void)
 {
 	RUN(rule_l1_convective_rain_makes_cumulonimbus);
+	RUN(snow_fraction_by_temperature_and_by_open_meteo_snowfall);
 	RUN(rule_l2_fog_probability_or_low_visibility_makes_ground_stratus);
 	RUN(rule_l3_showers_make_cumulus_by_night_too);
 	RUN(rule_l4_high_cover_and_steady_rain_make_nimbostratus);
