@@ -105,6 +105,8 @@ static void describe(const struct cs_wxinterp_opts *o, const char *path,
 	     "%.4f %.4f %.0f m", label(path), s->provider ==
 	     CS_PROVIDER_METEOBLUE ? "meteoblue" : "Open-Meteo", s->n, r,
 	     s->utc_offset_s / 3600, s->name, s->lat_deg, s->lon_deg, s->alt_m);
+	if (s->note[0] != '\0')
+		note(o, 2, "%s: %s", label(path), s->note);
 }
 
 static int read_inputs(struct run *r)
@@ -165,7 +167,7 @@ static void explain(const struct cs_wxinterp_opts *o, const struct cs_wx *wx,
 	enum cs_wx_rule rules[3];
 	static const char *const etage[3] = {"low", "mid", "high"};
 	const double cover[3] = {ob->low, ob->mid, ob->high};
-	char msg[900];
+	char msg[1200];
 	size_t k = 0;
 	cs_wx_rules(ob, rules);
 	k += (size_t)snprintf(msg, sizeof msg, "%s: sun %.1f deg, rain %g mm/h "
@@ -177,6 +179,10 @@ static void explain(const struct cs_wxinterp_opts *o, const struct cs_wx *wx,
 		k += (size_t)snprintf(msg + k, sizeof msg - k, "; %s %g%%: %s",
 				      etage[e], cover[e] * 100,
 				      cs_wx_rule_text(rules[e]));
+	if (ob->visibility_default && k < sizeof msg)
+		snprintf(msg + k, sizeof msg - k, "; visibility at Open-Meteo's "
+			 "~24 km ceiling, a model default: unknown, %g m used",
+			 CS_WX_DEFAULT_VIS_M);
 	note(o, 2, "%s", msg);
 }
 

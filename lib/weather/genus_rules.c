@@ -16,6 +16,9 @@ static const char *const rule_text[CS_RULE_COUNT] = {
 	[CS_RULE_L5_ST] = "L5 low cover >= 70 % with drizzle or mist: stratus",
 	[CS_RULE_L6_CU] = "L6 low cover < 70 % and sun >= 30 deg: cumulus",
 	[CS_RULE_L7_SC] = "L7 other low cover: stratocumulus",
+	[CS_RULE_L8_BELOW] = "L8 Open-Meteo low cover at ground >= 1000 m, "
+			     "no fog: dropped (it counts pressure levels below "
+			     "the ground)",
 	[CS_RULE_M0_IN_NS] = "M0 mid cover is part of the nimbostratus",
 	[CS_RULE_M1_AS] = "M1 mid cover >= 70 %: altostratus",
 	[CS_RULE_M2_AC] = "M2 mid cover < 70 %: altocumulus",
@@ -129,8 +132,20 @@ static double max2(double a, double b)
 	return a > b ? a : b;
 }
 
-static enum cs_wx_rule low_rule(const struct cs_wx_obs *o)
+/* The observation the rules after L2 see: a low cover that counts levels
+ * below the ground is none (it was fog, taken by L2, or nothing). */
+static struct cs_wx_obs above_ground(const struct cs_wx_obs *o)
 {
+	struct cs_wx_obs e = *o;
+	if (e.low_below_ground)
+		e.low = 0;
+	return e;
+}
+
+static enum cs_wx_rule low_rule(const struct cs_wx_obs *raw)
+{
+	struct cs_wx_obs e = above_ground(raw);
+	const struct cs_wx_obs *o = &e;
 	double conv = o->convective_mm_h;
 	double strat = o->precipitation_mm_h - conv;
 	double vis = o->visibility_m; /* NaN compares false: no fog, no mist */
@@ -145,7 +160,8 @@ static enum cs_wx_rule low_rule(const struct cs_wx_obs *o)
 	if (max2(o->low, o->mid) >= CS_WX_SHEET && strat >= CS_WX_STEADY_MM_H)
 		return CS_RULE_L4_NS;
 	if (o->low < CS_WX_MIN_COVER)
-		return CS_RULE_NONE;
+		return raw->low_below_ground && raw->low >= CS_WX_MIN_COVER ?
+		       CS_RULE_L8_BELOW : CS_RULE_NONE;
 	if (o->low >= CS_WX_SHEET &&
 	    (strat >= CS_WX_DRIZZLE_MM_H || vis < CS_WX_MIST_VIS_M))
 		return CS_RULE_L5_ST;
@@ -188,11 +204,14 @@ void cs_wx_layers(const struct cs_wx_obs *o, double ground_alt_m,
 		[CS_RULE_H2_CC] = CS_CIRROCUMULUS, [CS_RULE_H3_CI] = CS_CIRRUS,
 	};
 	enum cs_wx_rule r[3];
-	const double cover[3] = {o->low, o->mid, o->high};
 	cs_wx_rules(o, r);
+	struct cs_wx_obs eff = above_ground(o);
+	o = &eff;
+	const double cover[3] = {o->low, o->mid, o->high};
 	*nlayers = 0;
 	for (int e = 0; e < 3; e++) {
-		if (r[e] == CS_RULE_NONE || r[e] == CS_RULE_M0_IN_NS)
+		if (r[e] == CS_RULE_NONE || r[e] == CS_RULE_M0_IN_NS ||
+		    r[e] == CS_RULE_L8_BELOW)
 			continue;
 		struct cs_wx_layer *l = &layers[*nlayers];
 		l->genus = genus[r[e]];

@@ -23,6 +23,11 @@ struct cs_wx_obs {
 					cs_series_obs: see cs_snow_fraction_of) */
 	struct cs_wx_observed observed; /* radiation and total cover, when the
 					   file has them (not used by the rules) */
+	int low_below_ground;        /* the low cover counts levels below the
+					ground (Open-Meteo at an elevated site):
+					fog if L2 says so, else dropped (L8) */
+	int visibility_default;      /* the file's visibility was a model's
+					default, taken as unknown (NaN) */
 };
 
 /* The rules, in the order they are tried within each étage. */
@@ -39,6 +44,8 @@ enum cs_wx_rule {
 	CS_RULE_L6_CU,       /* low cover < 70 % with the sun >= 30 deg up:
 				cumulus */
 	CS_RULE_L7_SC,       /* any other low cover: stratocumulus */
+	CS_RULE_L8_BELOW,    /* low cover that counts levels below the ground
+				and is no fog: dropped, no layer */
 	CS_RULE_M0_IN_NS,    /* mid cover taken into the nimbostratus */
 	CS_RULE_M1_AS,       /* mid cover >= 70 %: altostratus */
 	CS_RULE_M2_AC,       /* mid cover < 70 %: altocumulus */
@@ -62,6 +69,10 @@ enum cs_wx_rule {
 #define CS_WX_CU_SUN_DEG 30.0    /* sun elevation of daytime convection */
 #define CS_WX_FOG_DEPTH_M 300.0  /* thickness of ground fog */
 #define CS_WX_DEFAULT_VIS_M 30000.0 /* visibility when the file has none */
+#define CS_WX_OM_ELEVATED_M 1000.0 /* Open-Meteo ground this high: its low
+				    cover counts levels below the ground */
+#define CS_WX_OM_VIS_CAP_LO 24000.0 /* Open-Meteo's visibility ceiling, */
+#define CS_WX_OM_VIS_CAP_HI 24200.0 /* "approximately 24 km": unknown */
 #define CS_WX_SNOW_T_C 0.5       /* all snow at or below this 2 m temperature */
 #define CS_WX_RAIN_T_C 2.5       /* all rain at or above it (linear between) */
 #define CS_WX_SNOW_CM_PER_MM 0.7 /* Open-Meteo: "7 cm snow = 10 mm

@@ -650,6 +650,31 @@ static int fill(struct doc *d, struct cs_series *s)
 	return CS_OK;
 }
 
+/* A visibility that is the same at every hour of a long file is a model's
+ * default, not a measurement (Open-Meteo's sits at its ~24 km ceiling
+ * wherever only one global model provides it): dropped, and said. */
+static void drop_constant_visibility(struct cs_series *s)
+{
+	double *v = s->v[CS_VAR_VISIBILITY], first = NAN;
+	int valid = 0;
+	for (int i = 0; v != NULL && i < s->n; i++) {
+		if (isnan(v[i]))
+			continue;
+		if (valid++ == 0)
+			first = v[i];
+		else if (v[i] != first)
+			return;
+	}
+	if (valid < CS_CONST_VIS_HOURS)
+		return;
+	snprintf(s->note, sizeof s->note, "%s is %s m at all %d hours: a "
+		 "model's default, not used (visibility unknown)",
+		 s->key[CS_VAR_VISIBILITY], cs_num(first).s, valid);
+	free(v);
+	s->v[CS_VAR_VISIBILITY] = NULL;
+	s->key[CS_VAR_VISIBILITY][0] = '\0';
+}
+
 int cs_provider_parse(const char *json, size_t len, const char *name,
 		      struct cs_series *s)
 {
@@ -669,6 +694,8 @@ int cs_provider_parse(const char *json, size_t len, const char *name,
 			      pr.msg[0], pr.count - 1, pr.count > 2 ? "s" : "");
 	else
 		rc = fill(&d, s);
+	if (rc == CS_OK)
+		drop_constant_visibility(s);
 	doc_free(&d);
 	if (rc != CS_OK)
 		cs_series_free(s);

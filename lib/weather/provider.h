@@ -55,7 +55,12 @@ struct cs_series {
 	double *v[CS_VAR_COUNT];
 	char key[CS_VAR_COUNT][48]; /* where v[k] came from, for messages:
 				       "data_1h.lowclouds", "hourly.showers" */
+	char note[160];          /* what parsing left out and why, or "" */
 };
+
+/* A visibility equal at every one of at least this many hours of a file
+ * is a model's default: cs_provider_parse drops it (v NULL, note). */
+#define CS_CONST_VIS_HOURS 24
 
 /* A short description of a variable: "low cloud cover". */
 const char *cs_wxvar_name(enum cs_wxvar k);

@@ -102,6 +102,8 @@ int cs_series_merge(struct cs_series *a, const struct cs_series *b,
 				m.v[k][ib + i] = b->v[k][i];
 		if (m.key[k][0] == '\0')
 			memcpy(m.key[k], b->key[k], sizeof m.key[k]);
+		if (m.note[0] == '\0')
+			memcpy(m.note, b->note, sizeof m.note);
 	}
 	if (fail) {
 		cs_series_free(&m);
@@ -266,6 +268,15 @@ int cs_series_obs(const struct cs_series *s, double t, double gap,
 		o->convective_mm_h = 0;
 	if (o->convective_mm_h > o->precipitation_mm_h)
 		o->convective_mm_h = o->precipitation_mm_h;
+	/* Open-Meteo: visibility at its ~24 km ceiling is a model default
+	 * (unknown); low cover at an elevated site counts pressure levels
+	 * below the ground (RADIATION-NOTES.md, "Data quirks") */
+	int om = s->provider == CS_PROVIDER_OPENMETEO;
+	o->visibility_default = om && o->visibility_m >= CS_WX_OM_VIS_CAP_LO &&
+				o->visibility_m <= CS_WX_OM_VIS_CAP_HI;
+	if (o->visibility_default)
+		o->visibility_m = NAN;
+	o->low_below_ground = om && s->alt_m >= CS_WX_OM_ELEVATED_M;
 	o->snow_fraction = snow_fraction(s, t, gap, o);
 	observed(s, t, gap, &o->observed);
 	struct cs_sun sun;

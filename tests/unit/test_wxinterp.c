@@ -682,6 +682,140 @@ static void run_writes_states_with_far_sites_and_edits(void)
 			   "2021-06-14T00:00:00Z and 2021-06-14T02:00:00Z, are 2 h apart");
 }
 
+/* An Open-Meteo file of n hours from 2021-06-14T00:00Z (GMT) at a grid
+ * cell of the given elevation: low cover `low` %, no rain, and the
+ * visibility vis0 at hour 0 and vis at every other hour. */
+static void om_file(const char *path, int n, double elevation, int low,
+		    double vis0, double vis)
+{
+	char j[16384], *p = j;
+	char *end = j + sizeof j;
+	p += snprintf(p, (size_t)(end - p),
+		 "{\"latitude\":46.5,\"longitude\":9.9,\"elevation\":%g,"
+		 "\"utc_offset_seconds\":0,\"hourly_units\":{\"time\":\"iso8601\","
+		 "\"cloud_cover_low\":\"%%\",\"cloud_cover_mid\":\"%%\","
+		 "\"cloud_cover_high\":\"%%\",\"precipitation\":\"mm\","
+		 "\"wind_speed_10m\":\"m/s\",\"wind_direction_10m\":\"\xc2\xb0\","
+		 "\"visibility\":\"m\"},\"hourly\":{\"time\":[", elevation);
+	for (int i = 0; i < n; i++)
+		p += snprintf(p, (size_t)(end - p), "%s\"2021-06-%02dT%02d:00\"",
+			      i ? "," : "", 14 + i / 24, i % 24);
+	const char *keys[] = {"cloud_cover_low", "cloud_cover_mid",
+			      "cloud_cover_high", "precipitation",
+			      "wind_speed_10m", "wind_direction_10m", "visibility"};
+	for (int k = 0; k < 7; k++) {
+		p += snprintf(p, (size_t)(end - p), "],\"%s\":[", keys[k]);
+		for (int i = 0; i < n; i++) {
+			double v = k == 0 ? low : k == 4 ? 3 : k == 5 ? 200 :
+				   k == 6 ? (i == 0 ? vis0 : vis) : 0;
+			p += snprintf(p, (size_t)(end - p), "%s%g", i ? "," : "", v);
+		}
+	}
+	snprintf(p, (size_t)(end - p), "]}}");
+	write_file(path, j);
+}
+
+static char notes[4096];
+
+static void keep_note(void *user, int level, const char *msg)
+{
+	(void)user;
+	(void)level;
+	snprintf(notes + strlen(notes), sizeof notes - strlen(notes), "%s\n", msg);
+}
+
+/* One state at t from an Open-Meteo file, with the -v notes in `notes`. */
+static int om_state(const char *path, const char *at, struct cs_wx *wx)
+{
+	struct cs_wxinterp_opts o;
+	struct cs_wxinterp_result res;
+	cs_wxinterp_defaults(&o);
+	o.inputs[o.ninputs++] = path;
+	o.have_at = 1;
+	o.at_utc = utc(at);
+	o.output = tmp("om-state.json");
+	o.note = keep_note;
+	notes[0] = '\0';
+	int rc = cs_wxinterp_run(&o, &res);
+	if (rc == CS_OK)
+		rc = cs_wx_read(tmp("om-state.json"), wx);
+	return rc;
+}
+
+/* Quirk (b): Open-Meteo's visibility at its ~24 km ceiling, or one value
+ * at every hour of a day or more, is a model default: unknown, so the
+ * state gets the default 30000 m, and -v says why. */
+static void openmeteo_default_visibility_is_taken_as_unknown(void)
+{
+	struct cs_wx wx;
+	/* constant over 24 hours (and not at the ceiling): dropped */
+	om_file(tmp("om-const.json"), 24, 500, 0, 18000, 18000);
+	CHECK(om_state(tmp("om-const.json"), "2021-06-14T05:00Z", &wx) == CS_OK);
+	CHECK(wx.visibility_m == CS_WX_DEFAULT_VIS_M);
+	CHECK_STR_CONTAINS(notes, "om-const.json: hourly.visibility is 18000 m "
+			   "at all 24 hours: a model's default, not used");
+	/* 23 hours of one value are kept: too short to tell */
+	om_file(tmp("om-short.json"), 23, 500, 0, 18000, 18000);
+	CHECK(om_state(tmp("om-short.json"), "2021-06-14T05:00Z", &wx) == CS_OK);
+	CHECK(wx.visibility_m == 18000);
+	/* 24140 m (15 miles, the ceiling) at one hour: unknown there only */
+	om_file(tmp("om-cap.json"), 3, 500, 0, 24140, 9000);
+	CHECK(om_state(tmp("om-cap.json"), "2021-06-14T00:00Z", &wx) == CS_OK);
+	CHECK(wx.visibility_m == CS_WX_DEFAULT_VIS_M);
+	CHECK_STR_CONTAINS(notes, "visibility at Open-Meteo's ~24 km ceiling, a "
+			   "model default: unknown, 30000 m used");
+	CHECK(om_state(tmp("om-cap.json"), "2021-06-14T02:00Z", &wx) == CS_OK);
+	CHECK(wx.visibility_m == 9000);
+	CHECK(strstr(notes, "ceiling") == NULL);
+	/* a varying file keeps every value, 24.5 km too (not the ceiling) */
+	om_file(tmp("om-vary.json"), 30, 500, 0, 24500, 12000);
+	CHECK(om_state(tmp("om-vary.json"), "2021-06-14T00:00Z", &wx) == CS_OK);
+	CHECK(wx.visibility_m == 24500);
+}
+
+/* Quirk (a): Open-Meteo's low cover at a grid cell 1000 m or more above
+ * sea level counts pressure levels below the ground: fog where the
+ * visibility says fog (L2), else no low layer (L8).  Lower, it stays. */
+static void openmeteo_low_cover_at_an_elevated_site_is_fog_or_nothing(void)
+{
+	struct cs_wx wx;
+	om_file(tmp("om-low.json"), 3, 999, 80, 9000, 9000);
+	CHECK(om_state(tmp("om-low.json"), "2021-06-14T01:00Z", &wx) == CS_OK);
+	CHECK(wx.nlayers == 1 && wx.layers[0].genus == CS_STRATOCUMULUS);
+	CHECK_NEAR(wx.layers[0].coverage, 0.8, 1e-12);
+	om_file(tmp("om-high.json"), 3, 1000, 80, 9000, 9000);
+	CHECK(om_state(tmp("om-high.json"), "2021-06-14T01:00Z", &wx) == CS_OK);
+	CHECK(wx.nlayers == 0);
+	CHECK_STR_CONTAINS(notes, "low 80%: L8 Open-Meteo low cover at ground >= "
+			   "1000 m, no fog: dropped");
+	/* fog by visibility (600 m at 00:00): stratus at the ground */
+	om_file(tmp("om-fog.json"), 3, 1500, 80, 600, 9000);
+	CHECK(om_state(tmp("om-fog.json"), "2021-06-14T00:00Z", &wx) == CS_OK);
+	CHECK(wx.nlayers == 1 && wx.layers[0].genus == CS_STRATUS);
+	CHECK(wx.layers[0].base_m == 1500 && wx.layers[0].top_m == 1800);
+	CHECK(wx.layers[0].coverage == 1 && wx.visibility_m == 600);
+	/* meteoblue at any height keeps its low cover (no such quirk known) */
+	struct cs_wx_obs o;
+	memset(&o, 0, sizeof o);
+	o.low = 0.8;
+	o.visibility_m = 9000;
+	o.temperature_c = o.humidity_pct = o.sun_elevation_deg = NAN;
+	enum cs_wx_rule r[3];
+	cs_wx_rules(&o, r);
+	CHECK(r[0] == CS_RULE_L7_SC);
+	o.low_below_ground = 1;
+	cs_wx_rules(&o, r);
+	CHECK(r[0] == CS_RULE_L8_BELOW);
+	/* rain and a mid sheet still make nimbostratus, from the mid cover */
+	o.mid = 0.75;
+	o.precipitation_mm_h = 1;
+	struct cs_wx_layer l[CS_WX_MAX_LAYERS];
+	int n = 0;
+	cs_wx_layers(&o, 1500, l, &n, r);
+	CHECK(n == 1 && l[0].genus == CS_NIMBOSTRATUS && r[0] == CS_RULE_L4_NS);
+	CHECK_NEAR(l[0].coverage, 0.75, 1e-12);
+}
+
 static void run_series_is_json_lines_and_errors_leave_no_output(void)
 {
 	crafted(tmp("a.json"), "A", 46.95, 7.44, 20, 40);
@@ -789,6 +923,8 @@ int main(void)
 	RUN(durations_take_s_m_h_d);
 	RUN(run_writes_states_with_far_sites_and_edits);
 	RUN(run_series_is_json_lines_and_errors_leave_no_output);
+	RUN(openmeteo_default_visibility_is_taken_as_unknown);
+	RUN(openmeteo_low_cover_at_an_elevated_site_is_fog_or_nothing);
 	RUN(run_template_and_option_errors);
 	char cmd[300];
 	snprintf(cmd, sizeof cmd, "rm -rf '%s'", tmpdir);
