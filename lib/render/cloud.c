@@ -10,28 +10,32 @@
  * base tile holds 4 lattice cells of the default noise recipe.  The base
  * tile is tall (tile_z several times the layer) so that the base shape is
  * nearly a 2D coverage map through the layer: coverage is then the
- * fraction of the sky covered, and the height profile rounds the tops. */
+ * fraction of the sky covered, and the height profile rounds the tops.
+ * The sheets that decide how much light reaches the ground are scaled to
+ * the typical optical depth of their ISCCP class (Rossow & Schiffer 1999:
+ * medium 3.6-23 for altostratus and stratocumulus, thick > 23 for
+ * nimbostratus and stratus). */
 static const struct cs_genus_preset presets[CS_GENUS_COUNT] = {
 	[CS_CIRRUS] = {0.005, 20000, 60000, 2500, 0.45, 6.0,
-		       {0.0, 0.3, 0.5, 1.0}, 0.0, 0.4},
+		       {0.0, 0.3, 0.5, 1.0}, 0.0, 0.4, 0},
 	[CS_CIRROCUMULUS] = {0.004, 4000, 30000, 800, 0.35, 1.2,
-			     {0.0, 0.3, 0.7, 1.0}, 0.0, 0.3},
+			     {0.0, 0.3, 0.7, 1.0}, 0.0, 0.3, 0},
 	[CS_CIRROSTRATUS] = {0.0008, 40000, 80000, 6000, 0.15, 2.0,
-			     {0.0, 0.15, 0.85, 1.0}, 0.0, 0.8},
+			     {0.0, 0.15, 0.85, 1.0}, 0.0, 0.8, 0},
 	[CS_ALTOCUMULUS] = {0.02, 6000, 30000, 1200, 0.35, 1.3,
-			    {0.0, 0.25, 0.6, 1.0}, 0.0, 0.2},
+			    {0.0, 0.25, 0.6, 1.0}, 0.0, 0.2, 0},
 	[CS_ALTOSTRATUS] = {0.006, 30000, 60000, 5000, 0.1, 1.5,
-			    {0.0, 0.1, 0.9, 1.0}, 0.0, 0.7},
+			    {0.0, 0.1, 0.9, 1.0}, 0.0, 0.7, 12},
 	[CS_NIMBOSTRATUS] = {0.025, 30000, 60000, 4000, 0.08, 1.2,
-			     {0.0, 0.05, 0.85, 1.0}, 0.0, 0.5},
+			     {0.0, 0.05, 0.85, 1.0}, 0.0, 0.5, 40},
 	[CS_STRATOCUMULUS] = {0.03, 9000, 30000, 1500, 0.25, 1.3,
-			      {0.0, 0.2, 0.65, 1.0}, 0.0, 0.25},
+			      {0.0, 0.2, 0.65, 1.0}, 0.0, 0.25, 10},
 	[CS_STRATUS] = {0.02, 30000, 60000, 3000, 0.08, 1.2,
-			{0.0, 0.1, 0.9, 1.0}, 0.0, 0.6},
+			{0.0, 0.1, 0.9, 1.0}, 0.0, 0.6, 30},
 	[CS_CUMULUS] = {0.05, 8000, 20000, 1500, 0.35, 1.0,
-			{0.0, 0.06, 0.45, 1.0}, 0.0, 0.12},
+			{0.0, 0.06, 0.45, 1.0}, 0.0, 0.12, 0},
 	[CS_CUMULONIMBUS] = {0.07, 40000, 80000, 4000, 0.15, 1.0,
-			     {0.0, 0.03, 0.92, 1.0}, 0.35, 0.1},
+			     {0.0, 0.03, 0.92, 1.0}, 0.35, 0.1, 0},
 };
 
 const struct cs_genus_preset *cs_genus_preset(enum cs_genus g)
@@ -211,9 +215,38 @@ static double calibrate_coverage(const struct cs_cloud_layer *l,
 	return lo; /* the last threshold covering at least the coverage */
 }
 
+/* The mean vertical optical depth of the layer's cloudy columns, over a
+ * grid on one base tile. */
+enum { TAU_N = 24, TAU_STEPS = 24 };
+static double mean_tau_in(const struct cs_cloud_layer *l, const struct cs_volume *noise)
+{
+	double dz = (l->top_m - l->base_m) / TAU_STEPS, sum = 0.0;
+	int cloudy = 0;
+	for (int j = 0; j < TAU_N; j++)
+		for (int i = 0; i < TAU_N; i++) {
+			double along = (i + 0.5) / TAU_N * l->stretch / l->inv_tile;
+			double across = (j + 0.5) / TAU_N / l->inv_tile, tau = 0.0;
+			for (int k = 0; k < TAU_STEPS; k++) {
+				double h = (k + 0.5) / TAU_STEPS;
+				tau += extinction_aw(l, noise, along, across,
+						     l->base_m + h * (l->top_m - l->base_m), h,
+						     l->threshold) * dz;
+			}
+			if (tau > 0.0)
+				sum += tau, cloudy++;
+		}
+	return cloudy ? sum / cloudy : 0.0;
+}
+
 static void calibrate(struct cs_cloud_layer *l, const struct cs_volume *noise)
 {
 	l->threshold = calibrate_coverage(l, noise, l->coverage);
+	double target = cs_genus_preset(l->genus)->tau_in;
+	if (target > 0.0 && noise != NULL && l->coverage > 0.0) {
+		double tau = mean_tau_in(l, noise);
+		if (tau > 0.0)
+			l->extinction_per_m *= target / tau;
+	}
 }
 
 void cs_cloud_layer_blend(struct cs_cloud_layer *l, const struct cs_volume *noise,

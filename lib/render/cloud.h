@@ -28,6 +28,12 @@ struct cs_genus_preset {
 	double anvil;             /* 0..1: spreading of the top (cumulonimbus) */
 	double edge;              /* 0..1: width of the density ramp above the
 				     coverage threshold (small = sharp edges) */
+	double tau_in;            /* > 0: the mean vertical optical depth of the
+				     layer where it has cloud, which the
+				     extinction is scaled to reach (the sheets:
+				     how much light they let through); 0: the
+				     extinction as it is (the heaps and veils of
+				     fair weather, tuned by their look) */
 };
 
 const struct cs_genus_preset *cs_genus_preset(enum cs_genus g);
