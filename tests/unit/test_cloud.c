@@ -80,6 +80,39 @@ static void wind_offset_is_reduced_by_a_true_period(void)
 	}
 }
 
+/* The sheets have the optical depth of their ISCCP class (Rossow &
+ * Schiffer 1999; typical values inside the classes: altostratus and
+ * stratocumulus medium 3.6-23, nimbostratus and stratus thick > 23): the
+ * mean vertical optical depth of the cloudy columns, integrated here on
+ * random columns, is 12, 10, 40 and 30 at any coverage. */
+static void sheets_have_their_isccp_optical_depth(void)
+{
+	static const struct {
+		enum cs_genus g;
+		double base, top, tau;
+	} cases[] = {{CS_ALTOSTRATUS, 3000, 5000, 12}, {CS_STRATOCUMULUS, 1340, 2040, 10},
+		     {CS_NIMBOSTRATUS, 1340, 4540, 40}, {CS_STRATUS, 840, 1340, 30}};
+	for (size_t k = 0; k < sizeof cases / sizeof cases[0]; k++)
+		for (double cov = 0.5; cov <= 1.0; cov += 0.45) {
+			struct cs_cloud_layer l;
+			struct cs_wx_layer wl = {cases[k].g, cov, cases[k].base, cases[k].top};
+			cs_cloud_layer_init(&l, &wl, &noise, 5.0, 200.0, 540.0, 1e8);
+			unsigned st = 11;
+			double sum = 0.0, dz = (wl.top_m - wl.base_m) / 64;
+			int cloudy = 0;
+			for (int i = 0; i < 600; i++) {
+				double x = t_uniform(&st, -1e5, 1e5), y = t_uniform(&st, -1e5, 1e5), tau = 0;
+				for (int j = 0; j < 64; j++)
+					tau += cs_cloud_extinction(&l, &noise, x, y,
+								   wl.base_m + (j + 0.5) * dz) * dz;
+				if (tau > 0.0)
+					sum += tau, cloudy++;
+			}
+			CHECK(cloudy > 100);
+			CHECK_NEAR(sum / cloudy, cases[k].tau, 0.1 * cases[k].tau);
+		}
+}
+
 static void coverage_zero_is_no_cloud_anywhere(void)
 {
 	struct cs_cloud_layer l;
@@ -195,6 +228,7 @@ int main(void)
 		return 1;
 	RUN(wind_moves_clouds_consistently_in_time);
 	RUN(wind_offset_is_reduced_by_a_true_period);
+	RUN(sheets_have_their_isccp_optical_depth);
 	RUN(coverage_zero_is_no_cloud_anywhere);
 	RUN(covered_fraction_follows_coverage);
 	RUN(density_is_zero_outside_the_layer_and_finite_inside);
