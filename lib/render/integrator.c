@@ -136,8 +136,8 @@ CS_HD static double rain_shaft(const struct cs_scene *sc, double x, double y)
 	return e < 1.0 ? e : 1.0;
 }
 
-/* Rain: grey shafts under the raining cells, lit by the diffuse light under
- * the clouds, marched in steps of at most 250 m (at most 48). */
+/* Rain and snow: grey shafts under the raining cells, lit by the diffuse
+ * light under the clouds, marched in steps of at most 250 m (at most 48). */
 CS_HD static void march_rain(const struct ray_ctx *c, const struct interval *iv,
 			     struct path *P)
 {
@@ -157,7 +157,7 @@ CS_HD static void march_rain(const struct ray_ctx *c, const struct interval *iv,
 		haze_to(c, P, t);
 		double tr = exp(-sigma * dt);
 		for (int k = 0; k < 3; k++)
-			P->L[k] += P->T * P->th * (1.0 - tr) * 0.9 * sky[k];
+			P->L[k] += P->T * P->th * (1.0 - tr) * sc->precip_albedo * sky[k];
 		P->T *= tr;
 		P->terminated = P->T < c->s->min_transmittance;
 	}

@@ -33,6 +33,11 @@ double cs_rain_extinction(double rate_mm_h)
 	return CS_PI * n0 / (lambda_per_mm * lambda_per_mm * lambda_per_mm) * 1e-6;
 }
 
+double cs_snow_extinction(double rate_mm_h)
+{
+	return rate_mm_h > 0.0 ? 3.9e-3 * rate_mm_h : 0.0;
+}
+
 /* Genera that rain (and drizzle), when the weather says it rains. */
 static int rains(enum cs_genus g, int convective)
 {
@@ -158,9 +163,11 @@ int cs_scene_build(struct cs_scene *sc, const struct cs_wx *wx, double time_utc,
 			}
 		if (isfinite(top) && top > sc->ground_alt_m && cover > 0.0) {
 			sc->rain_top_m = top;
-			sc->rain_extinction_per_m =
-				cs_rain_extinction(wx->precipitation_mm_h / cover);
-			sc->effects |= CS_FX_RAIN;
+			double f = wx->snow_fraction, rate = wx->precipitation_mm_h / cover;
+			sc->rain_extinction_per_m = cs_rain_extinction((1.0 - f) * rate) +
+						    cs_snow_extinction(f * rate);
+			sc->precip_albedo = 0.9 * (1.0 - f) + 1.0 * f;
+			sc->effects |= (f < 1.0 ? CS_FX_RAIN : 0) | (f > 0.0 ? CS_FX_SNOW : 0);
 		}
 		/* wet ground is darker: water fills the pores and the light
 		 * scattered inside is absorbed more (Lekner & Dorf 1988: soil
