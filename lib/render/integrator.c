@@ -37,6 +37,7 @@ struct ray_ctx {
 	cs_v3 o, d;
 	double jitter_u;
 	double phase[4]; /* the phase of each multiple-scattering octave */
+	double halo[3];  /* the 22-degree halo's phase, per channel, or 0 */
 	struct cs_render_stats *st;
 	int haze;        /* the scene has haze */
 	double h0, dz;   /* the eye's altitude, the ray's vertical component */
@@ -221,8 +222,16 @@ CS_HD static void sample_source(const struct ray_ctx *c, cs_v3 p, double alt,
 			a *= 0.5;
 			b *= 0.5;
 		}
-		for (int k = 0; k < 3; k++)
-			S[k] += ss * sc->sun_illuminance[k] * w;
+		/* in cirrostratus a share of the single scattering goes into
+		 * the halo instead of the two lobes */
+		int halo = (sc->effects & CS_FX_HALO) && sc->layers[li].genus == CS_CIRROSTRATUS;
+		for (int k = 0; k < 3; k++) {
+			double single = c->phase[0] * exp(-tau);
+			double wk = halo ? w - CS_HALO_SHARE * single +
+						   CS_HALO_SHARE * c->halo[k] * exp(-tau)
+					 : w;
+			S[k] += ss * sc->sun_illuminance[k] * wk;
+		}
 	}
 	if (c->s->ambient) {
 		const struct cs_cloud_layer *l = &sc->layers[li];
@@ -360,7 +369,7 @@ CS_HD void cs_render_ray(const struct cs_scene *sc, const struct cs_render_setti
 	struct interval iv[2 * CS_SCENE_MAX_LAYERS + 2];
 	int n = gather_intervals(sc, o, d, isfinite(tg) ? tg : 1e7, iv);
 
-	struct ray_ctx c = {sc, s, o, d, jitter_u, {0.0}, st, 0, 0.0, 0.0, {0.0}, {0.0}};
+	struct ray_ctx c = {sc, s, o, d, jitter_u, {0.0}, {0.0}, st, 0, 0.0, 0.0, {0.0}, {0.0}};
 	c.haze = (sc->effects & CS_FX_HAZE) &&
 		 (sc->haze_beta0_per_m > 0.0 || sc->fog_beta_per_m > 0.0);
 	if (c.haze) {
@@ -382,6 +391,8 @@ CS_HD void cs_render_ray(const struct cs_scene *sc, const struct cs_render_setti
 	for (int k = 0; k < s->ms_octaves; k++) /* octave k: eccentricity x 0.5^k */
 		c.phase[k] = cs_phase_two_lobe(cos_theta, sc->g_forward, sc->g_back,
 					       sc->w_forward, pow(0.5, k));
+	for (int k = 0; k < 3 && (sc->effects & CS_FX_HALO); k++)
+		c.halo[k] = cs_phase_halo(cos_theta, k);
 	struct path P = {{0.0, 0.0, 0.0}, 1.0, 1.0, CS_SKY_DEPTH_M, 0, 1.0, 0.0, 0.0,
 			 {0.0, 0.0, 0.0}, {0.0, 0.0, 0.0}, {0.0, 0.0, 0.0}};
 	march_intervals(&c, iv, n, &P);

@@ -56,8 +56,14 @@ enum {
 	CS_FX_DECK = 256,        /* light under the clouds: the sky light below and
 				    inside the layers is what they transmit */
 	CS_FX_FOG = 512,         /* fog: a grey medium from the ground up */
-	CS_FX_SNOW = 1024        /* falling snow (with or instead of rain) */
+	CS_FX_SNOW = 1024,       /* falling snow (with or instead of rain) */
+	CS_FX_HALO = 2048        /* the 22-degree halo in cirrostratus */
 };
+
+/* The share of the light a cirrostratus scatters that goes into its
+ * 22-degree halo (hexagonal crystals with clean faces are a minority of
+ * the ice in real cirrus). */
+#define CS_HALO_SHARE 0.08
 
 /* Fog: visibility below 1 km (WMO).  Its top is that of a layer resting on
  * the ground (the weather state's fog layer) or 300 m up; the air above it

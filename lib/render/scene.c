@@ -135,6 +135,9 @@ int cs_scene_build(struct cs_scene *sc, const struct cs_wx *wx, double time_utc,
 		sc->effects |= CS_FX_SUN;
 	if ((sc->effects & CS_FX_SUN) && sc->nlayers > 0)
 		sc->effects |= CS_FX_CLOUD_SHADOWS;
+	for (int i = 0; i < sc->nlayers && (sc->effects & CS_FX_SUN); i++)
+		if (sc->layers[i].genus == CS_CIRROSTRATUS)
+			sc->effects |= CS_FX_HALO;
 	cs_scene_deck_light(sc);
 
 	/* haze: Koschmieder's extinction 3.912 / visibility at the ground,

@@ -647,6 +647,45 @@ static void precipitation_only_when_it_rains_or_snows(void)
 	CHECK_NEAR(sc.rain_extinction_per_m, cs_snow_extinction(2.0 / 0.9), 1e-12);
 }
 
+/* A thin cirrostratus in front of the sun shows the 22-degree halo: the
+ * minimum deviation of a 60-degree ice prism, 2 asin(n sin 30) - 60, at
+ * n = 1.3079 (red, 650 nm) and 1.3148 (blue, 450 nm): red inside, blue
+ * outside, brighter than the sky 3 degrees in or out. */
+static void thin_cirrostratus_shows_the_22_degree_halo(void)
+{
+	static struct cs_scene sc;
+	slab_scene(&sc, 0.5 / 1500.0, 0.0, 7500.0, 9000.0);
+	sc.layers[0].genus = CS_CIRROSTRATUS;
+	sc.sun_illuminance[0] = sc.sun_illuminance[1] = sc.sun_illuminance[2] = 100.0;
+	sc.effects |= CS_FX_SUN | CS_FX_HALO;
+	struct cs_render_settings s = plain(64, 8);
+	double best[3] = {0, 0, 0}, at[3] = {0, 0, 0}, L[3][3];
+	for (double a = 18.0; a <= 26.0; a += 0.05) {
+		double r = a * CS_PI / 180.0;
+		struct cs_ray_result res;
+		trace(&sc, &s, v3(0, 0, 0), v3(sin(r), 0.0, cos(r)), &res);
+		for (int k = 0; k < 3; k++)
+			if (res.rgb[k] > best[k])
+				best[k] = res.rgb[k], at[k] = a;
+		int i = fabs(a - 18.9) < 0.01 ? 0 : fabs(a - 21.9) < 0.01 ? 1 : fabs(a - 24.9) < 0.01 ? 2 : -1;
+		for (int k = 0; k < 3 && i >= 0; k++)
+			L[i][k] = res.rgb[k];
+	}
+	double red = 2.0 * asin(1.3079 * 0.5) * 180.0 / CS_PI - 60.0;
+	double blue = 2.0 * asin(1.3148 * 0.5) * 180.0 / CS_PI - 60.0;
+	CHECK_NEAR(at[0], red, 0.3);
+	CHECK_NEAR(at[2], blue, 0.3);
+	CHECK(at[0] < at[2]);
+	for (int k = 0; k < 3; k++)
+		CHECK(L[1][k] > 1.2 * L[0][k] && L[1][k] > 1.2 * L[2][k]);
+	/* without the halo effect the same sky has no ring */
+	sc.effects &= ~(unsigned)CS_FX_HALO;
+	struct cs_ray_result in, ring;
+	trace(&sc, &s, v3(0, 0, 0), v3(sin(18.9 * CS_PI / 180), 0, cos(18.9 * CS_PI / 180)), &in);
+	trace(&sc, &s, v3(0, 0, 0), v3(sin(21.9 * CS_PI / 180), 0, cos(21.9 * CS_PI / 180)), &ring);
+	CHECK(ring.rgb[1] < in.rgb[1]);
+}
+
 int main(void)
 {
 	if (cs_volume_new(&noise, 32, 32) != CS_OK ||
@@ -654,6 +693,7 @@ int main(void)
 		return 1;
 	RUN(slab_transmittance_is_beer_lambert);
 	RUN(thick_slab_transmits_like_one_over_tau);
+	RUN(thin_cirrostratus_shows_the_22_degree_halo);
 	RUN(rain_and_snow_extinction_follow_published_relations);
 	RUN(precipitation_only_when_it_rains_or_snows);
 	RUN(black_object_at_the_visibility_keeps_two_percent_contrast);
