@@ -25,8 +25,9 @@ struct path {
 	int terminated;  /* T fell below the settings' minimum */
 	double th;       /* the haze's transmittance to the last haze point */
 	double tau_h, tau_f; /* haze and fog optical depths to it */
+	double t_haze;   /* its distance */
 	double H[3];     /* haze light so far, weighted by T where it arose */
-	double Hw[3];    /* the same, unweighted */
+	double Hw[3];    /* the clear sky's haze light over the same stretches */
 	double F[3];     /* fog light so far, weighted by T */
 };
 
@@ -41,30 +42,55 @@ struct ray_ctx {
 	struct cs_render_stats *st;
 	int haze;        /* the scene has haze */
 	double h0, dz;   /* the eye's altitude, the ray's vertical component */
-	double hz[3];    /* the light the haze scatters toward the eye */
-	double hf[3];    /* the light the fog scatters toward the eye */
+	double hclear[3]; /* the haze's light under a clear sky */
+	double hsun[3];  /* of the haze's light, the sun's part (clear sky) */
+	double hdome[3]; /* and the dome's */
+	double fsun[3];  /* of the fog's light, the sun's part */
+	double fdome[3]; /* and the dome's */
+	double tsun;     /* the sun's transmittance through the clouds, area mean */
+	double shaft_dt; /* > 0: sample the clouds' shadows this often, m */
 };
 
-/* The haze and fog from the last haze point to distance t: their light,
- * seen through the clouds and rain in front of it, and their
+/* One stretch of haze and fog, from the last haze point to distance t,
+ * with the sun's transmittance tsun through the clouds over it: their
+ * light, seen through the clouds and rain in front of it, and their
  * transmittance.  The fog's share of the light is its share of the
- * optical depth over the step. */
-CS_HD static void haze_to(const struct ray_ctx *c, struct path *P, double t)
+ * optical depth over the stretch. */
+CS_HD static void haze_step(const struct ray_ctx *c, struct path *P, double t, double tsun)
 {
-	if (!c->haze)
-		return;
 	double th = cs_haze_depth(c->sc, c->h0, c->dz, t);
 	double tf = cs_fog_depth(c->sc, c->h0, c->dz, t);
 	double dh = th - P->tau_h, df = tf - P->tau_f;
 	double wf = dh + df > 0.0 ? df / (dh + df) : 0.0;
 	double tr = exp(-(th + tf));
 	for (int k = 0; k < 3; k++) {
-		double lh = (1.0 - wf) * c->hz[k] * (P->th - tr);
-		P->H[k] += P->T * lh;
-		P->Hw[k] += lh;
-		P->F[k] += P->T * wf * c->hf[k] * (P->th - tr);
+		double hz = c->hsun[k] * tsun + c->hdome[k];
+		double hf = c->fsun[k] * tsun + c->fdome[k];
+		P->H[k] += P->T * (1.0 - wf) * hz * (P->th - tr);
+		/* what the clear sky's radiance holds of this stretch */
+		P->Hw[k] += (1.0 - wf) * c->hclear[k] * (P->th - tr);
+		P->F[k] += P->T * wf * hf * (P->th - tr);
 	}
-	P->th = tr, P->tau_h = th, P->tau_f = tf;
+	P->th = tr, P->tau_h = th, P->tau_f = tf, P->t_haze = t;
+}
+
+/* The haze and fog up to distance t: within CS_SHAFTS_RANGE_M in steps of
+ * shaft_dt, each lit by the sun as far as the clouds let it through at its
+ * middle (crepuscular rays), beyond with the area mean. */
+CS_HD static void haze_to(const struct ray_ctx *c, struct path *P, double t)
+{
+	if (!c->haze || !(t > P->t_haze))
+		return;
+	while (c->shaft_dt > 0.0 && P->t_haze < CS_SHAFTS_RANGE_M && P->t_haze < t) {
+		/* the first step jittered like the clouds' samples */
+		double t1 = P->t_haze + c->shaft_dt * (P->t_haze > 0.0 ? 1.0 : c->jitter_u + 0.5);
+		t1 = t1 < t ? t1 : t;
+		cs_v3 p = v3_mad(c->o, c->d, 0.5 * (P->t_haze + t1));
+		double ts = cs_render_sun_transmittance(c->sc, c->s, p, c->st);
+		haze_step(c, P, t1, ts);
+	}
+	if (t > P->t_haze)
+		haze_step(c, P, t, c->tsun);
 }
 
 /* The ground along the ray: the terrain inside its grid, the flat ground
@@ -369,7 +395,8 @@ CS_HD void cs_render_ray(const struct cs_scene *sc, const struct cs_render_setti
 	struct interval iv[2 * CS_SCENE_MAX_LAYERS + 2];
 	int n = gather_intervals(sc, o, d, isfinite(tg) ? tg : 1e7, iv);
 
-	struct ray_ctx c = {sc, s, o, d, jitter_u, {0.0}, {0.0}, st, 0, 0.0, 0.0, {0.0}, {0.0}};
+	struct ray_ctx c = {sc, s, o, d, jitter_u, {0.0}, {0.0}, st, 0, 0.0, 0.0,
+			    {0.0}, {0.0}, {0.0}, {0.0}, {0.0}, 1.0, 0.0};
 	c.haze = (sc->effects & CS_FX_HAZE) &&
 		 (sc->haze_beta0_per_m > 0.0 || sc->fog_beta_per_m > 0.0);
 	if (c.haze) {
@@ -377,15 +404,18 @@ CS_HD void cs_render_ray(const struct cs_scene *sc, const struct cs_render_setti
 		c.h0 = cs_scene_altitude(sc, o);
 		c.dz = v3_dot(d, v3_norm(v3(o.x, o.y, o.z + sc->earth_radius_m)));
 		cs_haze_light(sc, d, sun, dome);
-		double tsun = sc->deck.on ? sc->deck.direct_below : 1.0;
+		c.tsun = sc->deck.on ? sc->deck.direct_below : 1.0;
 		/* fog droplets are grey and their light diffuse: the radiance
 		 * of the light from above, the sun's beam and the dome */
 		double sun_h = (sc->effects & CS_FX_SUN) && sc->sun_dir.z > 0.0 ? sc->sun_dir.z : 0.0;
 		const double *dm = sc->deck.on ? sc->deck.sky_below : sc->ambient_up;
 		for (int k = 0; k < 3; k++) {
-			c.hz[k] = sun[k] * tsun + dome[k];
-			c.hf[k] = sc->sun_illuminance[k] * sun_h * tsun / CS_PI + dm[k];
+			c.hsun[k] = sun[k], c.hdome[k] = dome[k];
+			c.hclear[k] = sun[k] + sc->ambient_up[k];
+			c.fsun[k] = sc->sun_illuminance[k] * sun_h / CS_PI, c.fdome[k] = dm[k];
 		}
+		if ((sc->effects & CS_FX_SHAFTS) && s->haze_steps > 0)
+			c.shaft_dt = CS_SHAFTS_RANGE_M / s->haze_steps;
 	}
 	double cos_theta = v3_dot(d, sc->sun_dir);
 	for (int k = 0; k < s->ms_octaves; k++) /* octave k: eccentricity x 0.5^k */
@@ -393,7 +423,7 @@ CS_HD void cs_render_ray(const struct cs_scene *sc, const struct cs_render_setti
 					       sc->w_forward, pow(0.5, k));
 	for (int k = 0; k < 3 && (sc->effects & CS_FX_HALO); k++)
 		c.halo[k] = cs_phase_halo(cos_theta, k);
-	struct path P = {{0.0, 0.0, 0.0}, 1.0, 1.0, CS_SKY_DEPTH_M, 0, 1.0, 0.0, 0.0,
+	struct path P = {{0.0, 0.0, 0.0}, 1.0, 1.0, CS_SKY_DEPTH_M, 0, 1.0, 0.0, 0.0, 0.0,
 			 {0.0, 0.0, 0.0}, {0.0, 0.0, 0.0}, {0.0, 0.0, 0.0}};
 	march_intervals(&c, iv, n, &P);
 	if (P.terminated)

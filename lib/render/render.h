@@ -36,6 +36,9 @@ struct cs_render_settings {
 	double jitter;         /* 0: step midpoints; 1: a per-pixel random offset */
 	uint32_t seed;         /* for the jitter hash */
 	double min_transmittance; /* a ray stops when it sees less than this */
+	int haze_steps;        /* samples of the clouds' shadows in the haze
+				  (crepuscular rays) over the first 20 km;
+				  0: their area mean only */
 };
 
 /* The named presets: "low", "medium", "high", "reference".  0 or CS_EINVAL. */
@@ -57,8 +60,13 @@ enum {
 				    inside the layers is what they transmit */
 	CS_FX_FOG = 512,         /* fog: a grey medium from the ground up */
 	CS_FX_SNOW = 1024,       /* falling snow (with or instead of rain) */
-	CS_FX_HALO = 2048        /* the 22-degree halo in cirrostratus */
+	CS_FX_HALO = 2048,       /* the 22-degree halo in cirrostratus */
+	CS_FX_SHAFTS = 4096      /* clouds' shadows in the haze: crepuscular rays */
 };
+
+/* How far along a ray the clouds' shadows in the haze are sampled, m;
+ * beyond, their area mean. */
+#define CS_SHAFTS_RANGE_M 20000.0
 
 /* The share of the light a cirrostratus scatters that goes into its
  * 22-degree halo (hexagonal crystals with clean faces are a minority of

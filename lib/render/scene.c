@@ -147,6 +147,8 @@ int cs_scene_build(struct cs_scene *sc, const struct cs_wx *wx, double time_utc,
 	sc->haze_scale_height_m = 1200.0;
 	sc->haze_beta0_per_m = 3.912 / vis_air * exp(wx->site.alt_m / 1200.0);
 	sc->effects |= CS_FX_HAZE;
+	if ((sc->effects & CS_FX_SUN) && sc->nlayers > 0)
+		sc->effects |= CS_FX_SHAFTS;
 	if (fog) {
 		sc->fog_beta_per_m = 3.912 / wx->visibility_m - 3.912 / vis_air;
 		sc->effects |= CS_FX_FOG;

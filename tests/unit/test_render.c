@@ -37,7 +37,7 @@ static void slab_scene(struct cs_scene *sc, double a, double b, double base,
 
 static struct cs_render_settings plain(int steps, int light_steps)
 {
-	struct cs_render_settings s = {steps, steps, light_steps, 1, 0, 0.0, 0, 0.0};
+	struct cs_render_settings s = {steps, steps, light_steps, 1, 0, 0.0, 0, 0.0, 0};
 	return s;
 }
 
@@ -218,6 +218,32 @@ static void clear_sky_has_no_alpha_and_costs_nothing(void)
 		nonzero += px[i * 5 + 3] != 0.0f;
 	CHECK(nonzero == 0);
 	CHECK(st.density_samples == 0 && st.light_samples == 0);
+}
+
+/* Fair weather calls for none of fog, rain, snow and halo: they are not in
+ * its effects, and a scene with their machinery switched off by hand
+ * renders the same pixels with exactly the same number of samples. */
+static void absent_effects_cost_nothing(void)
+{
+	struct cs_wx wx;
+	fair_weather(&wx, 0.4);
+	static struct cs_scene sc;
+	CHECK(cs_scene_build(&sc, &wx, wx.time_utc, &noise) == CS_OK);
+	CHECK(!(sc.effects & (CS_FX_FOG | CS_FX_RAIN | CS_FX_SNOW | CS_FX_HALO)));
+	struct cs_camera cam;
+	CHECK(cs_camera_init(&cam, &sc, v3(0, 0, wx.site.alt_m + 2), wx.site.lat_deg, 160, 20,
+			     70, 24, 14) == CS_OK);
+	struct cs_render_settings s;
+	cs_render_quality("low", &s);
+	static float a[24 * 14 * 5], b[24 * 14 * 5];
+	struct cs_render_stats sa, sb;
+	CHECK(cs_render_image(&sc, &cam, &s, 1, NULL, NULL, a, &sa) == CS_OK);
+	sc.fog_beta_per_m = 0.0, sc.rain_extinction_per_m = 0.0;
+	sc.effects &= ~(unsigned)(CS_FX_FOG | CS_FX_RAIN | CS_FX_SNOW | CS_FX_HALO);
+	CHECK(cs_render_image(&sc, &cam, &s, 1, NULL, NULL, b, &sb) == CS_OK);
+	CHECK(memcmp(a, b, sizeof a) == 0);
+	CHECK(sa.density_samples == sb.density_samples && sa.light_samples == sb.light_samples);
+	CHECK(sa.density_samples > 0);
 }
 
 static double mean_alpha(double coverage)
@@ -686,6 +712,53 @@ static void thin_cirrostratus_shows_the_22_degree_halo(void)
 	CHECK(ring.rgb[1] < in.rgb[1]);
 }
 
+/* Crepuscular rays: the haze in a cloud's shadow is lit by the sky only.
+ * An opaque disc of cloud 2000-2100 m up, 2 km in radius over the camera,
+ * with the sun 45 degrees high in the east, shades a horizontal ray 2 m up
+ * looking west from 0 to 4.098 km (a point at x sees the sun through the
+ * disc while x + 1998 <= 2000 and x + 2098 >= -2000), so the haze light
+ * it gathers falls short of the same ray without the cloud by the sun's
+ * part times 1 - exp(-b 4098) (b the haze extinction there). */
+static void cloud_shadows_darken_the_haze(void)
+{
+	static struct cs_scene sc;
+	slab_scene(&sc, 1.0, 0.0, 2000.0, 2100.0);
+	sc.layers[0].homog_radius_m = 2000.0;
+	double e = 45.0 * CS_PI / 180.0;
+	sc.sun_dir = v3(cos(e), 0.0, sin(e));
+	cs_sky_init(&sc.sky, sc.sun_dir, 3.0);
+	memcpy(sc.sun_illuminance, sc.sky.sun_illuminance, sizeof sc.sun_illuminance);
+	memcpy(sc.ambient_up, sc.sky.ambient_up, sizeof sc.ambient_up);
+	sc.effects |= CS_FX_SUN | CS_FX_SKY | CS_FX_HAZE | CS_FX_SHAFTS;
+	sc.haze_scale_height_m = 1200.0;
+	sc.haze_beta0_per_m = 3.912 / 8000.0;
+	struct cs_render_settings s = plain(16, 8);
+	s.haze_steps = 2000; /* 10 m steps: the shadow's edges sharp */
+	struct cs_ray_result clear, shaded;
+	cs_v3 west = v3(-1.0, 0.0, 0.0);
+	trace(&sc, &s, v3(0.0, 0.0, 2.0), west, &shaded);
+	sc.nlayers = 0;
+	trace(&sc, &s, v3(0.0, 0.0, 2.0), west, &clear);
+	sc.nlayers = 1;
+	/* the sun's part of the haze light: the clear sky looking 1 degree up
+	 * (what a plane-parallel haze scatters toward the eye) less the
+	 * dome's cosine mean, where that is positive: here in red only, the
+	 * sky toward the horizon being redder than the dome */
+	double b = sc.haze_beta0_per_m * exp(-2.0 / 1200.0);
+	double band = 1.0 - exp(-b * 4098.0);
+	double up = sin(CS_PI / 180.0), rgb[3];
+	cs_sky_radiance(&sc.sky, v3(-cos(asin(up)), 0.0, up), rgb);
+	for (int k = 0; k < 3; k++) {
+		double sun = rgb[k] > sc.ambient_up[k] ? rgb[k] - sc.ambient_up[k] : 0.0;
+		CHECK_NEAR(shaded.rgb[k], clear.rgb[k] - sun * band, 0.02 * clear.rgb[k]);
+	}
+	/* without the effect the band is not there */
+	sc.effects &= ~(unsigned)CS_FX_SHAFTS;
+	struct cs_ray_result flat;
+	trace(&sc, &s, v3(0.0, 0.0, 2.0), west, &flat);
+	CHECK(flat.rgb[0] > shaded.rgb[0] * 1.1);
+}
+
 int main(void)
 {
 	if (cs_volume_new(&noise, 32, 32) != CS_OK ||
@@ -693,6 +766,7 @@ int main(void)
 		return 1;
 	RUN(slab_transmittance_is_beer_lambert);
 	RUN(thick_slab_transmits_like_one_over_tau);
+	RUN(cloud_shadows_darken_the_haze);
 	RUN(thin_cirrostratus_shows_the_22_degree_halo);
 	RUN(rain_and_snow_extinction_follow_published_relations);
 	RUN(precipitation_only_when_it_rains_or_snows);
@@ -703,6 +777,7 @@ int main(void)
 	RUN(doubling_steps_halves_the_error);
 	RUN(phase_hg_is_normalised);
 	RUN(clear_sky_has_no_alpha_and_costs_nothing);
+	RUN(absent_effects_cost_nothing);
 	RUN(more_coverage_gives_more_cloud);
 	RUN(output_is_identical_for_any_thread_count);
 	RUN(hard_rays_stay_finite);
