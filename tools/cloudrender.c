@@ -46,7 +46,9 @@ static void usage(void)
 	       "      --steps N          view samples across a layer's thickness, 1..100000\n"
 	       "      --light-steps N    samples toward the sun, 1..10000\n"
 	       "      --ms-octaves N     multiple-scattering octaves, 1 (single scattering)..4\n"
-	       "      --no-ambient       no sky light on the clouds\n"
+	       "      --haze-steps N     samples of the clouds' shadows in the haze over\n"
+	       "                         the first 20 km (crepuscular rays), 0..10000;\n"
+	       "                         0: their area mean only\n"	       "      --no-ambient       no sky light on the clouds\n"
 	       "      --no-jitter        sample at step midpoints (banding instead of noise)\n"
 	       "      --seed N           seed of the per-pixel jitter, 0..4294967295 (default 0)\n"
 	       "      --exposure EV|auto PNG exposure in stops, -20..20 (default 0), or auto:\n"
@@ -146,7 +148,7 @@ enum {
 	OPT_CAMERA, OPT_LOOK, OPT_FOV, OPT_SIZE, OPT_QUALITY, OPT_STEPS,
 	OPT_LIGHT_STEPS, OPT_MS, OPT_NO_AMBIENT, OPT_NO_JITTER, OPT_SEED,
 	OPT_EXPOSURE, OPT_STATS, OPT_VERSION, OPT_TERRAIN, OPT_TERRAIN_COLOR,
-	OPT_PROJECTION,
+	OPT_PROJECTION, OPT_HAZE_STEPS,
 };
 
 int main(int argc, char **argv)
@@ -165,6 +167,7 @@ int main(int argc, char **argv)
 		{"look", required_argument, NULL, OPT_LOOK},
 		{"fov", required_argument, NULL, OPT_FOV},
 		{"projection", required_argument, NULL, OPT_PROJECTION},
+		{"haze-steps", required_argument, NULL, OPT_HAZE_STEPS},
 		{"size", required_argument, NULL, OPT_SIZE},
 		{"quality", required_argument, NULL, OPT_QUALITY},
 		{"steps", required_argument, NULL, OPT_STEPS},
@@ -233,6 +236,9 @@ int main(int argc, char **argv)
 			o.have_look = 1;
 			break;
 		case OPT_FOV: o.fov_deg = cli_double("--fov", optarg, 1.0, 179.0); break;
+		case OPT_HAZE_STEPS:
+			o.haze_steps = (int)cli_long("--haze-steps", optarg, 0, 10000);
+			break;
 		case OPT_PROJECTION:
 			if (cs_projection_parse(optarg, &o.projection) != CS_OK)
 				cli_usage_error("--projection: %s", cs_errmsg());

@@ -29,6 +29,7 @@ void cs_cloudrender_defaults(struct cs_cloudrender_opts *o)
 	o->quality = "medium";
 	cs_render_quality("medium", &o->settings);
 	o->seed = -1;
+	o->haze_steps = -1;
 }
 
 void cs_cloudrender_settings(const struct cs_cloudrender_opts *o,
@@ -50,6 +51,8 @@ void cs_cloudrender_settings(const struct cs_cloudrender_opts *o,
 		s->jitter = 0.0;
 	if (o->seed >= 0)
 		s->seed = (uint32_t)o->seed;
+	if (o->haze_steps >= 0)
+		s->haze_steps = o->haze_steps;
 }
 
 int cs_output_kind(const char *path)

@@ -28,6 +28,7 @@ struct cs_cloudrender_opts {
 	/* explicit settings that refine the preset: 0 (seed -1) keeps the
 	 * preset's; more steps raise max_steps to at least 4 x steps */
 	int steps, light_steps, ms_octaves;
+	int haze_steps;           /* -1 keeps the preset's */
 	int no_ambient, no_jitter;
 	long long seed;
 	const char *quality;      /* the preset name, for reports */
