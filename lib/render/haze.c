@@ -31,7 +31,7 @@ CS_HD void cs_haze_light(const struct cs_scene *sc, cs_v3 d, double sun[3],
 		dir.x = sqrt(1.0 - up * up);
 	}
 	double clear[3];
-	cs_sky_radiance(&sc->sky, dir, clear);
+	cs_scene_sky(sc, dir, clear);
 	const double *dm = sc->deck.on ? sc->deck.sky_below : sc->ambient_up;
 	for (int k = 0; k < 3; k++) {
 		double s = clear[k] - sc->ambient_up[k];

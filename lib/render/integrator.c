@@ -369,11 +369,13 @@ CS_HD static void finish_ray(const struct ray_ctx *c, double tg, int on_terrain,
 		} else if (sc->effects & CS_FX_SKY) {
 			/* the fog is not in the sky's radiance: it dims it */
 			haze_to(c, P, 1e7);
-			double disk[3], tf = exp(-P->tau_f);
-			cs_sky_radiance(&sc->sky, c->d, bg);
-			cs_sky_sun_disk(&sc->sky, c->d, disk);
+			double disk[3], stars[3], tf = exp(-P->tau_f);
+			cs_scene_sky(sc, c->d, bg);
+			cs_scene_disk(sc, c->d, disk);
+			cs_scene_stars(sc, c->d, stars);
 			for (int k = 0; k < 3; k++) {
-				bg[k] = (bg[k] + disk[k]) * tf;
+				/* the stars are behind the haze too */
+				bg[k] = (bg[k] + disk[k]) * tf + stars[k] * P->th;
 				P->H[k] -= P->T * P->Hw[k];
 			}
 		}

@@ -51,9 +51,15 @@ int cs_render_settings_check(const struct cs_render_settings *s)
 const char *cs_effect_name(unsigned bit)
 {
 	static const char *const names[] = {"sun", "sky", "clouds", "ground", "haze",
-					    "rain", "cloud_shadows", "terrain", "deck", "fog", "snow", "halo", "shafts"};
+					    "rain", "cloud_shadows", "terrain", "deck", "fog", "snow", "halo", "shafts", "moon", "stars"};
 	for (unsigned b = 0; b < sizeof names / sizeof names[0]; b++)
 		if (bit == 1u << b)
 			return names[b];
 	return NULL;
+}
+
+unsigned cs_effects_reported(unsigned effects)
+{
+	/* at night the key light is the Moon: "moon", not "sun" */
+	return (effects & CS_FX_MOON) ? effects & ~(unsigned)CS_FX_SUN : effects;
 }

@@ -61,7 +61,9 @@ enum {
 	CS_FX_FOG = 512,         /* fog: a grey medium from the ground up */
 	CS_FX_SNOW = 1024,       /* falling snow (with or instead of rain) */
 	CS_FX_HALO = 2048,       /* the 22-degree halo in cirrostratus */
-	CS_FX_SHAFTS = 4096      /* clouds' shadows in the haze: crepuscular rays */
+	CS_FX_SHAFTS = 4096,     /* clouds' shadows in the haze: crepuscular rays */
+	CS_FX_MOON = 8192,       /* the Moon is the key light (with CS_FX_SUN) */
+	CS_FX_STARS = 16384      /* stars in the clear night sky */
 };
 
 /* How far along a ray the clouds' shadows in the haze are sampled, m;
@@ -90,6 +92,8 @@ enum {
 /* The name of one effect bit as --stats prints it ("sun", "deck"...), or
  * NULL past the last. */
 const char *cs_effect_name(unsigned bit);
+/* The effects as reported: the key light is named "moon" at night. */
+unsigned cs_effects_reported(unsigned effects);
 
 /* The light under and inside the cloud layers (deck.c), from the
  * two-stream transmittance of the layers' column optical depths over an
@@ -138,6 +142,9 @@ struct cs_scene {
 	double albedo;                /* single-scattering albedo of cloud */
 	double g_forward, g_back, w_forward; /* two-lobe Henyey-Greenstein */
 	struct cs_deck deck;          /* used when effects has CS_FX_DECK */
+	struct cs_sky moon_sky;       /* the daylight sky for the Moon's place */
+	double moon_scale;            /* its light relative to the sun's */
+	cs_v3 star_frame[3];          /* local east, north, up in equatorial axes */
 	unsigned effects;
 };
 
@@ -154,6 +161,18 @@ double cs_rain_extinction(double rate_mm_h);
  * km).  Rasmussen et al. (1999) measured the relation to scatter by a
  * factor of 3 to 10 with the crystals' kind: this is its middle. */
 double cs_snow_extinction(double rate_mm_h);
+
+/* The night (night.c): with the sun below -6 deg and the Moon up, the
+ * Moon becomes the key light (sun_dir, sun_illuminance; ambient light
+ * gains the moonlit sky); below -12 deg the stars come out.  Call after
+ * the sky and ambient light are set. */
+void cs_scene_night(struct cs_scene *sc, double time_utc, double lat_deg, double lon_deg,
+		    double sun_elevation_deg, double turbidity);
+/* The sky's radiance along d, moonlit sky included, and the sun's and
+ * Moon's discs; the stars (kcd/m^2). */
+CS_HD void cs_scene_sky(const struct cs_scene *sc, cs_v3 d, double rgb[3]);
+CS_HD void cs_scene_disk(const struct cs_scene *sc, cs_v3 d, double rgb[3]);
+CS_HD void cs_scene_stars(const struct cs_scene *sc, cs_v3 d, double rgb[3]);
 
 /* Total (direct + diffuse) transmittance of a conservative plane-parallel
  * cloud of optical depth tau and asymmetry g, by similarity a function of

@@ -133,6 +133,9 @@ int cs_scene_build(struct cs_scene *sc, const struct cs_wx *wx, double time_utc,
 	if (sun.apparent_elevation_deg > -0.8 &&
 	    sc->sun_illuminance[1] > 0.0) /* disk still partly above the horizon */
 		sc->effects |= CS_FX_SUN;
+	cs_scene_night(sc, time_utc, wx->site.lat_deg, wx->site.lon_deg,
+		       sun.apparent_elevation_deg,
+		       turbidity < CS_SKY_MAX_TURBIDITY ? turbidity : CS_SKY_MAX_TURBIDITY);
 	if ((sc->effects & CS_FX_SUN) && sc->nlayers > 0)
 		sc->effects |= CS_FX_CLOUD_SHADOWS;
 	for (int i = 0; i < sc->nlayers && (sc->effects & CS_FX_SUN); i++)

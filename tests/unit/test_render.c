@@ -4,6 +4,7 @@
 #include "render/scene.h"
 #include "render/sky.h"
 #include "test.h"
+#include "core/time.h"
 
 /* arrays of three doubles to and from cs_v3 */
 #define V(a) v3((a)[0], (a)[1], (a)[2])
@@ -759,6 +760,35 @@ static void cloud_shadows_darken_the_haze(void)
 	CHECK(flat.rgb[0] > shaded.rgb[0] * 1.1);
 }
 
+/* The night: by day no Moon and no stars; at a full moon high over Bern
+ * (2024-10-17 23:00 UTC) the Moon is the key light and the horizontal
+ * illuminance on the ground under a clear sky is that of full moonlight,
+ * 0.05 to 0.3 lux (RADIATION-NOTES: 0.1-0.3 lux with the Moon high); at a
+ * new moon only the stars are out. */
+static void moon_and_stars_only_at_night(void)
+{
+	struct cs_wx wx;
+	cs_wx_default(&wx);
+	wx.nlayers = 0;
+	static struct cs_scene sc;
+	CHECK(cs_scene_build(&sc, &wx, wx.time_utc, &noise) == CS_OK);
+	CHECK(!(sc.effects & (CS_FX_MOON | CS_FX_STARS)));
+	double t;
+	CHECK(cs_time_parse("2024-10-17T23:00:00Z", &t) == CS_OK);
+	CHECK(cs_scene_build(&sc, &wx, t, &noise) == CS_OK);
+	CHECK((sc.effects & CS_FX_MOON) && (sc.effects & CS_FX_SUN) && (sc.effects & CS_FX_STARS));
+	CHECK(!(cs_effects_reported(sc.effects) & CS_FX_SUN));
+	double y_sun = 0.2126 * sc.sun_illuminance[0] + 0.7152 * sc.sun_illuminance[1] +
+		       0.0722 * sc.sun_illuminance[2];
+	double y_sky = 0.2126 * sc.ambient_up[0] + 0.7152 * sc.ambient_up[1] +
+		       0.0722 * sc.ambient_up[2];
+	double lux = 1000.0 * (y_sun * sc.sun_dir.z + CS_PI * y_sky);
+	CHECK(lux > 0.05 && lux < 0.3);
+	CHECK(cs_time_parse("2024-10-02T23:00:00Z", &t) == CS_OK);
+	CHECK(cs_scene_build(&sc, &wx, t, &noise) == CS_OK);
+	CHECK(!(sc.effects & (CS_FX_MOON | CS_FX_SUN)) && (sc.effects & CS_FX_STARS));
+}
+
 int main(void)
 {
 	if (cs_volume_new(&noise, 32, 32) != CS_OK ||
@@ -766,6 +796,7 @@ int main(void)
 		return 1;
 	RUN(slab_transmittance_is_beer_lambert);
 	RUN(thick_slab_transmits_like_one_over_tau);
+	RUN(moon_and_stars_only_at_night);
 	RUN(cloud_shadows_darken_the_haze);
 	RUN(thin_cirrostratus_shows_the_22_degree_halo);
 	RUN(rain_and_snow_extinction_follow_published_relations);
