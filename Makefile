@@ -21,6 +21,8 @@ SAN       ?=
 WERROR    ?= 1
 # every tools/*.c but the shared cli.c is a program
 PROGRAMS  := $(filter-out cli,$(basename $(notdir $(wildcard tools/*.c))))
+# the real meteoblue capture the demo's weather sheet draws (not ours)
+CAPTURE   := ../shared/data/weather/meteoblue-basic-clouds-solar-1h.json
 PKGS      := OpenEXR libpng libcjson libcurl gdal
 
 CC        ?= cc
@@ -123,9 +125,15 @@ demo: have-deps
 	$(B)/bin/cloudrender --noise out/noise.exr --terrain out/bern.exr --view gurten \
 		--time 2021-06-14T16:45Z --size 1280x720 -o out/gurten.png
 	CLOUDRENDER=$(B)/bin/cloudrender scripts/genus-sheet out/genus-sheet.png --noise out/noise.exr
+	@if [ -f $(CAPTURE) ]; then \
+		echo "CLOUDRENDER=$(B)/bin/cloudrender WXINTERP=$(B)/bin/wxinterp scripts/weather-sheet $(CAPTURE) 2024-10-07 out/weather-sheet.png --noise out/noise.exr"; \
+		CLOUDRENDER=$(B)/bin/cloudrender WXINTERP=$(B)/bin/wxinterp scripts/weather-sheet \
+			$(CAPTURE) 2024-10-07 out/weather-sheet.png --noise out/noise.exr; \
+	else echo "demo: $(CAPTURE) is absent: no weather sheet"; fi
 	@echo "demo: wrote out/demo.png and out/demo.exr (the default scene), out/gurten.png (from the"
 	@echo "demo: Gurten over a SYNTHETIC Bern terrain), out/genus-sheet.png, out/noise.exr,"
-	@echo "demo: out/noise-preview.png, out/bern.exr and out/bern-hillshade.png"
+	@echo "demo: out/noise-preview.png, out/bern.exr and out/bern-hillshade.png, and"
+	@echo "demo: out/weather-sheet.png (a rainy overcast day of the real meteoblue capture)"
 
 install: all
 	install -d $(DESTDIR)$(PREFIX)/bin $(DESTDIR)$(PREFIX)/share/man/man1 \
