@@ -190,10 +190,10 @@ static void measure_irradiance(const struct cs_scene *sc, const struct cs_render
 	cs_irradiance_area(sc, s, r->area_size_m, 5, &r->irr_area, &st);
 }
 
-int cs_cloudrender_run(const struct cs_cloudrender_opts *o, struct cs_cloudrender_result *r)
+/* Every check that needs no file: outputs, size, streams, settings, view. */
+static int check_run(const struct cs_cloudrender_opts *o, struct cs_cloudrender_result *r,
+		     const struct cs_view **view)
 {
-	int rc;
-	memset(r, 0, sizeof *r);
 	if (o->noutputs < 1)
 		return cs_error(CS_EINVAL, "no output: give -o FILE.png or -o FILE.exr");
 	for (int i = 0; i < o->noutputs; i++)
@@ -204,82 +204,85 @@ int cs_cloudrender_run(const struct cs_cloudrender_opts *o, struct cs_cloudrende
 	    (double)o->width * o->height > 1e8)
 		return cs_error(CS_EINVAL, "image size %dx%d is impossible (1..16384 a side, 10^8 pixels)",
 				o->width, o->height);
-	rc = check_streams(o);
+	int rc = check_streams(o);
 	if (rc != CS_OK)
 		return rc;
 	cs_cloudrender_settings(o, &r->settings);
 	rc = cs_render_settings_check(&r->settings);
 	if (rc != CS_OK)
 		return rc;
-	const struct cs_view *view = NULL;
-	if (o->view && (view = cs_view_find(o->view)) == NULL)
+	*view = NULL;
+	if (o->view && (*view = cs_view_find(o->view)) == NULL)
 		return cs_error(CS_EINVAL, "unknown view '%s' (see --list-views)", o->view);
+	return CS_OK;
+}
 
-	/* the weather, and the time */
-	if (o->wx_path) {
+/* The weather (and the time), then the noise volume. */
+static int load_inputs(const struct cs_cloudrender_opts *o, struct cs_cloudrender_result *r,
+		       struct cs_volume *noise)
+{
+	int rc = CS_OK;
+	if (o->wx_path)
 		rc = cs_wx_read(o->wx_path, &r->wx);
-		if (rc != CS_OK)
-			return rc;
-	} else {
+	else
 		cs_wx_default(&r->wx);
-	}
-	if (o->have_time)
-		r->wx.time_utc = o->time_utc;
-
-	/* the noise */
-	double t0 = now_s();
-	struct cs_volume noise;
-	if (o->noise_path) {
-		rc = cs_volume_read_exr(o->noise_path, &noise);
-	} else {
-		rc = cs_volume_new(&noise, o->noise_size, o->noise_size);
-		if (rc == CS_OK)
-			rc = cs_volume_bake(&noise, o->threads, NULL, NULL);
-	}
 	if (rc != CS_OK)
 		return rc;
+	if (o->have_time)
+		r->wx.time_utc = o->time_utc;
+	double t0 = now_s();
+	if (o->noise_path) {
+		rc = cs_volume_read_exr(o->noise_path, noise);
+	} else {
+		rc = cs_volume_new(noise, o->noise_size, o->noise_size);
+		if (rc == CS_OK)
+			rc = cs_volume_bake(noise, o->threads, NULL, NULL);
+	}
 	r->t_noise_s = now_s() - t0;
+	return rc;
+}
 
-	/* the scene, the terrain and the camera */
-	t0 = now_s();
+/* What a run holds besides the scene: the terrain and its colour. */
+struct ground {
 	struct cs_terrain terrain;
 	struct cs_hfield hf;
-	int have_terrain = 0, have_hf = 0;
-	uint8_t *drape = NULL;
-	memset(&terrain, 0, sizeof terrain);
-	memset(&hf, 0, sizeof hf);
-	struct cs_scene *sc = malloc(sizeof *sc);
-	float *px = malloc((size_t)o->width * o->height * 5 * sizeof(float));
-	if (sc == NULL || px == NULL) {
-		rc = cs_error(CS_ENOMEM, "out of memory for a %dx%d image", o->width, o->height);
-		goto done;
-	}
-	rc = cs_scene_build(sc, &r->wx, r->wx.time_utc, &noise);
+	int have_terrain, have_hf;
+	uint8_t *drape;
+};
+
+static int load_terrain(const struct cs_cloudrender_opts *o, struct cs_cloudrender_result *r,
+			struct cs_scene *sc, struct ground *g)
+{
+	if (!o->terrain_path)
+		return o->terrain_color_path ? cs_error(CS_EINVAL, "--terrain-color needs --terrain")
+					     : CS_OK;
+	int rc = cs_terrain_read(o->terrain_path, &g->terrain);
 	if (rc != CS_OK)
-		goto done;
-	r->scene = sc;
-	if (o->terrain_path) {
-		rc = cs_terrain_read(o->terrain_path, &terrain);
+		return rc;
+	g->have_terrain = 1;
+	rc = place_terrain(sc, &r->wx, &g->terrain, &g->hf);
+	if (rc != CS_OK)
+		return rc;
+	g->have_hf = 1;
+	sc->terrain = &g->hf;
+	sc->effects |= CS_FX_TERRAIN;
+	if (o->terrain_color_path) {
+		rc = cs_png_read_rgb8(o->terrain_color_path, &g->drape, &sc->terrain_color_w,
+				      &sc->terrain_color_h);
 		if (rc != CS_OK)
-			goto done;
-		have_terrain = 1;
-		rc = place_terrain(sc, &r->wx, &terrain, &hf);
-		if (rc != CS_OK)
-			goto done;
-		have_hf = 1;
-		sc->terrain = &hf;
-		sc->effects |= CS_FX_TERRAIN;
-		if (o->terrain_color_path) {
-			rc = cs_png_read_rgb8(o->terrain_color_path, &drape, &sc->terrain_color_w,
-					      &sc->terrain_color_h);
-			if (rc != CS_OK)
-				goto done;
-			sc->terrain_color = drape;
-		}
-	} else if (o->terrain_color_path) {
-		rc = cs_error(CS_EINVAL, "--terrain-color needs --terrain");
-		goto done;
+			return rc;
+		sc->terrain_color = g->drape;
 	}
+	return CS_OK;
+}
+
+/* The camera: the default eye 2 m above the site looking south-south-east,
+ * a named view, or an explicit place and look; on the terrain where there
+ * is one; never below the ground. */
+static int place_camera(const struct cs_cloudrender_opts *o, struct cs_cloudrender_result *r,
+			const struct cs_scene *sc, const struct cs_view *view,
+			const struct ground *g, struct cs_camera *cam)
+{
 	double lat = r->wx.site.lat_deg, lon = r->wx.site.lon_deg;
 	double alt = r->wx.site.alt_m + 2.0, az = 160.0, el = 8.0, fov = 70.0;
 	if (view) {
@@ -296,7 +299,7 @@ int cs_cloudrender_run(const struct cs_cloudrender_opts *o, struct cs_cloudrende
 	cs_v3 pos = cs_geo_to_world(r->wx.site.lat_deg, r->wx.site.lon_deg,
 				    sc->earth_radius_m, lat, lon, alt);
 	double ground = sc->ground_alt_m, th;
-	int over_terrain = have_hf && cs_hfield_height(&hf, pos.x, pos.y, &th);
+	int over_terrain = g->have_hf && cs_hfield_height(&g->hf, pos.x, pos.y, &th);
 	if (over_terrain) {
 		ground = th;
 		if (!view && !o->have_camera) { /* the default eye stands on the terrain */
@@ -305,64 +308,96 @@ int cs_cloudrender_run(const struct cs_cloudrender_opts *o, struct cs_cloudrende
 					      sc->earth_radius_m, lat, lon, alt);
 		}
 	}
-	if (alt < ground) {
-		rc = cs_error(CS_EINVAL, "the camera at %.1f m is below the %s (%.1f m)",
-			      alt, over_terrain ? "terrain" : "ground", ground);
-		goto done;
-	}
-	struct cs_camera cam;
-	rc = cs_camera_init(&cam, sc, pos, r->wx.site.lat_deg, az, el, fov, o->width, o->height);
+	if (alt < ground)
+		return cs_error(CS_EINVAL, "the camera at %.1f m is below the %s (%.1f m)",
+				alt, over_terrain ? "terrain" : "ground", ground);
+	int rc = cs_camera_init(cam, sc, pos, r->wx.site.lat_deg, az, el, fov, o->width, o->height);
 	if (rc != CS_OK)
-		goto done;
-	cam.projection = o->projection;
+		return rc;
+	cam->projection = o->projection;
 	r->camera_site_km = cs_great_circle_m(lat, lon, r->wx.site.lat_deg,
 					      r->wx.site.lon_deg) / 1000.0;
-	r->camera_terrain_km = have_terrain ? cs_great_circle_m(lat, lon, terrain.center_lat,
-								terrain.center_lon) / 1000.0
-					    : -1.0;
+	r->camera_terrain_km = g->have_terrain ? cs_great_circle_m(lat, lon, g->terrain.center_lat,
+								   g->terrain.center_lon) / 1000.0
+					       : -1.0;
 	struct cs_sun sun;
 	if (cs_sun_position(r->wx.time_utc, r->wx.site.lat_deg, r->wx.site.lon_deg, &sun) == CS_OK) {
 		r->sun_azimuth_deg = sun.azimuth_deg;
 		r->sun_elevation_deg = sun.apparent_elevation_deg;
 	}
-	r->t_scene_s = now_s() - t0;
+	return CS_OK;
+}
 
-	t0 = now_s();
-	rc = cs_render_image(sc, &cam, &r->settings, o->threads, o->progress,
-			     o->progress_user, px, &r->stats);
+/* The frame, what is measured on it, and the outputs. */
+static int render_and_write(const struct cs_cloudrender_opts *o, struct cs_cloudrender_result *r,
+			    const struct cs_scene *sc, const struct cs_camera *cam, float *px)
+{
+	double t0 = now_s();
+	int rc = cs_render_image(sc, cam, &r->settings, o->threads, o->progress,
+				 o->progress_user, px, &r->stats);
 	r->t_render_s = now_s() - t0;
 	if (rc != CS_OK)
-		goto done;
+		return rc;
 	r->cloud_fraction_rb = r->cloud_fraction_alpha = -1.0;
-	if (o->projection == CS_PROJ_FISHEYE && (rc = sky_imager(&cam, sc, px, r)) != CS_OK)
-		goto done;
+	if (o->projection == CS_PROJ_FISHEYE && (rc = sky_imager(cam, sc, px, r)) != CS_OK)
+		return rc;
 	if (o->irradiance) {
 		t0 = now_s();
-		measure_irradiance(sc, &r->settings, pos, r);
+		measure_irradiance(sc, &r->settings, cam->pos, r);
 		r->t_irradiance_s = now_s() - t0;
 	}
 	t0 = now_s();
 	rc = write_outputs(o, r, px);
 	r->t_write_s = now_s() - t0;
-done:
+	return rc;
+}
+
+int cs_cloudrender_run(const struct cs_cloudrender_opts *o, struct cs_cloudrender_result *r)
+{
+	memset(r, 0, sizeof *r);
+	const struct cs_view *view;
+	int rc = check_run(o, r, &view);
+	if (rc != CS_OK)
+		return rc;
+	struct cs_volume noise;
+	memset(&noise, 0, sizeof noise);
+	rc = load_inputs(o, r, &noise);
+	if (rc != CS_OK) {
+		cs_volume_free(&noise);
+		return rc;
+	}
+	double t0 = now_s();
+	struct ground g;
+	memset(&g, 0, sizeof g);
+	struct cs_scene *sc = malloc(sizeof *sc);
+	float *px = malloc((size_t)o->width * o->height * 5 * sizeof(float));
+	struct cs_camera cam;
+	if (sc == NULL || px == NULL)
+		rc = cs_error(CS_ENOMEM, "out of memory for a %dx%d image", o->width, o->height);
+	if (rc == CS_OK && (rc = cs_scene_build(sc, &r->wx, r->wx.time_utc, &noise)) == CS_OK)
+		r->scene = sc;
+	if (rc == CS_OK)
+		rc = load_terrain(o, r, sc, &g);
+	if (rc == CS_OK)
+		rc = place_camera(o, r, sc, view, &g, &cam);
+	r->t_scene_s = now_s() - t0;
+	if (rc == CS_OK)
+		rc = render_and_write(o, r, sc, &cam, px);
 	free(px);
-	free(drape);
-	if (have_hf)
-		cs_hfield_free(&hf);
-	if (have_terrain)
-		cs_terrain_free(&terrain);
-	if (r->scene) { /* what it pointed to is gone */
+	free(g.drape);
+	if (g.have_hf)
+		cs_hfield_free(&g.hf);
+	if (g.have_terrain)
+		cs_terrain_free(&g.terrain);
+	if (r->scene) { /* what it pointed to is gone: terrain, colour, noise */
 		r->scene->terrain = NULL;
 		r->scene->terrain_color = NULL;
+		r->scene->noise = NULL;
 	}
 	if (rc != CS_OK) {
 		free(sc);
 		r->scene = NULL;
 	}
-	/* the scene points at the noise: keep the statistics and volume only
-	 * for as long as the run needs them */
-	if (r->scene)
-		r->scene->noise = NULL;
 	cs_volume_free(&noise);
 	return rc;
 }

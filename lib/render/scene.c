@@ -55,23 +55,23 @@ static int rains(enum cs_genus g, int convective)
 	}
 }
 
-int cs_scene_build(struct cs_scene *sc, const struct cs_wx *wx, double time_utc,
-		   const struct cs_volume *noise)
+/* The visibility of the air above a fog: fog is a shallow layer and
+ * neither reddens the sun above it nor hazes the distance above it. */
+static double air_visibility_m(const struct cs_wx *wx)
 {
-	int rc = cs_wx_validate(wx);
-	if (rc != CS_OK)
-		return rc;
-	memset(sc, 0, sizeof *sc);
-	sc->earth_radius_m = CS_EARTH_RADIUS_M;
-	sc->ground_alt_m = wx->site.alt_m;
-	sc->ground_albedo[0] = 0.10, sc->ground_albedo[1] = 0.14, sc->ground_albedo[2] = 0.07;
-	sc->noise = noise;
-	sc->albedo = 0.99;
-	sc->g_forward = 0.8, sc->g_back = -0.3, sc->w_forward = 0.75;
-	sc->effects = CS_FX_SKY | CS_FX_GROUND;
+	int fog = wx->visibility_m < CS_FOG_VISIBILITY_M;
+	return fog && wx->visibility_m < CS_FOG_AIR_VISIBILITY_M ? CS_FOG_AIR_VISIBILITY_M
+								 : wx->visibility_m;
+}
 
-	/* clouds: only layers that have any; the wind moves them with time
-	 * counted from 2000-01-01 so that successive times move consistently */
+/* The cloud layers: only those that have any cover; in fog a layer resting
+ * on the ground is the fog, not a cloud.  The wind moves them with time
+ * counted from 2000-01-01 so that successive times move consistently.  Far
+ * sites' layers join, every layer's coverage weighted by how far along the
+ * line to each far site a point is. */
+static void build_layers(struct cs_scene *sc, const struct cs_wx *wx, double time_utc,
+			 const struct cs_volume *noise)
+{
 	double t_wind = time_utc - 946684800.0;
 	int fog = wx->visibility_m < CS_FOG_VISIBILITY_M;
 	sc->fog_top_m = wx->site.alt_m + CS_FOG_DEPTH_M;
@@ -79,15 +79,13 @@ int cs_scene_build(struct cs_scene *sc, const struct cs_wx *wx, double time_utc,
 		if (wx->layers[i].coverage <= 0.0)
 			continue;
 		if (fog && wx->layers[i].base_m <= wx->site.alt_m + 1.0) {
-			sc->fog_top_m = wx->layers[i].top_m; /* the fog, not a cloud */
+			sc->fog_top_m = wx->layers[i].top_m;
 			continue;
 		}
 		cs_cloud_layer_init(&sc->layers[sc->nlayers++], &wx->layers[i], noise,
 				    wx->wind_speed_m_s, wx->wind_from_deg,
 				    wx->site.alt_m, t_wind);
 	}
-	/* far sites: their layers join the scene, and every layer's coverage
-	 * is weighted by how far along the line to each far site a point is */
 	if (wx->nfar > 0) {
 		double fx[CS_WX_MAX_FAR], fy[CS_WX_MAX_FAR];
 		int near = sc->nlayers;
@@ -112,21 +110,22 @@ int cs_scene_build(struct cs_scene *sc, const struct cs_wx *wx, double time_utc,
 	}
 	if (sc->nlayers > 0)
 		sc->effects |= CS_FX_CLOUDS;
+}
 
+/* The light: sun and sky for the date and place, the Moon and stars at
+ * night, then what the clouds make of it (shadows, halo, the light under
+ * them). */
+static int build_light(struct cs_scene *sc, const struct cs_wx *wx, double time_utc)
+{
 	struct cs_sun sun;
-	rc = cs_sun_position(time_utc, wx->site.lat_deg, wx->site.lon_deg, &sun);
+	int rc = cs_sun_position(time_utc, wx->site.lat_deg, wx->site.lon_deg, &sun);
 	if (rc != CS_OK)
 		return rc;
 	cs_v3 sd = cs_sun_direction_enu(&sun);
 	sc->sun_dir = v3_norm(sd);
-	/* the sky's turbidity from the visibility of the air above a fog: fog
-	 * is a shallow layer and does not redden the sun above it */
-	double vis_air = fog && wx->visibility_m < CS_FOG_AIR_VISIBILITY_M ? CS_FOG_AIR_VISIBILITY_M
-									    : wx->visibility_m;
-	double turbidity = cs_turbidity_from_visibility(vis_air);
-	cs_sky_init_beam(&sc->sky, sd, turbidity < CS_SKY_MAX_TURBIDITY ? turbidity
-									 : CS_SKY_MAX_TURBIDITY,
-			 turbidity);
+	double turbidity = cs_turbidity_from_visibility(air_visibility_m(wx));
+	double sky_t = turbidity < CS_SKY_MAX_TURBIDITY ? turbidity : CS_SKY_MAX_TURBIDITY;
+	cs_sky_init_beam(&sc->sky, sd, sky_t, turbidity);
 	memcpy(sc->sun_illuminance, sc->sky.sun_illuminance, sizeof sc->sun_illuminance);
 	memcpy(sc->ambient_up, sc->sky.ambient_up, sizeof sc->ambient_up);
 	memcpy(sc->ambient_down, sc->sky.ambient_down, sizeof sc->ambient_down);
@@ -134,54 +133,83 @@ int cs_scene_build(struct cs_scene *sc, const struct cs_wx *wx, double time_utc,
 	    sc->sun_illuminance[1] > 0.0) /* disk still partly above the horizon */
 		sc->effects |= CS_FX_SUN;
 	cs_scene_night(sc, time_utc, wx->site.lat_deg, wx->site.lon_deg,
-		       sun.apparent_elevation_deg,
-		       turbidity < CS_SKY_MAX_TURBIDITY ? turbidity : CS_SKY_MAX_TURBIDITY);
+		       sun.apparent_elevation_deg, sky_t);
 	if ((sc->effects & CS_FX_SUN) && sc->nlayers > 0)
 		sc->effects |= CS_FX_CLOUD_SHADOWS;
 	for (int i = 0; i < sc->nlayers && (sc->effects & CS_FX_SUN); i++)
 		if (sc->layers[i].genus == CS_CIRROSTRATUS)
 			sc->effects |= CS_FX_HALO;
 	cs_scene_deck_light(sc);
+	return CS_OK;
+}
 
-	/* haze: Koschmieder's extinction 3.912 / visibility at the ground,
-	 * falling off with a 1.2 km scale height; in fog the haze is that of
-	 * the air above it, and the fog, from the ground to its top, makes up
-	 * the rest of 3.912 / visibility */
+/* Haze: Koschmieder's extinction 3.912 / visibility at the ground, falling
+ * off with a 1.2 km scale height; in fog the haze is that of the air above
+ * it, and the fog, from the ground to its top, makes up the rest of 3.912
+ * / visibility. */
+static void build_air(struct cs_scene *sc, const struct cs_wx *wx)
+{
+	double vis_air = air_visibility_m(wx);
 	sc->haze_scale_height_m = 1200.0;
 	sc->haze_beta0_per_m = 3.912 / vis_air * exp(wx->site.alt_m / 1200.0);
 	sc->effects |= CS_FX_HAZE;
 	if ((sc->effects & CS_FX_SUN) && sc->nlayers > 0)
 		sc->effects |= CS_FX_SHAFTS;
-	if (fog) {
+	if (wx->visibility_m < CS_FOG_VISIBILITY_M) {
 		sc->fog_beta_per_m = 3.912 / wx->visibility_m - 3.912 / vis_air;
 		sc->effects |= CS_FX_FOG;
 	}
+}
 
-	/* rain: in shafts under the cells of the lowest raining layer, at the
-	 * rate where it rains (the forecast's mean over the cover) */
+/* Rain and snow: in shafts under the cells of the lowest raining layer, at
+ * the rate where it rains (the forecast's mean over the cover); the wet
+ * ground darker (water fills the pores and the light scattered inside is
+ * absorbed more: Lekner & Dorf 1988, soil and sand at about half their dry
+ * reflectance, grass less). */
+static void build_precipitation(struct cs_scene *sc, const struct cs_wx *wx)
+{
 	sc->ground_wet = 1.0;
-	if (wx->precipitation_mm_h > 0.0) {
-		int convective = wx->convective_mm_h > 0.5 * wx->precipitation_mm_h;
-		double top = INFINITY, cover = 0.0;
-		for (int i = 0; i < sc->nlayers; i++)
-			if (rains(sc->layers[i].genus, convective) && sc->layers[i].base_m < top) {
-				top = sc->layers[i].base_m;
-				cover = sc->layers[i].coverage;
-				sc->rain_layer = i;
-			}
-		if (isfinite(top) && top > sc->ground_alt_m && cover > 0.0) {
-			sc->rain_top_m = top;
-			double f = wx->snow_fraction, rate = wx->precipitation_mm_h / cover;
-			sc->rain_extinction_per_m = cs_rain_extinction((1.0 - f) * rate) +
-						    cs_snow_extinction(f * rate);
-			sc->precip_albedo = 0.9 * (1.0 - f) + 1.0 * f;
-			sc->effects |= (f < 1.0 ? CS_FX_RAIN : 0) | (f > 0.0 ? CS_FX_SNOW : 0);
+	if (!(wx->precipitation_mm_h > 0.0))
+		return;
+	int convective = wx->convective_mm_h > 0.5 * wx->precipitation_mm_h;
+	double top = INFINITY, cover = 0.0;
+	for (int i = 0; i < sc->nlayers; i++)
+		if (rains(sc->layers[i].genus, convective) && sc->layers[i].base_m < top) {
+			top = sc->layers[i].base_m;
+			cover = sc->layers[i].coverage;
+			sc->rain_layer = i;
 		}
-		/* wet ground is darker: water fills the pores and the light
-		 * scattered inside is absorbed more (Lekner & Dorf 1988: soil
-		 * and sand at about half their dry reflectance; grass less) */
-		if (wx->precipitation_mm_h >= 0.1)
-			sc->ground_wet = 0.7;
+	if (isfinite(top) && top > sc->ground_alt_m && cover > 0.0) {
+		sc->rain_top_m = top;
+		double f = wx->snow_fraction, rate = wx->precipitation_mm_h / cover;
+		sc->rain_extinction_per_m = cs_rain_extinction((1.0 - f) * rate) +
+					    cs_snow_extinction(f * rate);
+		sc->precip_albedo = 0.9 * (1.0 - f) + 1.0 * f;
+		sc->effects |= (f < 1.0 ? CS_FX_RAIN : 0) | (f > 0.0 ? CS_FX_SNOW : 0);
 	}
+	if (wx->precipitation_mm_h >= 0.1)
+		sc->ground_wet = 0.7;
+}
+
+int cs_scene_build(struct cs_scene *sc, const struct cs_wx *wx, double time_utc,
+		   const struct cs_volume *noise)
+{
+	int rc = cs_wx_validate(wx);
+	if (rc != CS_OK)
+		return rc;
+	memset(sc, 0, sizeof *sc);
+	sc->earth_radius_m = CS_EARTH_RADIUS_M;
+	sc->ground_alt_m = wx->site.alt_m;
+	sc->ground_albedo[0] = 0.10, sc->ground_albedo[1] = 0.14, sc->ground_albedo[2] = 0.07;
+	sc->noise = noise;
+	sc->albedo = 0.99;
+	sc->g_forward = 0.8, sc->g_back = -0.3, sc->w_forward = 0.75;
+	sc->effects = CS_FX_SKY | CS_FX_GROUND;
+	build_layers(sc, wx, time_utc, noise);
+	rc = build_light(sc, wx, time_utc);
+	if (rc != CS_OK)
+		return rc;
+	build_air(sc, wx);
+	build_precipitation(sc, wx);
 	return CS_OK;
 }
