@@ -69,6 +69,10 @@ enum {
 /* How far along a ray the clouds' shadows in the haze are sampled, m;
  * beyond, their area mean. */
 #define CS_SHAFTS_RANGE_M 20000.0
+/* Crepuscular rays are simulated with the sun (or Moon) lower than this:
+ * a high sun's shadows in the haze run steeply down, seen end-on, and
+ * their area mean is all that shows. */
+#define CS_SHAFTS_MAX_ELEVATION_DEG 30.0
 
 /* The share of the light a cirrostratus scatters that goes into its
  * 22-degree halo (hexagonal crystals with clean faces are a minority of

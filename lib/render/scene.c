@@ -153,7 +153,8 @@ static void build_air(struct cs_scene *sc, const struct cs_wx *wx)
 	sc->haze_scale_height_m = 1200.0;
 	sc->haze_beta0_per_m = 3.912 / vis_air * exp(wx->site.alt_m / 1200.0);
 	sc->effects |= CS_FX_HAZE;
-	if ((sc->effects & CS_FX_SUN) && sc->nlayers > 0)
+	if ((sc->effects & CS_FX_SUN) && sc->nlayers > 0 &&
+	    sc->sun_dir.z < sin(CS_SHAFTS_MAX_ELEVATION_DEG * CS_PI / 180.0))
 		sc->effects |= CS_FX_SHAFTS;
 	if (wx->visibility_m < CS_FOG_VISIBILITY_M) {
 		sc->fog_beta_per_m = 3.912 / wx->visibility_m - 3.912 / vis_air;
