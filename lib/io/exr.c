@@ -271,147 +271,204 @@ int cs_exr_write(const char *path, int width, int height,
 
 #define MAX_READ_PIXELS ((long)1 << 28) /* 1 GiB of floats */
 
+/* One read of cs_exr_read_channels() in progress: the file, its decoder,
+ * the result, and the blocks chunks are decoded into. */
+struct chunk_reader {
+	const char *name;
+	const char *const *channels;
+	int nch;
+	exr_context_t f;
+	exr_decode_pipeline_t dec;
+	int dec_live;
+	long w, h;
+	int32_t spc;        /* scanlines per chunk */
+	float *px;          /* w * h * nch floats, the result */
+	size_t block;       /* bytes: one channel, one chunk */
+	uint8_t *skip;      /* scratch for the channels not asked for */
+	uint8_t *stage;     /* nch planar blocks, one per channel asked for */
+};
+
+/* Opens the file in src as r->f; it must be a single-part scanline image. */
+static int open_scanline(struct chunk_reader *r, struct cs_exr_mem *src)
+{
+	int rc = CS_OK;
+	const char *name = r->name;
+	exr_context_initializer_t init;
+	cs_exr_reader_init(&init, src);
+	TRY(exr_start_read(&r->f, name, &init), "not a readable OpenEXR file");
+	int parts = 0;
+	TRY(exr_get_count(r->f, &parts), "part count");
+	exr_storage_t st = EXR_STORAGE_LAST_TYPE;
+	if (parts == 1)
+		TRY(exr_get_storage(r->f, 0, &st), "storage");
+	if (parts != 1 || st != EXR_STORAGE_SCANLINE)
+		rc = cs_error(CS_EDATA, "%s: expected a single-part scanline image", name);
+done:
+	return rc;
+}
+
+/* Checks that every channel asked for is there, unsubsampled, half or float. */
+static int check_channels(const struct chunk_reader *r)
+{
+	int rc = CS_OK;
+	const char *name = r->name;
+	const exr_attr_chlist_t *chl = NULL;
+	TRY(exr_get_channels(r->f, 0, &chl), "channel list");
+	if (r->nch < 1 || r->nch > 16)
+		return cs_error(CS_EINVAL, "%s: cannot read %d channels", name, r->nch);
+	for (int c = 0; c < r->nch; c++) {
+		int found = 0;
+		for (int i = 0; i < chl->num_channels; i++) {
+			const exr_attr_chlist_entry_t *e = &chl->entries[i];
+			if (strcmp(e->name.str, r->channels[c]) != 0)
+				continue;
+			found = e->x_sampling == 1 && e->y_sampling == 1 &&
+				(e->pixel_type == EXR_PIXEL_FLOAT || e->pixel_type == EXR_PIXEL_HALF);
+			if (!found)
+				return cs_error(CS_EDATA,
+						"%s: channel %s is subsampled or not half/float",
+						name, r->channels[c]);
+		}
+		if (!found)
+			return cs_error(CS_EDATA, "%s: no channel %s", name, r->channels[c]);
+	}
+done:
+	return rc;
+}
+
+/* Reads the image size and chunk height and allocates the result and the
+ * decoding blocks. */
+static int alloc_buffers(struct chunk_reader *r)
+{
+	int rc = CS_OK;
+	const char *name = r->name;
+	exr_attr_box2i_t dw;
+	TRY(exr_get_data_window(r->f, 0, &dw), "data window");
+	long w = (long)dw.max.x - dw.min.x + 1, h = (long)dw.max.y - dw.min.y + 1;
+	if (dw.min.x != 0 || dw.min.y != 0 || w < 1 || h < 1 || w * h > MAX_READ_PIXELS)
+		return cs_error(CS_EDATA, "%s: unsupported data window (%d,%d)-(%d,%d)",
+				name, dw.min.x, dw.min.y, dw.max.x, dw.max.y);
+	r->w = w;
+	r->h = h;
+	r->px = malloc((size_t)w * (size_t)h * (size_t)r->nch * sizeof *r->px);
+	if (r->px == NULL)
+		return cs_error(CS_ENOMEM, "out of memory");
+	TRY(exr_get_scanlines_per_chunk(r->f, 0, &r->spc), "chunk size");
+	if (r->spc < 1 || r->spc > 256)
+		return cs_error(CS_EDATA, "%s: unexpected %d scanlines per chunk",
+				name, r->spc);
+	r->block = (size_t)w * (size_t)r->spc * 4;
+	r->skip = malloc(r->block);
+	r->stage = malloc(r->block * (size_t)r->nch);
+	if (r->skip == NULL || r->stage == NULL)
+		return cs_error(CS_ENOMEM, "out of memory");
+done:
+	return rc;
+}
+
+/* Points each channel of the decoder at its staging block (the wanted ones)
+ * or the scratch block (the others), to be decoded in its own type.  We
+ * convert ourselves: OpenEXR 3.1's converting unpacker garbles interleaved
+ * half-to-float output and crashes on a NULL destination. */
+static void route_channels(struct chunk_reader *r)
+{
+	for (int k = 0; k < r->dec.channel_count; k++) {
+		exr_coding_channel_info_t *c = &r->dec.channels[k];
+		int want = 0;
+		while (want < r->nch && strcmp(c->channel_name, r->channels[want]) != 0)
+			want++;
+		c->decode_to_ptr = want < r->nch ? r->stage + (size_t)want * r->block
+						  : r->skip;
+		c->user_bytes_per_element = c->bytes_per_element;
+		c->user_data_type = c->data_type;
+		c->user_pixel_stride = c->bytes_per_element;
+		c->user_line_stride = (int32_t)r->w * c->bytes_per_element;
+	}
+}
+
+/* Converts the staged channels of the chunk of rows rows at scanline y
+ * into the interleaved floats of the result. */
+static void convert_chunk(const struct chunk_reader *r, long y, int32_t rows)
+{
+	const long w = r->w;
+	const int nch = r->nch;
+	for (int k = 0; k < r->dec.channel_count; k++) {
+		const exr_coding_channel_info_t *c = &r->dec.channels[k];
+		if (c->decode_to_ptr == r->skip)
+			continue;
+		int want = (int)((c->decode_to_ptr - r->stage) / (ptrdiff_t)r->block);
+		size_t n = (size_t)rows * (size_t)w;
+		float *dst = r->px + (size_t)y * w * nch + want;
+		for (size_t i = 0; i < n; i++) {
+			float v;
+			if (c->bytes_per_element == 2) {
+				uint16_t hv;
+				memcpy(&hv, c->decode_to_ptr + i * 2, 2);
+				v = cs_half_to_float(hv);
+			} else {
+				memcpy(&v, c->decode_to_ptr + i * 4, 4);
+			}
+			dst[i * (size_t)nch] = v;
+		}
+	}
+}
+
+/* Decodes the chunk that starts at scanline y into the result. */
+static int decode_chunk(struct chunk_reader *r, long y)
+{
+	int rc = CS_OK;
+	const char *name = r->name;
+	exr_chunk_info_t ci;
+	TRY(exr_read_scanline_chunk_info(r->f, 0, (int)y, &ci),
+	    "truncated or corrupt pixel data");
+	if (ci.start_y != y || ci.height < 1 || y + ci.height > r->h || ci.width != r->w)
+		return cs_error(CS_EDATA, "%s: inconsistent chunk at scanline %ld", name, y);
+	if (!r->dec_live)
+		TRY(exr_decoding_initialize(r->f, 0, &ci, &r->dec), "decoder");
+	else
+		TRY(exr_decoding_update(r->f, 0, &ci, &r->dec), "decoder");
+	route_channels(r);
+	if (!r->dec_live) {
+		TRY(exr_decoding_choose_default_routines(r->f, 0, &r->dec), "decoder");
+		r->dec_live = 1;
+	}
+	TRY(exr_decoding_run(r->f, 0, &r->dec), "truncated or corrupt pixel data");
+	convert_chunk(r, y, ci.height);
+done:
+	return rc;
+}
+
 int cs_exr_read_channels(const void *data, size_t len, const char *name,
 			 const char *const *channels, int nch, int *width,
 			 int *height, float **pixels)
 {
-	int rc = CS_OK;
-	exr_context_t f = NULL;
-	exr_decode_pipeline_t dec = EXR_DECODE_PIPELINE_INITIALIZER;
-	int dec_live = 0;
-	float *px = NULL;
-	uint8_t *skip = NULL, *stage = NULL;
+	struct chunk_reader r = {
+		.name = name, .channels = channels, .nch = nch,
+		.dec = EXR_DECODE_PIPELINE_INITIALIZER,
+	};
 	struct cs_exr_mem src = {data, len};
-	exr_context_initializer_t init;
 
 	*pixels = NULL;
-	cs_exr_reader_init(&init, &src);
-	TRY(exr_start_read(&f, name, &init), "not a readable OpenEXR file");
-	int parts = 0;
-	TRY(exr_get_count(f, &parts), "part count");
-	exr_storage_t st = EXR_STORAGE_LAST_TYPE;
-	if (parts == 1)
-		TRY(exr_get_storage(f, 0, &st), "storage");
-	if (parts != 1 || st != EXR_STORAGE_SCANLINE) {
-		rc = cs_error(CS_EDATA, "%s: expected a single-part scanline image", name);
-		goto done;
+	int rc = open_scanline(&r, &src);
+	if (rc == CS_OK)
+		rc = check_channels(&r);
+	if (rc == CS_OK)
+		rc = alloc_buffers(&r);
+	for (long y = 0; rc == CS_OK && y < r.h; y += r.spc)
+		rc = decode_chunk(&r, y);
+	if (rc == CS_OK) {
+		*width = (int)r.w;
+		*height = (int)r.h;
+		*pixels = r.px;
+		r.px = NULL;
 	}
-	const exr_attr_chlist_t *chl = NULL;
-	TRY(exr_get_channels(f, 0, &chl), "channel list");
-	if (nch < 1 || nch > 16) {
-		rc = cs_error(CS_EINVAL, "%s: cannot read %d channels", name, nch);
-		goto done;
-	}
-	for (int c = 0; c < nch; c++) {
-		int found = 0;
-		for (int i = 0; i < chl->num_channels; i++) {
-			const exr_attr_chlist_entry_t *e = &chl->entries[i];
-			if (strcmp(e->name.str, channels[c]) != 0)
-				continue;
-			found = e->x_sampling == 1 && e->y_sampling == 1 &&
-				(e->pixel_type == EXR_PIXEL_FLOAT || e->pixel_type == EXR_PIXEL_HALF);
-			if (!found) {
-				rc = cs_error(CS_EDATA, "%s: channel %s is subsampled or not half/float",
-					      name, channels[c]);
-				goto done;
-			}
-		}
-		if (!found) {
-			rc = cs_error(CS_EDATA, "%s: no channel %s", name, channels[c]);
-			goto done;
-		}
-	}
-	exr_attr_box2i_t dw;
-	TRY(exr_get_data_window(f, 0, &dw), "data window");
-	long w = (long)dw.max.x - dw.min.x + 1, h = (long)dw.max.y - dw.min.y + 1;
-	if (dw.min.x != 0 || dw.min.y != 0 || w < 1 || h < 1 || w * h > MAX_READ_PIXELS) {
-		rc = cs_error(CS_EDATA, "%s: unsupported data window (%d,%d)-(%d,%d)",
-			      name, dw.min.x, dw.min.y, dw.max.x, dw.max.y);
-		goto done;
-	}
-	px = malloc((size_t)w * (size_t)h * (size_t)nch * sizeof *px);
-	if (px == NULL) {
-		rc = cs_error(CS_ENOMEM, "out of memory");
-		goto done;
-	}
-	int32_t spc = 0;
-	TRY(exr_get_scanlines_per_chunk(f, 0, &spc), "chunk size");
-	if (spc < 1 || spc > 256) {
-		rc = cs_error(CS_EDATA, "%s: unexpected %d scanlines per chunk", name, spc);
-		goto done;
-	}
-	size_t block = (size_t)w * (size_t)spc * 4; /* bytes: one channel, one chunk */
-	skip = malloc(block);
-	stage = malloc(block * (size_t)nch);
-	if (skip == NULL || stage == NULL) {
-		rc = cs_error(CS_ENOMEM, "out of memory");
-		goto done;
-	}
-	for (long y = 0; y < h; y += spc) {
-		exr_chunk_info_t ci;
-		TRY(exr_read_scanline_chunk_info(f, 0, (int)y, &ci),
-		    "truncated or corrupt pixel data");
-		if (ci.start_y != y || ci.height < 1 || y + ci.height > h || ci.width != w) {
-			rc = cs_error(CS_EDATA, "%s: inconsistent chunk at scanline %ld", name, y);
-			goto done;
-		}
-		if (!dec_live)
-			TRY(exr_decoding_initialize(f, 0, &ci, &dec), "decoder");
-		else
-			TRY(exr_decoding_update(f, 0, &ci, &dec), "decoder");
-		/* Each channel is decoded in its own type into a planar staging
-		 * block (the wanted ones) or a scratch block (the others), and
-		 * converted here: OpenEXR 3.1's converting unpacker garbles
-		 * interleaved half-to-float output and crashes on a NULL
-		 * destination. */
-		for (int k = 0; k < dec.channel_count; k++) {
-			exr_coding_channel_info_t *c = &dec.channels[k];
-			int want = 0;
-			while (want < nch && strcmp(c->channel_name, channels[want]) != 0)
-				want++;
-			c->decode_to_ptr = want < nch ? stage + (size_t)want * block : skip;
-			c->user_bytes_per_element = c->bytes_per_element;
-			c->user_data_type = c->data_type;
-			c->user_pixel_stride = c->bytes_per_element;
-			c->user_line_stride = (int32_t)w * c->bytes_per_element;
-		}
-		if (!dec_live) {
-			TRY(exr_decoding_choose_default_routines(f, 0, &dec), "decoder");
-			dec_live = 1;
-		}
-		TRY(exr_decoding_run(f, 0, &dec), "truncated or corrupt pixel data");
-		for (int k = 0; k < dec.channel_count; k++) {
-			const exr_coding_channel_info_t *c = &dec.channels[k];
-			if (c->decode_to_ptr == skip)
-				continue;
-			int want = (int)((c->decode_to_ptr - stage) / (ptrdiff_t)block);
-			size_t n = (size_t)ci.height * (size_t)w;
-			float *dst = px + (size_t)y * w * nch + want;
-			for (size_t i = 0; i < n; i++) {
-				float v;
-				if (c->bytes_per_element == 2) {
-					uint16_t hv;
-					memcpy(&hv, c->decode_to_ptr + i * 2, 2);
-					v = cs_half_to_float(hv);
-				} else {
-					memcpy(&v, c->decode_to_ptr + i * 4, 4);
-				}
-				dst[i * (size_t)nch] = v;
-			}
-		}
-	}
-	*width = (int)w;
-	*height = (int)h;
-	*pixels = px;
-	px = NULL;
-done:
-	if (dec_live)
-		exr_decoding_destroy(f, &dec);
-	if (f)
-		exr_finish(&f);
-	free(px);
-	free(skip);
-	free(stage);
+	if (r.dec_live)
+		exr_decoding_destroy(r.f, &r.dec);
+	if (r.f)
+		exr_finish(&r.f);
+	free(r.px);
+	free(r.skip);
+	free(r.stage);
 	return rc;
 }
 

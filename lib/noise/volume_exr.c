@@ -82,27 +82,31 @@ static int get_string_attr(exr_context_t f, int part, const char *attr,
 	return 0;
 }
 
-int cs_volume_read_exr_mem(const void *data, size_t len, const char *name,
-			   struct cs_volume *v)
+/* Opens the file in src as *f; it must be a single-part scanline image. */
+static int open_volume(exr_context_t *f, struct cs_exr_mem *src, const char *name)
 {
 	int rc = CS_OK;
-	exr_context_t f = NULL;
-	struct cs_exr_mem src = {data, len};
 	exr_context_initializer_t init;
-
-	memset(v, 0, sizeof *v);
-	cs_exr_reader_init(&init, &src);
-	EXR_TRY(exr_start_read(&f, name, &init), "not a readable OpenEXR file");
+	cs_exr_reader_init(&init, src);
+	EXR_TRY(exr_start_read(f, name, &init), "not a readable OpenEXR file");
 
 	int parts = 0;
-	EXR_TRY(exr_get_count(f, &parts), "part count");
+	EXR_TRY(exr_get_count(*f, &parts), "part count");
 	if (parts != 1)
 		BAD("expected a single-part image, found %d parts", parts);
 	exr_storage_t st;
-	EXR_TRY(exr_get_storage(f, 0, &st), "storage");
+	EXR_TRY(exr_get_storage(*f, 0, &st), "storage");
 	if (st != EXR_STORAGE_SCANLINE)
 		BAD("expected a scanline image (tiled and deep are not noise volumes)");
+done:
+	return rc;
+}
 
+/* Checks that the channels are exactly R, G, B, A, unsubsampled, all half
+ * or all float. */
+static int check_rgba_channels(exr_context_t f, const char *name)
+{
+	int rc = CS_OK;
 	const exr_attr_chlist_t *chl = NULL;
 	EXR_TRY(exr_get_channels(f, 0, &chl), "channel list");
 	int seen[4] = {0, 0, 0, 0};
@@ -130,7 +134,24 @@ int cs_volume_read_exr_mem(const void *data, size_t len, const char *name,
 	}
 	if (chl->num_channels != 4 || !seen[0] || !seen[1] || !seen[2] || !seen[3])
 		BAD("expected channels A,B,G,R, found %s", chnames[0] ? chnames : "none");
+done:
+	return rc;
+}
 
+/* What the header of a noise volume says. */
+struct vol_header {
+	long width, height;         /* of the image */
+	exr_attr_v3i_t size;        /* cloudscapeVolumeSize */
+	int32_t seed;
+	char recipe[512], period[512];
+};
+
+/* Reads the data window, cloudscapeFormat and cloudscapeVolumeSize into hd
+ * and checks that they agree. */
+static int read_volume_size(exr_context_t f, const char *name,
+			    struct vol_header *hd)
+{
+	int rc = CS_OK;
 	exr_attr_box2i_t dw;
 	EXR_TRY(exr_get_data_window(f, 0, &dw), "data window");
 	long width = (long)dw.max.x - dw.min.x + 1;
@@ -155,43 +176,91 @@ int cs_volume_read_exr_mem(const void *data, size_t len, const char *name,
 		BAD("image is %ldx%ld but cloudscapeVolumeSize %dx%dx%d needs %dx%ld",
 		    width, height, size.x, size.y, size.z, size.x,
 		    (long)size.x * size.z);
-	int32_t seed = -1;
-	if (exr_attr_get_int(f, 0, "cloudscapeSeed", &seed) != EXR_ERR_SUCCESS)
+	hd->width = width;
+	hd->height = height;
+	hd->size = size;
+done:
+	return rc;
+}
+
+/* Reads cloudscapeSeed, cloudscapeRecipe and cloudscapePeriod into hd. */
+static int read_volume_recipe(exr_context_t f, const char *name,
+			      struct vol_header *hd)
+{
+	int rc = CS_OK;
+	hd->seed = -1;
+	if (exr_attr_get_int(f, 0, "cloudscapeSeed", &hd->seed) != EXR_ERR_SUCCESS)
 		BAD("missing attribute cloudscapeSeed");
-	if (seed < 0)
-		BAD("cloudscapeSeed %d is negative", seed);
-	char recipe[512], period[512], want[512];
-	if (get_string_attr(f, 0, "cloudscapeRecipe", recipe, sizeof recipe) < 0)
+	if (hd->seed < 0)
+		BAD("cloudscapeSeed %d is negative", hd->seed);
+	if (get_string_attr(f, 0, "cloudscapeRecipe", hd->recipe, sizeof hd->recipe) < 0)
 		BAD("missing attribute cloudscapeRecipe");
-	if (get_string_attr(f, 0, "cloudscapePeriod", period, sizeof period) < 0)
+	if (get_string_attr(f, 0, "cloudscapePeriod", hd->period, sizeof hd->period) < 0)
 		BAD("missing attribute cloudscapePeriod");
+done:
+	return rc;
+}
 
-	rc = cs_volume_new(v, size.x, size.z);
+/* Allocates v for the header's size and sets its recipe, which must give
+ * the header's periods. */
+static int apply_volume_header(const struct vol_header *hd, const char *name,
+			       struct cs_volume *v)
+{
+	int rc = cs_volume_new(v, hd->size.x, hd->size.z);
 	if (rc != CS_OK)
-		goto done;
-	v->recipe.seed = (uint32_t)seed;
-	if (cs_noise_recipe_parse(recipe, &v->recipe) != CS_OK) {
-		rc = cs_error(CS_EDATA, "%s: %s", name, cs_errmsg());
-		goto done;
-	}
+		return rc;
+	v->recipe.seed = (uint32_t)hd->seed;
+	if (cs_noise_recipe_parse(hd->recipe, &v->recipe) != CS_OK)
+		return cs_error(CS_EDATA, "%s: %s", name, cs_errmsg());
+	char want[512];
 	format_periods(v, want, sizeof want);
-	if (strcmp(period, want) != 0)
+	if (strcmp(hd->period, want) != 0)
 		BAD("cloudscapePeriod \"%.150s\" disagrees with the recipe and size (\"%.150s\")",
-		    period, want);
+		    hd->period, want);
+done:
+	return rc;
+}
 
-	/* the pixels, all four channels in one pass, as floats */
+/* Reads the pixels, all four channels in one pass, as floats, into v's
+ * data; count floats, every one finite. */
+static int read_volume_pixels(const void *data, size_t len, const char *name,
+			      size_t count, struct cs_volume *v)
+{
 	static const char *const rgba[4] = {"R", "G", "B", "A"};
 	float *px = NULL;
 	int w = 0, h = 0;
-	rc = cs_exr_read_channels(data, len, name, rgba, 4, &w, &h, &px);
+	int rc = cs_exr_read_channels(data, len, name, rgba, 4, &w, &h, &px);
 	if (rc != CS_OK)
-		goto done;
+		return rc;
 	free(v->data);
 	v->data = px;
-	for (size_t i = 0; i < (size_t)width * height * 4; i++)
+	for (size_t i = 0; i < count; i++)
 		if (!(v->data[i] == v->data[i] && v->data[i] - v->data[i] == 0.0f))
 			BAD("non-finite value at pixel %zu", i / 4);
 done:
+	return rc;
+}
+
+int cs_volume_read_exr_mem(const void *data, size_t len, const char *name,
+			   struct cs_volume *v)
+{
+	exr_context_t f = NULL;
+	struct cs_exr_mem src = {data, len};
+	struct vol_header hd;
+
+	memset(v, 0, sizeof *v);
+	int rc = open_volume(&f, &src, name);
+	if (rc == CS_OK)
+		rc = check_rgba_channels(f, name);
+	if (rc == CS_OK)
+		rc = read_volume_size(f, name, &hd);
+	if (rc == CS_OK)
+		rc = read_volume_recipe(f, name, &hd);
+	if (rc == CS_OK)
+		rc = apply_volume_header(&hd, name, v);
+	if (rc == CS_OK)
+		rc = read_volume_pixels(data, len, name,
+					(size_t)hd.width * hd.height * 4, v);
 	if (f)
 		exr_finish(&f);
 	if (rc != CS_OK)
