@@ -12,14 +12,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-/* Returns from the calling function on an error. */
-#define TRY(call)                                                             \
-	do {                                                                  \
-		int try_rc_ = (call);                                         \
-		if (try_rc_ != CS_OK)                                         \
-			return try_rc_;                                       \
-	} while (0)
-
 void cs_wxinterp_defaults(struct cs_wxinterp_opts *o)
 {
 	memset(o, 0, sizeof *o);
@@ -33,17 +25,6 @@ static const char *label(const char *path)
 	return strcmp(path, "-") == 0 ? "standard input" : path;
 }
 
-/* A time for messages. */
-struct when {
-	char s[32];
-};
-
-static struct when when(double t)
-{
-	struct when w;
-	cs_time_format(t, w.s, sizeof w.s);
-	return w;
-}
 
 /* ---- the program ---------------------------------------------------------- */
 
@@ -112,14 +93,14 @@ static void describe(const struct cs_wxinterp_opts *o, const char *path,
 static int read_inputs(struct run *r)
 {
 	const struct cs_wxinterp_opts *o = r->o;
-	TRY(cs_series_read(o->inputs[0], &r->main));
+	CS_TRY(cs_series_read(o->inputs[0], &r->main));
 	describe(o, o->inputs[0], &r->main);
 	snprintf(r->main_label, sizeof r->main_label, "%s%s",
 		 label(o->inputs[0]), o->ninputs > 1 ? " (merged)" : "");
 	for (int i = 1; i < o->ninputs; i++) {
 		struct cs_series b;
 		double km;
-		TRY(cs_series_read(o->inputs[i], &b));
+		CS_TRY(cs_series_read(o->inputs[i], &b));
 		describe(o, o->inputs[i], &b);
 		int rc = cs_series_merge(&r->main, &b, &km);
 		cs_series_free(&b);
@@ -135,7 +116,7 @@ static int read_inputs(struct run *r)
 	if (o->have_alt)
 		r->site.alt_m = o->alt_m;
 	for (int i = 0; i < o->nfar; i++) {
-		TRY(cs_series_read(o->far[i], &r->far[i]));
+		CS_TRY(cs_series_read(o->far[i], &r->far[i]));
 		describe(o, o->far[i], &r->far[i]);
 		site_of(&r->far[i], o->far[i], o->far_name[i], &r->far_site[i]);
 	}
@@ -155,7 +136,7 @@ static int covered(const struct run *r, double t0, double t1)
 			char range[80];
 			cs_series_range(s, range, sizeof range);
 			return cs_error(CS_EDATA, "%s is outside the data: %s "
-					"covers %s", when(bad).s, name, range);
+					"covers %s", cs_time_text(bad).s, name, range);
 		}
 	}
 	return CS_OK;
@@ -172,7 +153,7 @@ static void explain(const struct cs_wxinterp_opts *o, const struct cs_wx *wx,
 	cs_wx_rules(ob, rules);
 	k += (size_t)snprintf(msg, sizeof msg, "%s: sun %.1f deg, rain %g mm/h "
 			      "(convective %g, snow fraction %g)",
-			      when(wx->time_utc).s, ob->sun_elevation_deg,
+			      cs_time_text(wx->time_utc).s, ob->sun_elevation_deg,
 			      ob->precipitation_mm_h, ob->convective_mm_h,
 			      ob->snow_fraction);
 	for (int e = 0; e < 3 && k < sizeof msg; e++)
@@ -226,7 +207,7 @@ static int derive(const struct run *r, double t, struct cs_wx *wx)
 	explain(r->o, wx, &ob);
 	wx->nfar = r->o->nfar;
 	for (int i = 0; i < r->o->nfar; i++)
-		TRY(far_state(r, i, t, &wx->far[i]));
+		CS_TRY(far_state(r, i, t, &wx->far[i]));
 	return CS_OK;
 }
 
@@ -244,18 +225,18 @@ static int one_state(struct run *r, double t, struct cs_outfile *of)
 		if (o->have_alt)
 			wx.site.alt_m = o->alt_m;
 	} else {
-		TRY(derive(r, t, &wx));
+		CS_TRY(derive(r, t, &wx));
 		if (cs_wx_validate(&wx) != CS_OK)
 			return cs_error(CS_EDATA, "%s: the state at %s is invalid: "
-					"%s", r->main_label, when(t).s,
+					"%s", r->main_label, cs_time_text(t).s,
 					cs_errmsg());
 	}
 	for (int i = 0; i < o->nsets; i++)
-		TRY(cs_wx_set(&wx, o->sets[i]));
+		CS_TRY(cs_wx_set(&wx, o->sets[i]));
 	if (o->nsets > 0 && cs_wx_validate(&wx) != CS_OK)
 		return cs_error(CS_EINVAL, "after --set: %s", cs_errmsg());
 	char *json = NULL, *pretty = NULL;
-	TRY(cs_wx_to_json(&wx, &json));
+	CS_TRY(cs_wx_to_json(&wx, &json));
 	int rc = CS_OK;
 	if (o->pretty)
 		rc = cs_json_pretty(json, &pretty);
@@ -302,7 +283,7 @@ static int check_opts(const struct cs_wxinterp_opts *o)
 	if (o->have_alt && !(o->alt_m >= -500 && o->alt_m <= 9000))
 		return cs_error(CS_EINVAL, "--alt: outside -500..9000 m");
 	for (int i = 0; i < o->nsets; i++)
-		TRY(cs_wx_set_check(o->sets[i]));
+		CS_TRY(cs_wx_set_check(o->sets[i]));
 	return CS_OK;
 }
 
@@ -322,19 +303,19 @@ static int run_times(struct run *r)
 	}
 	if (t1 < t0)
 		return cs_error(CS_EINVAL, "the series ends (%s) before it starts "
-				"(%s)", when(t1).s, when(t0).s);
+				"(%s)", cs_time_text(t1).s, cs_time_text(t0).s);
 	double count = floor((t1 - t0) / o->step_s + 1e-9) + 1;
 	if (count > CS_WXINTERP_MAX_STATES)
 		return cs_error(CS_EINVAL, "%.0f states from %s to %s every %g s: "
-				"more than %d", count, when(t0).s, when(t1).s,
+				"more than %d", count, cs_time_text(t0).s, cs_time_text(t1).s,
 				o->step_s, CS_WXINTERP_MAX_STATES);
 	if (o->pretty && count > 1)
 		return cs_error(CS_EINVAL, "--pretty writes one state, not a "
 				"series of %.0f (JSON Lines)", count);
 	if (!o->template_state)
-		TRY(covered(r, t0, t1));
+		CS_TRY(covered(r, t0, t1));
 	struct cs_outfile of;
-	TRY(cs_outfile_open(&of, o->output));
+	CS_TRY(cs_outfile_open(&of, o->output));
 	int rc = CS_OK;
 	for (long k = 0; rc == CS_OK && k < (long)count; k++)
 		rc = one_state(r, t0 + (double)k * o->step_s, &of);
@@ -349,7 +330,7 @@ int cs_wxinterp_run(const struct cs_wxinterp_opts *o, struct cs_wxinterp_result 
 	if (o == NULL || res == NULL)
 		return cs_error(CS_EINVAL, "cs_wxinterp_run: no options");
 	res->nstates = 0;
-	TRY(check_opts(o));
+	CS_TRY(check_opts(o));
 	struct run *r = calloc(1, sizeof *r);
 	if (r == NULL)
 		return cs_error(CS_ENOMEM, "out of memory");

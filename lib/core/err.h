@@ -24,6 +24,14 @@ enum cs_status {
 int cs_error(int code, const char *fmt, ...)
 	__attribute__((format(printf, 2, 3)));
 
+/* Returns from the calling function with the code of a call that failed. */
+#define CS_TRY(call)                                                          \
+	do {                                                                  \
+		int cs_try_rc_ = (call);                                      \
+		if (cs_try_rc_ != CS_OK)                                      \
+			return cs_try_rc_;                                    \
+	} while (0)
+
 /* The last message recorded on this thread ("" if none). */
 const char *cs_errmsg(void);
 

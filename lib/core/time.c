@@ -126,6 +126,13 @@ void cs_time_format(double unix_s, char *buf, size_t size)
 		 rem / 3600, rem / 60 % 60, rem % 60);
 }
 
+struct cs_time_text cs_time_text(double unix_s)
+{
+	struct cs_time_text t;
+	cs_time_format(unix_s, t.s, sizeof t.s);
+	return t;
+}
+
 double cs_julian_day(double unix_s)
 {
 	return unix_s / 86400.0 + 2440587.5;

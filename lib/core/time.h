@@ -19,6 +19,12 @@ long cs_days_from_civil(long y, int m, int d);
 /* Julian Day of a UTC time (JD 2440587.5 at the Unix epoch). */
 double cs_julian_day(double unix_s);
 
+/* A UTC time as ISO 8601 text for messages: cs_time_text(t).s */
+struct cs_time_text {
+	char s[32];
+};
+struct cs_time_text cs_time_text(double unix_s);
+
 /* A duration "90", "90s", "10m", "1.5h", "2d" in seconds (> 0). */
 int cs_duration_parse(const char *s, double *seconds);
 

@@ -13,14 +13,6 @@
 
 #define MAX_FILE_BYTES ((size_t)64 << 20)
 
-/* Returns from the calling function on an error. */
-#define TRY(call)                                                             \
-	do {                                                                  \
-		int try_rc_ = (call);                                         \
-		if (try_rc_ != CS_OK)                                         \
-			return try_rc_;                                       \
-	} while (0)
-
 static const char *label(const char *path)
 {
 	return strcmp(path, "-") == 0 ? "standard input" : path;
@@ -128,16 +120,6 @@ static double lerp(double a, double b, double f, int angle)
 	return v >= 360.0 ? 0.0 : v;
 }
 
-struct when {
-	char s[32];
-};
-
-static struct when when(double t)
-{
-	struct when w;
-	cs_time_format(t, w.s, sizeof w.s);
-	return w;
-}
 
 int cs_series_value(const struct cs_series *s, enum cs_wxvar k, double t,
 		    double max_gap_s, double *out)
@@ -151,7 +133,7 @@ int cs_series_value(const struct cs_series *s, enum cs_wxvar k, double t,
 		char r[80];
 		cs_series_range(s, r, sizeof r);
 		return cs_error(CS_EDATA, "%s is outside the data (%s)",
-				when(t).s, r);
+				cs_time_text(t).s, r);
 	}
 	const double *v = s->v[k];
 	int angle = k == CS_VAR_WIND_FROM;
@@ -179,19 +161,19 @@ int cs_series_value(const struct cs_series *s, enum cs_wxvar k, double t,
 	if (ja < 0)
 		return cs_error(CS_EDATA, "%s (%s) has no value at %s: it is "
 				"null from the start of the data to %s, with no "
-				"valid hour before", name, key, when(t).s,
-				when(s->time_utc[jb - 1]).s);
+				"valid hour before", name, key, cs_time_text(t).s,
+				cs_time_text(s->time_utc[jb - 1]).s);
 	if (jb >= n)
 		return cs_error(CS_EDATA, "%s (%s) has no value at %s: it is "
 				"null from %s to the end of the data, with no "
-				"valid hour after", name, key, when(t).s,
-				when(s->time_utc[ja + 1]).s);
+				"valid hour after", name, key, cs_time_text(t).s,
+				cs_time_text(s->time_utc[ja + 1]).s);
 	double ta = s->time_utc[ja], tb = s->time_utc[jb];
 	if (tb - ta > max_gap_s)
 		return cs_error(CS_EDATA, "%s (%s) has no value at %s: the "
 				"nearest valid hours, %s and %s, are %g h apart "
 				"(at most %g h are bridged: --max-gap)", name,
-				key, when(t).s, when(ta).s, when(tb).s,
+				key, cs_time_text(t).s, cs_time_text(ta).s, cs_time_text(tb).s,
 				(tb - ta) / 3600, max_gap_s / 3600);
 	*out = lerp(v[ja], v[jb], (t - ta) / (tb - ta), angle);
 	return CS_OK;
@@ -248,17 +230,17 @@ int cs_series_obs(const struct cs_series *s, double t, double gap,
 		  struct cs_wx_obs *o)
 {
 	double fog;
-	TRY(cs_series_value(s, CS_VAR_CLOUD_LOW, t, gap, &o->low));
-	TRY(cs_series_value(s, CS_VAR_CLOUD_MID, t, gap, &o->mid));
-	TRY(cs_series_value(s, CS_VAR_CLOUD_HIGH, t, gap, &o->high));
-	TRY(cs_series_value(s, CS_VAR_PRECIP, t, gap, &o->precipitation_mm_h));
-	TRY(optional(s, CS_VAR_CONV_PRECIP, t, gap, &o->convective_mm_h));
-	TRY(cs_series_value(s, CS_VAR_WIND_SPEED, t, gap, &o->wind_speed_m_s));
-	TRY(cs_series_value(s, CS_VAR_WIND_FROM, t, gap, &o->wind_from_deg));
-	TRY(optional(s, CS_VAR_VISIBILITY, t, gap, &o->visibility_m));
-	TRY(optional(s, CS_VAR_FOG_PROBABILITY, t, gap, &fog));
-	TRY(optional(s, CS_VAR_TEMPERATURE, t, gap, &o->temperature_c));
-	TRY(optional(s, CS_VAR_HUMIDITY, t, gap, &o->humidity_pct));
+	CS_TRY(cs_series_value(s, CS_VAR_CLOUD_LOW, t, gap, &o->low));
+	CS_TRY(cs_series_value(s, CS_VAR_CLOUD_MID, t, gap, &o->mid));
+	CS_TRY(cs_series_value(s, CS_VAR_CLOUD_HIGH, t, gap, &o->high));
+	CS_TRY(cs_series_value(s, CS_VAR_PRECIP, t, gap, &o->precipitation_mm_h));
+	CS_TRY(optional(s, CS_VAR_CONV_PRECIP, t, gap, &o->convective_mm_h));
+	CS_TRY(cs_series_value(s, CS_VAR_WIND_SPEED, t, gap, &o->wind_speed_m_s));
+	CS_TRY(cs_series_value(s, CS_VAR_WIND_FROM, t, gap, &o->wind_from_deg));
+	CS_TRY(optional(s, CS_VAR_VISIBILITY, t, gap, &o->visibility_m));
+	CS_TRY(optional(s, CS_VAR_FOG_PROBABILITY, t, gap, &fog));
+	CS_TRY(optional(s, CS_VAR_TEMPERATURE, t, gap, &o->temperature_c));
+	CS_TRY(optional(s, CS_VAR_HUMIDITY, t, gap, &o->humidity_pct));
 	o->low /= 100;
 	o->mid /= 100;
 	o->high /= 100;

@@ -55,14 +55,6 @@ void cs_wx_default(struct cs_wx *wx)
 	wx->temperature_c = NAN;
 }
 
-/* Returns from the calling function on an error. */
-#define TRY(call)                                                             \
-	do {                                                                  \
-		int try_rc_ = (call);                                         \
-		if (try_rc_ != CS_OK)                                         \
-			return try_rc_;                                       \
-	} while (0)
-
 /* A number member of a struct: its JSON key, default and range. */
 struct field {
 	const char *key;
@@ -131,7 +123,7 @@ static int check_fields(const char *pre, const struct field *f, size_t n,
 			const void *base)
 {
 	for (size_t i = 0; i < n; i++)
-		TRY(check(pre, f[i].key,
+		CS_TRY(check(pre, f[i].key,
 			  *(const double *)((const char *)base + f[i].off),
 			  f[i].lo, f[i].hi));
 	return CS_OK;
@@ -155,7 +147,7 @@ static int check_layers(const char *pre, int n, const struct cs_wx_layer *l)
 		if ((unsigned)l[i].genus >= CS_GENUS_COUNT)
 			return cs_error(CS_EDATA, "%sgenus: %d is not a genus", p,
 					(int)l[i].genus);
-		TRY(check_fields(p, layer_fields, COUNT(layer_fields), &l[i]));
+		CS_TRY(check_fields(p, layer_fields, COUNT(layer_fields), &l[i]));
 		/* thinner than 10 m is no cloud a renderer can march */
 		if (!(l[i].top_m >= l[i].base_m + 10))
 			return cs_error(CS_EDATA, "%stop_m: %s is not at least "
@@ -174,21 +166,21 @@ int cs_wx_validate(const struct cs_wx *wx)
 	      wx->time_utc < cs_days_from_civil(10000, 1, 1) * 86400.0))
 		return cs_error(CS_EDATA, "time_utc: %s s is outside years "
 				"0000..9999", cs_num(wx->time_utc).s);
-	TRY(check_site("site.", &wx->site));
-	TRY(check_layers("", wx->nlayers, wx->layers));
-	TRY(check_fields("", wx_fields, COUNT(wx_fields), wx));
-	TRY(check("", "convective_mm_h", wx->convective_mm_h, 0,
+	CS_TRY(check_site("site.", &wx->site));
+	CS_TRY(check_layers("", wx->nlayers, wx->layers));
+	CS_TRY(check_fields("", wx_fields, COUNT(wx_fields), wx));
+	CS_TRY(check("", "convective_mm_h", wx->convective_mm_h, 0,
 		  wx->precipitation_mm_h));
 	if (!isnan(wx->temperature_c))
-		TRY(check("", "temperature_c", wx->temperature_c, TEMP_LO,
+		CS_TRY(check("", "temperature_c", wx->temperature_c, TEMP_LO,
 			  TEMP_HI));
 	if (wx->observed.has_radiation)
-		TRY(check_fields("observed.", radiation_fields,
+		CS_TRY(check_fields("observed.", radiation_fields,
 				 COUNT(radiation_fields), &wx->observed));
 	if (wx->observed.has_cloud_cover)
-		TRY(check_fields("observed.", cover_fields, COUNT(cover_fields),
+		CS_TRY(check_fields("observed.", cover_fields, COUNT(cover_fields),
 				 &wx->observed));
-	TRY(check_fields("wind.", wind_fields, COUNT(wind_fields), wx));
+	CS_TRY(check_fields("wind.", wind_fields, COUNT(wind_fields), wx));
 	if (wx->nfar < 0 || wx->nfar > CS_WX_MAX_FAR)
 		return cs_error(CS_EDATA, "far: %d sites, at most %d", wx->nfar,
 				CS_WX_MAX_FAR);
@@ -196,9 +188,9 @@ int cs_wx_validate(const struct cs_wx *wx)
 		char p[32], ps[40];
 		snprintf(p, sizeof p, "far[%d].", i);
 		snprintf(ps, sizeof ps, "far[%d].site.", i);
-		TRY(check_site(ps, &wx->far[i].site));
-		TRY(check_layers(p, wx->far[i].nlayers, wx->far[i].layers));
-		TRY(check_fields(p, far_fields, COUNT(far_fields), &wx->far[i]));
+		CS_TRY(check_site(ps, &wx->far[i].site));
+		CS_TRY(check_layers(p, wx->far[i].nlayers, wx->far[i].layers));
+		CS_TRY(check_fields(p, far_fields, COUNT(far_fields), &wx->far[i]));
 	}
 	return CS_OK;
 }
@@ -231,7 +223,7 @@ static int parse_fields(const cJSON *obj, const char *pre,
 {
 	for (size_t i = 0; i < n; i++) {
 		const cJSON *it;
-		TRY(get(obj, pre, f[i].key, cJSON_Number,
+		CS_TRY(get(obj, pre, f[i].key, cJSON_Number,
 			f[i].required && obj != NULL, &it));
 		if (it != NULL && !isfinite(it->valuedouble))
 			return cs_error(CS_EDATA, "%s%s: expected a finite "
@@ -248,8 +240,8 @@ static int parse_site(const cJSON *obj, const char *pre, struct cs_wx_site *s)
 	const cJSON *site, *name;
 	char p[40];
 	snprintf(p, sizeof p, "%ssite.", pre);
-	TRY(get(obj, pre, "site", cJSON_Object, 1, &site));
-	TRY(get(site, p, "name", cJSON_String, 0, &name));
+	CS_TRY(get(obj, pre, "site", cJSON_Object, 1, &site));
+	CS_TRY(get(site, p, "name", cJSON_String, 0, &name));
 	if (name != NULL && strlen(name->valuestring) >= sizeof s->name)
 		return cs_error(CS_EDATA, "%sname: longer than %zu bytes", p,
 				sizeof s->name - 1);
@@ -272,7 +264,7 @@ static int parse_layers(const cJSON *obj, const char *pre, int *n,
 			struct cs_wx_layer *layers)
 {
 	const cJSON *arr, *el, *genus;
-	TRY(get(obj, pre, "layers", cJSON_Array, 1, &arr));
+	CS_TRY(get(obj, pre, "layers", cJSON_Array, 1, &arr));
 	if (cJSON_GetArraySize(arr) > CS_WX_MAX_LAYERS)
 		return cs_error(CS_EDATA, "%slayers: %d layers, at most %d", pre,
 				cJSON_GetArraySize(arr), CS_WX_MAX_LAYERS);
@@ -283,12 +275,12 @@ static int parse_layers(const cJSON *obj, const char *pre, int *n,
 		if (!cJSON_IsObject(el))
 			return cs_error(CS_EDATA, "%s: expected an object", p);
 		strcat(p, ".");
-		TRY(get(el, p, "genus", cJSON_String, 1, &genus));
+		CS_TRY(get(el, p, "genus", cJSON_String, 1, &genus));
 		int g = cs_genus_from_name(genus->valuestring);
 		if (g < 0)
 			return unknown_genus(p, genus->valuestring);
 		layers[*n].genus = (enum cs_genus)g;
-		TRY(parse_fields(el, p, layer_fields, COUNT(layer_fields),
+		CS_TRY(parse_fields(el, p, layer_fields, COUNT(layer_fields),
 				 &layers[(*n)++]));
 	}
 	return CS_OK;
@@ -297,7 +289,7 @@ static int parse_layers(const cJSON *obj, const char *pre, int *n,
 static int parse_far(const cJSON *root, struct cs_wx *wx)
 {
 	const cJSON *arr, *el;
-	TRY(get(root, "", "far", cJSON_Array, 0, &arr));
+	CS_TRY(get(root, "", "far", cJSON_Array, 0, &arr));
 	if (cJSON_GetArraySize(arr) > CS_WX_MAX_FAR)
 		return cs_error(CS_EDATA, "far: %d sites, at most %d",
 				cJSON_GetArraySize(arr), CS_WX_MAX_FAR);
@@ -308,9 +300,9 @@ static int parse_far(const cJSON *root, struct cs_wx *wx)
 		if (!cJSON_IsObject(el))
 			return cs_error(CS_EDATA, "%s: expected an object", p);
 		strcat(p, ".");
-		TRY(parse_site(el, p, &f->site));
-		TRY(parse_layers(el, p, &f->nlayers, f->layers));
-		TRY(parse_fields(el, p, far_fields, COUNT(far_fields), f));
+		CS_TRY(parse_site(el, p, &f->site));
+		CS_TRY(parse_layers(el, p, &f->nlayers, f->layers));
+		CS_TRY(parse_fields(el, p, far_fields, COUNT(far_fields), f));
 	}
 	return CS_OK;
 }
@@ -336,17 +328,17 @@ static int parse_observed(const cJSON *root, struct cs_wx_observed *ob)
 	const cJSON *obj;
 	static const char *const rad[3] = {"ghi_w_m2", "dni_w_m2", "dhi_w_m2"};
 	memset(ob, 0, sizeof *ob);
-	TRY(get(root, "", "observed", cJSON_Object, 0, &obj));
+	CS_TRY(get(root, "", "observed", cJSON_Object, 0, &obj));
 	if (obj == NULL)
 		return CS_OK;
 	for (int i = 0; i < 3; i++)
 		ob->has_radiation |= cJSON_HasObjectItem(obj, rad[i]);
 	if (ob->has_radiation)
-		TRY(parse_fields(obj, "observed.", radiation_fields,
+		CS_TRY(parse_fields(obj, "observed.", radiation_fields,
 				 COUNT(radiation_fields), ob));
 	ob->has_cloud_cover = cJSON_HasObjectItem(obj, "total_cloud_cover");
 	if (ob->has_cloud_cover)
-		TRY(parse_fields(obj, "observed.", cover_fields,
+		CS_TRY(parse_fields(obj, "observed.", cover_fields,
 				 COUNT(cover_fields), ob));
 	return CS_OK;
 }
@@ -357,21 +349,21 @@ static int parse_root(const cJSON *root, struct cs_wx *wx)
 	const cJSON *it;
 	if (!cJSON_IsObject(root))
 		return cs_error(CS_EDATA, "expected a JSON object");
-	TRY(get(root, "", "schema", cJSON_String, 1, &it));
+	CS_TRY(get(root, "", "schema", cJSON_String, 1, &it));
 	if (strcmp(it->valuestring, CS_WX_SCHEMA) != 0)
 		return cs_error(CS_EDATA, "schema: unsupported version \"%.40s\" "
 				"(this program reads \"%s\")", it->valuestring,
 				CS_WX_SCHEMA);
-	TRY(get(root, "", "time_utc", cJSON_String, 1, &it));
+	CS_TRY(get(root, "", "time_utc", cJSON_String, 1, &it));
 	if (cs_time_parse(it->valuestring, &wx->time_utc) != CS_OK)
 		return cs_error(CS_EDATA, "time_utc: %s", cs_errmsg());
-	TRY(parse_site(root, "", &wx->site));
-	TRY(parse_layers(root, "", &wx->nlayers, wx->layers));
-	TRY(parse_fields(root, "", wx_fields, COUNT(wx_fields), wx));
-	TRY(parse_temperature(root, wx));
-	TRY(parse_observed(root, &wx->observed));
-	TRY(get(root, "", "wind", cJSON_Object, 0, &it));
-	TRY(parse_fields(it, "wind.", wind_fields, COUNT(wind_fields), wx));
+	CS_TRY(parse_site(root, "", &wx->site));
+	CS_TRY(parse_layers(root, "", &wx->nlayers, wx->layers));
+	CS_TRY(parse_fields(root, "", wx_fields, COUNT(wx_fields), wx));
+	CS_TRY(parse_temperature(root, wx));
+	CS_TRY(parse_observed(root, &wx->observed));
+	CS_TRY(get(root, "", "wind", cJSON_Object, 0, &it));
+	CS_TRY(parse_fields(it, "wind.", wind_fields, COUNT(wind_fields), wx));
 	wx->nfar = 0;
 	return parse_far(root, wx);
 }
