@@ -168,7 +168,7 @@ int cs_volume_bake(struct cs_volume *v, int nthreads, cs_progress_fn progress,
 	return rc;
 }
 
-static inline int wrapi(long i, int n)
+CS_HD static inline int wrapi(long i, int n)
 {
 	long m = i % n;
 	return (int)(m < 0 ? m + n : m);
@@ -181,7 +181,7 @@ struct corners {
 	float tx, ty, tz;
 };
 
-static void corners(const struct cs_volume *v, double u, double vv, double w,
+CS_HD static void corners(const struct cs_volume *v, double u, double vv, double w,
 		    struct corners *c)
 {
 	double gx = u * v->nx - 0.5, gy = vv * v->ny - 0.5, gz = w * v->nz - 0.5;
@@ -199,7 +199,7 @@ static void corners(const struct cs_volume *v, double u, double vv, double w,
 		c->off[k] = (zs[k >> 2] * sz + ys[(k >> 1) & 1] * sy + xs[k & 1]) * 4;
 }
 
-static inline float trilinear(const float *d, const struct corners *c)
+CS_HD static inline float trilinear(const float *d, const struct corners *c)
 {
 	const size_t *o = c->off;
 	float c00 = d[o[0]] + c->tx * (d[o[1]] - d[o[0]]);
@@ -211,7 +211,7 @@ static inline float trilinear(const float *d, const struct corners *c)
 	return c0 + c->tz * (c1 - c0);
 }
 
-void cs_volume_sample4(const struct cs_volume *v, double u, double vv,
+CS_HD void cs_volume_sample4(const struct cs_volume *v, double u, double vv,
 		       double w, float out[4])
 {
 	if (!isfinite(u) || !isfinite(vv) || !isfinite(w)) {
@@ -224,7 +224,7 @@ void cs_volume_sample4(const struct cs_volume *v, double u, double vv,
 		out[k] = trilinear(v->data + k, &c);
 }
 
-float cs_volume_sample(const struct cs_volume *v, int channel, double u,
+CS_HD float cs_volume_sample(const struct cs_volume *v, int channel, double u,
 		       double vv, double w)
 {
 	if (!isfinite(u) || !isfinite(vv) || !isfinite(w))

@@ -5,6 +5,8 @@
 #ifndef CS_VOLUME_H
 #define CS_VOLUME_H
 
+#include "core/hd.h"
+
 #include "core/pool.h"
 
 #include <stddef.h>
@@ -62,11 +64,11 @@ int cs_volume_bake(struct cs_volume *v, int nthreads, cs_progress_fn progress,
 
 /* One channel sampled at (u, v, w) in volume periods (1.0 = one tile),
  * trilinear, periodic on every axis.  Any finite coordinate is valid. */
-float cs_volume_sample(const struct cs_volume *v, int channel, double u,
+CS_HD float cs_volume_sample(const struct cs_volume *v, int channel, double u,
 		       double vv, double w);
 
 /* All four channels at once (one set of voxel lookups). */
-void cs_volume_sample4(const struct cs_volume *v, double u, double vv,
+CS_HD void cs_volume_sample4(const struct cs_volume *v, double u, double vv,
 		       double w, float out[4]);
 
 /* Writes the volume as an OpenEXR atlas (see man 5 cloudscape-noise):

@@ -101,14 +101,14 @@ void cs_cloud_layer_init(struct cs_cloud_layer *l, const struct cs_wx_layer *wl,
 	calibrate(l, noise);
 }
 
-static inline double smooth01(double x)
+CS_HD static inline double smooth01(double x)
 {
 	x = x < 0.0 ? 0.0 : x > 1.0 ? 1.0 : x;
 	return x * x * (3.0 - 2.0 * x);
 }
 
 /* The genus height profile: a smooth trapezoid over the relative height. */
-static inline double profile(const double r[4], double h)
+CS_HD static inline double profile(const double r[4], double h)
 {
 	double up = r[1] > r[0] ? smooth01((h - r[0]) / (r[1] - r[0])) : 1.0;
 	double down = r[3] > r[2] ? 1.0 - smooth01((h - r[2]) / (r[3] - r[2])) : 1.0;
@@ -117,7 +117,7 @@ static inline double profile(const double r[4], double h)
 
 /* The extinction at coordinates along and across the wind (already moved
  * by it), at altitude alt_m and relative height h in [0, 1]. */
-static double extinction_aw(const struct cs_cloud_layer *l,
+CS_HD static double extinction_aw(const struct cs_cloud_layer *l,
 			    const struct cs_volume *noise, double along,
 			    double across, double alt_m, double h, double thr)
 {
@@ -150,7 +150,7 @@ static double extinction_aw(const struct cs_cloud_layer *l,
 	return d * l->extinction_per_m;
 }
 
-double cs_cloud_extinction(const struct cs_cloud_layer *l,
+CS_HD double cs_cloud_extinction(const struct cs_cloud_layer *l,
 			   const struct cs_volume *noise, double x, double y,
 			   double alt_m)
 {
@@ -266,7 +266,7 @@ void cs_cloud_layer_blend(struct cs_cloud_layer *l, const struct cs_volume *nois
 					  : calibrate_coverage(l, noise, l->coverage * k / CS_BLEND_LEVELS);
 }
 
-double cs_cloud_site_weight(const struct cs_cloud_layer *l, double x, double y)
+CS_HD double cs_cloud_site_weight(const struct cs_cloud_layer *l, double x, double y)
 {
 	if (l->nfar <= 0)
 		return 1.0;

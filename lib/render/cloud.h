@@ -8,6 +8,8 @@
 #ifndef CS_CLOUD_H
 #define CS_CLOUD_H
 
+#include "core/hd.h"
+
 #include "core/vec.h"
 #include "noise/volume.h"
 #include "weather/wx.h"
@@ -91,11 +93,11 @@ void cs_cloud_layer_blend(struct cs_cloud_layer *l, const struct cs_volume *nois
  * w_f = clamp(projection of (x, y) on the line from the near site to f, as
  * a fraction of that line, 0, 1); the far weights are scaled to sum to at
  * most 1 and the near site has the rest.  1 without far sites. */
-double cs_cloud_site_weight(const struct cs_cloud_layer *l, double x, double y);
+CS_HD double cs_cloud_site_weight(const struct cs_cloud_layer *l, double x, double y);
 
 /* Extinction coefficient (1/m) at local position (x east, y north, metres)
  * and altitude alt_m.  Zero outside the layer.  No allocation, no state. */
-double cs_cloud_extinction(const struct cs_cloud_layer *l,
+CS_HD double cs_cloud_extinction(const struct cs_cloud_layer *l,
 			   const struct cs_volume *noise, double x, double y,
 			   double alt_m);
 

@@ -38,13 +38,13 @@ static const double XYZ_TO_RGB[3][3] = {
 static const double Y_ROW[3] = {0.2126390058715, 0.7151686787678,
 				0.0721923153607};
 
-static double clampd(double v, double lo, double hi)
+CS_HD static double clampd(double v, double lo, double hi)
 {
 	return v < lo ? lo : v > hi ? hi : v;
 }
 
 /* Perez et al. (1993) all-weather distribution, Preetham eq. 3. */
-static double perez(const double c[5], double cos_theta, double gamma,
+CS_HD static double perez(const double c[5], double cos_theta, double gamma,
 		    double cos_gamma)
 {
 	return (1.0 + c[0] * exp(c[1] / cos_theta)) *
@@ -250,7 +250,7 @@ void cs_sky_init_beam(struct cs_sky *sky, cs_v3 sun, double turbidity, double be
 	init_ambient(sky, elev);
 }
 
-void cs_sky_radiance(const struct cs_sky *sky, cs_v3 dir, double rgb[3])
+CS_HD void cs_sky_radiance(const struct cs_sky *sky, cs_v3 dir, double rgb[3])
 {
 	double v[3] = {dir.x, dir.y, dir.z};
 	if (v[2] < 0.0) {
@@ -293,7 +293,7 @@ void cs_sky_radiance(const struct cs_sky *sky, cs_v3 dir, double rgb[3])
 	}
 }
 
-void cs_sky_sun_disk(const struct cs_sky *sky, cs_v3 dir, double rgb[3])
+CS_HD void cs_sky_sun_disk(const struct cs_sky *sky, cs_v3 dir, double rgb[3])
 {
 	rgb[0] = rgb[1] = rgb[2] = 0.0;
 	if (!(v3_dot(dir, sky->sun_dir) >= sky->cos_sun_radius) || dir.z < 0.0)

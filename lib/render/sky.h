@@ -12,6 +12,8 @@
 #ifndef CS_SKY_H
 #define CS_SKY_H
 
+#include "core/hd.h"
+
 #include "core/vec.h"
 
 struct cs_sky {
@@ -52,12 +54,12 @@ void cs_sky_init_beam(struct cs_sky *sky, cs_v3 sun_dir, double turbidity,
 /* Sky radiance seen along dir (unit), kcd/m², without the sun disk; finite
  * and >= 0.  For dir below the horizon, the value at the horizon in that
  * azimuth (straight down: the horizon due east). */
-void cs_sky_radiance(const struct cs_sky *sky, cs_v3 dir, double rgb[3]);
+CS_HD void cs_sky_radiance(const struct cs_sky *sky, cs_v3 dir, double rgb[3]);
 
 /* Radiance of the sun disk (angular radius 0.2666 deg, limb darkened) along
  * dir, kcd/m²; zero outside the disk and below the horizon (so a setting sun
  * is cut by the horizon and a set one draws nothing).  Integrates over the
  * disk to sun_illuminance, also while the horizon cuts it. */
-void cs_sky_sun_disk(const struct cs_sky *sky, cs_v3 dir, double rgb[3]);
+CS_HD void cs_sky_sun_disk(const struct cs_sky *sky, cs_v3 dir, double rgb[3]);
 
 #endif

@@ -77,13 +77,13 @@ void cs_hfield_free(struct cs_hfield *f)
 	f->block_max = NULL;
 }
 
-static inline double Z(const struct cs_hfield *f, int i, int j)
+CS_HD static inline double Z(const struct cs_hfield *f, int i, int j)
 {
 	return f->z[(size_t)j * f->w + i];
 }
 
 /* Cell (i, j) and the position (u, v) inside it, clamped to the grid. */
-static inline void locate(const struct cs_hfield *f, double col, double row,
+CS_HD static inline void locate(const struct cs_hfield *f, double col, double row,
 			  int *i, int *j, double *u, double *v)
 {
 	col = col < 0.0 ? 0.0 : col > f->w - 1 ? f->w - 1 : col;
@@ -94,7 +94,7 @@ static inline void locate(const struct cs_hfield *f, double col, double row,
 	*i = ci, *j = rj, *u = col - ci, *v = row - rj;
 }
 
-int cs_hfield_height(const struct cs_hfield *f, double x, double y, double *h)
+CS_HD int cs_hfield_height(const struct cs_hfield *f, double x, double y, double *h)
 {
 	double col = f->a[0] + f->a[1] * x + f->a[2] * y;
 	double row = f->b[0] + f->b[1] * x + f->b[2] * y;
@@ -108,7 +108,7 @@ int cs_hfield_height(const struct cs_hfield *f, double x, double y, double *h)
 	return inside;
 }
 
-cs_v3 cs_hfield_normal(const struct cs_hfield *f, double x, double y)
+CS_HD cs_v3 cs_hfield_normal(const struct cs_hfield *f, double x, double y)
 {
 	double col = f->a[0] + f->a[1] * x + f->a[2] * y;
 	double row = f->b[0] + f->b[1] * x + f->b[2] * y;
@@ -124,13 +124,13 @@ cs_v3 cs_hfield_normal(const struct cs_hfield *f, double x, double y)
 	return v3_norm(v3(-hx, -hy, 1.0));
 }
 
-double cs_hfield_altitude(const struct cs_hfield *f, cs_v3 p)
+CS_HD double cs_hfield_altitude(const struct cs_hfield *f, cs_v3 p)
 {
 	return cs_altitude(p, f->earth_radius_m);
 }
 
 /* Height of the surface minus the altitude, along the ray: > 0 above. */
-static double gap(const struct cs_hfield *f, cs_v3 o, cs_v3 d, double t)
+CS_HD static double gap(const struct cs_hfield *f, cs_v3 o, cs_v3 d, double t)
 {
 	cs_v3 p = v3_mad(o, d, t);
 	double h;
@@ -140,7 +140,7 @@ static double gap(const struct cs_hfield *f, cs_v3 o, cs_v3 d, double t)
 
 /* The part [t0, t1] of the ray where lo <= g(t) <= hi along one grid axis
  * whose coordinate is g(t) = g0 + gd t. */
-static int slab(double g0, double gd, double lo, double hi, double *t0, double *t1)
+CS_HD static int slab(double g0, double gd, double lo, double hi, double *t0, double *t1)
 {
 	if (gd == 0.0)
 		return g0 >= lo && g0 <= hi;
@@ -157,7 +157,7 @@ static int slab(double g0, double gd, double lo, double hi, double *t0, double *
 
 /* A lower bound of the ray's altitude over [t0, t1]: the altitude is a
  * convex function of t, so it lies above its tangent at t0. */
-static double alt_lower_bound(const struct cs_hfield *f, cs_v3 o, cs_v3 d,
+CS_HD static double alt_lower_bound(const struct cs_hfield *f, cs_v3 o, cs_v3 d,
 			      double t0, double t1)
 {
 	cs_v3 p = v3_mad(o, d, t0);
@@ -169,7 +169,7 @@ static double alt_lower_bound(const struct cs_hfield *f, cs_v3 o, cs_v3 d,
 }
 
 /* First root in [0, len] of q0 + q1 s + q2 s^2, or -1. */
-static double first_root(double q0, double q1, double q2, double len)
+CS_HD static double first_root(double q0, double q1, double q2, double len)
 {
 	if (q0 <= 0.0)
 		return 0.0;
@@ -194,7 +194,7 @@ static double first_root(double q0, double q1, double q2, double len)
 	return best >= 0.0 && best <= len ? best : -1.0;
 }
 
-int cs_hfield_intersect(const struct cs_hfield *f, cs_v3 o, cs_v3 d, double tmax,
+CS_HD int cs_hfield_intersect(const struct cs_hfield *f, cs_v3 o, cs_v3 d, double tmax,
 			double *t_hit, unsigned long *cells)
 {
 	double c0 = f->a[0] + f->a[1] * o.x + f->a[2] * o.y, cd = f->a[1] * d.x + f->a[2] * d.y;

@@ -13,6 +13,8 @@
 #ifndef CS_HFIELD_H
 #define CS_HFIELD_H
 
+#include "core/hd.h"
+
 #include "core/vec.h"
 
 struct cs_hfield {
@@ -40,18 +42,18 @@ int cs_hfield_place(const double col[3], const double row[3], const double x[3],
 
 /* Height of the surface under world (x, y), and whether (x, y) is over the
  * grid (0 outside: the height is then that of the nearest edge). */
-int cs_hfield_height(const struct cs_hfield *f, double x, double y, double *h);
+CS_HD int cs_hfield_height(const struct cs_hfield *f, double x, double y, double *h);
 
 /* Unit surface normal (in world axes, with "up" = +z at the origin; the
  * caller tilts it for the sphere if it cares). */
-cs_v3 cs_hfield_normal(const struct cs_hfield *f, double x, double y);
+CS_HD cs_v3 cs_hfield_normal(const struct cs_hfield *f, double x, double y);
 
 /* First hit of the ray o + t d (d unit) with the surface for t in
  * [0, tmax]: 1 and *t, or 0.  Counts the cells visited in *cells. */
-int cs_hfield_intersect(const struct cs_hfield *f, cs_v3 o, cs_v3 d, double tmax,
+CS_HD int cs_hfield_intersect(const struct cs_hfield *f, cs_v3 o, cs_v3 d, double tmax,
 			double *t, unsigned long *cells);
 
 /* Altitude of world point p above the spherical Earth. */
-double cs_hfield_altitude(const struct cs_hfield *f, cs_v3 p);
+CS_HD double cs_hfield_altitude(const struct cs_hfield *f, cs_v3 p);
 
 #endif
