@@ -167,6 +167,8 @@ static int sky_imager(const struct cs_camera *cam, const struct cs_scene *sc, co
 				continue;
 			if (p[3] <= 0.0f && p[4] < 0.5f * (float)CS_SKY_DEPTH_M)
 				continue; /* ground or terrain */
+			if (!(p[2] > 0.0f))
+				continue; /* black: not classified, not counted */
 			use[k] = 1;
 			opaque += p[3] > 0.5f;
 		}

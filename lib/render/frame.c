@@ -49,7 +49,7 @@ static void render_rows(void *user, int task, int worker)
 				uint32_t h = cs_hash3i(i, j, 0x6a697474, job->s->seed);
 				u = 0.5 + job->s->jitter * (cs_hash_unit(h) - 0.5);
 			}
-			struct cs_ray_result r = {{0.0, 0.0, 0.0}, 1.0, 0.0};
+			struct cs_ray_result r = {{0.0, 0.0, 0.0}, 1.0, CS_SKY_DEPTH_M};
 			cs_v3 d;
 			if (cs_camera_ray(cam, i, j, &d))
 				cs_render_ray(job->sc, job->s, cam->pos, d, u, &st, &r);
@@ -73,7 +73,9 @@ int cs_render_image(const struct cs_scene *sc, const struct cs_camera *cam,
 	int rc = cs_render_settings_check(s);
 	if (rc != CS_OK)
 		return rc;
-	struct frame_job *job = calloc(1, sizeof *job);
+	/* aligned as its cache-line members ask (calloc promises less) */
+	size_t size = (sizeof(struct frame_job) + 63) / 64 * 64;
+	struct frame_job *job = aligned_alloc(64, size);
 	if (job == NULL)
 		return cs_error(CS_ENOMEM, "out of memory");
 	*job = (struct frame_job){.sc = sc, .cam = cam, .s = s, .out = out};

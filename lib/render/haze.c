@@ -45,7 +45,10 @@ CS_HD void cs_haze_light(const struct cs_scene *sc, cs_v3 d, double sun[3],
  * decreasing exponentially with height (flat-Earth approximation). */
 CS_HD double cs_haze_depth(const struct cs_scene *sc, double h0, double dz, double t)
 {
-	double H = sc->haze_scale_height_m, b = sc->haze_beta0_per_m * exp(-h0 / H);
+	double H = sc->haze_scale_height_m;
+	if (!(sc->haze_beta0_per_m > 0.0) || !(H > 0.0))
+		return 0.0;
+	double b = sc->haze_beta0_per_m * exp(-h0 / H);
 	if (fabs(dz) * t < 1e-3 * H)
 		return b * t;
 	double x = -dz * t / H;

@@ -87,8 +87,8 @@ CS_HD static void haze_to(const struct ray_ctx *c, struct path *P, double t)
 		double t1 = P->t_haze + c->shaft_dt;
 		t1 = t1 < t ? t1 : t;
 		cs_v3 p = v3_mad(c->o, c->d, 0.5 * (P->t_haze + t1));
-		/* a coarse light march (mask 0: a third of the light steps in
-		 * every layer) is enough for a shadow seen through haze */
+		/* the full light march: a coarse one (a third of the steps)
+		 * drew false shadows through thick stratocumulus */
 		double ts = (c->sc->effects & CS_FX_SUN) ? exp(-cs_light_depth(c->sc, c->s, p, ~0u, c->st))
 							 : 1.0;
 		haze_step(c, P, t1, ts);
@@ -238,7 +238,7 @@ CS_HD static void cloud_ambient(const struct cs_scene *sc, int li, double hb,
  * scattering coefficient ss: the sun through the light march, with the
  * multiple-scattering octaves (Wrenninge 2013: scattering a^k, extinction
  * b^k, eccentricity c^k, a = b = c = 0.5), and the diffuse light inside
- * the (lowest) layer li of this crossing. */
+ * layer li, the one with the most extinction at the sample. */
 CS_HD static void sample_source(const struct ray_ctx *c, cs_v3 p, double alt,
 				unsigned mask, int li, double ss, double S[3])
 {
@@ -296,9 +296,7 @@ CS_HD static void march_crossing(const struct ray_ctx *c, double t0, double t1,
 {
 	const struct cs_scene *sc = c->sc;
 	c->st->layer_crossings++;
-	int amb = 0; /* the layer whose diffuse light the samples see */
-	while (amb + 1 < sc->nlayers && !(mask & (1u << amb)))
-		amb++;
+	int amb = 0; /* the layer a sample is in: the one with most extinction there */
 	double len = t1 - t0;
 	double steps = ceil(len / crossing_step(sc, c->s, mask));
 	int ns = steps < 1.0 ? 1 : steps > c->s->max_steps ? c->s->max_steps : (int)steps;
@@ -307,7 +305,7 @@ CS_HD static void march_crossing(const struct ray_ctx *c, double t0, double t1,
 		double t = t0 + (j + c->jitter_u) * dt;
 		cs_v3 p = v3_mad(c->o, c->d, t);
 		double alt = cs_scene_altitude(sc, p);
-		double sigma = cs_extinction_at(sc, mask, p, alt);
+		double sigma = cs_extinction_at(sc, mask, p, alt, &amb);
 		c->st->density_samples++;
 		if (sigma <= 0.0)
 			continue;

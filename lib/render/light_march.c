@@ -31,13 +31,16 @@ CS_HD int cs_shell_intervals(const struct cs_scene *sc, cs_v3 o, cs_v3 d,
 }
 
 CS_HD double cs_extinction_at(const struct cs_scene *sc, unsigned mask, cs_v3 p,
-			      double alt)
+			      double alt, int *dominant)
 {
-	double sigma = 0.0;
+	double sigma = 0.0, most = 0.0;
 	for (int i = 0; i < sc->nlayers; i++)
-		if (mask & (1u << i))
-			sigma += cs_cloud_extinction(&sc->layers[i], sc->noise, p.x,
-						     p.y, alt);
+		if (mask & (1u << i)) {
+			double e = cs_cloud_extinction(&sc->layers[i], sc->noise, p.x, p.y, alt);
+			sigma += e;
+			if (e > most)
+				most = e, *dominant = i;
+		}
 	return sigma;
 }
 

@@ -14,9 +14,10 @@ CS_HD int cs_shell_intervals(const struct cs_scene *sc, cs_v3 o, cs_v3 d,
 			     double r_in, double r_out, double tmax,
 			     double iv[2][2]);
 
-/* Sum of the extinction (1/m) of the layers in mask at p (altitude alt). */
+/* Sum of the extinction (1/m) of the layers in mask at p (altitude alt);
+ * *dominant gets the layer with the most of it (untouched where none). */
 CS_HD double cs_extinction_at(const struct cs_scene *sc, unsigned mask, cs_v3 p,
-			      double alt);
+			      double alt, int *dominant);
 
 /* Optical depth of the clouds from p toward the sun (light_march.c). */
 CS_HD double cs_light_depth(const struct cs_scene *sc,

@@ -54,15 +54,24 @@ void cs_irradiance_at(const struct cs_scene *sc, const struct cs_render_settings
 			double cos_t = sqrt(1.0 - sin_t * sin_t);
 			cs_v3 d = v3_add(v3_scale(up, cos_t),
 					 v3_add(v3_scale(e, sin_t * cos(phi)), v3_scale(n, sin_t * sin(phi))));
-			if (v3_dot(d, sc->sun_dir) > 0.99996) /* within 0.5 deg: not the disk */
-				d = v3_norm(v3_mad(d, up, 0.02));
+			if (v3_dot(d, sc->sun_dir) > cos(0.5 * CS_PI / 180.0)) {
+				/* within 0.5 deg of the sun: 1 deg away from it,
+				 * out of its disc (the beam is DNI's) */
+				cs_v3 a = v3_sub(d, v3_scale(sc->sun_dir, v3_dot(d, sc->sun_dir)));
+				a = v3_len(a) > 1e-9 ? v3_norm(a) : e;
+				double r1 = CS_PI / 180.0;
+				d = v3_norm(v3_add(v3_scale(sc->sun_dir, cos(r1)), v3_scale(a, sin(r1))));
+			}
 			struct cs_ray_result r;
 			cs_render_ray(sc, s, p, d, 0.5, st, &r);
 			sum += luminance(r.rgb);
 		}
 	double dhi_klux = CS_PI * sum / (N_THETA * N_PHI);
 	double el = asin(mu0 < -1.0 ? -1.0 : mu0 > 1.0 ? 1.0 : mu0) * 180.0 / CS_PI;
-	double clear = sc->deck.on ? sc->deck.direct_below : 1.0;
+	/* the share of clear sky: the beam's area mean through the clouds,
+	 * taken vertically (a low sun would count thin cloud as overcast) */
+	double clear = sc->deck.on && sc->deck.mu0 > 0.0 ? pow(sc->deck.direct_below, sc->deck.mu0)
+							  : sc->deck.on ? 0.0 : 1.0;
 	out->dni_w_m2 = dni_klux * 1000.0 / cs_beam_efficacy_lm_w(el);
 	out->dhi_w_m2 = dhi_klux * 1000.0 / cs_diffuse_efficacy_lm_w(clear);
 	out->ghi_w_m2 = out->dni_w_m2 * (mu0 > 0.0 ? mu0 : 0.0) + out->dhi_w_m2;

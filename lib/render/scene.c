@@ -174,8 +174,11 @@ static void build_precipitation(struct cs_scene *sc, const struct cs_wx *wx)
 		return;
 	int convective = wx->convective_mm_h > 0.5 * wx->precipitation_mm_h;
 	double top = INFINITY, cover = 0.0;
+	/* the site's own layers (rain comes from the weather site alone),
+	 * not one resting on the ground */
 	for (int i = 0; i < sc->nlayers; i++)
-		if (rains(sc->layers[i].genus, convective) && sc->layers[i].base_m < top) {
+		if (sc->layers[i].site < 0 && sc->layers[i].base_m > sc->ground_alt_m + 1.0 &&
+		    rains(sc->layers[i].genus, convective) && sc->layers[i].base_m < top) {
 			top = sc->layers[i].base_m;
 			cover = sc->layers[i].coverage;
 			sc->rain_layer = i;

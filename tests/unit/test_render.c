@@ -912,6 +912,35 @@ static void renderer_reflectance_against_monte_carlo(void)
 	}
 }
 
+/* The diffuse irradiance never takes in the sun's disc: with the sun just
+ * above one of the hemisphere's sample directions (the case that once
+ * nudged a ray into the disc, 2e5 W/m^2), over a sweep of elevations at a
+ * sample's azimuth, a clear sky's DHI stays that of a sky (< 500 W/m^2)
+ * and varies smoothly. */
+static void diffuse_irradiance_never_sees_the_sun_disc(void)
+{
+	struct cs_wx wx;
+	cs_wx_default(&wx);
+	wx.nlayers = 0;
+	static struct cs_scene sc;
+	CHECK(cs_scene_build(&sc, &wx, wx.time_utc, &noise) == CS_OK);
+	struct cs_render_settings s;
+	cs_render_quality("low", &s);
+	double phi = CS_PI / 24.0, last = -1.0;
+	for (double el = 55.0; el <= 80.0; el += 0.05) {
+		double e = el * CS_PI / 180.0;
+		sc.sun_dir = v3(cos(e) * cos(phi), cos(e) * sin(phi), sin(e));
+		cs_sky_init(&sc.sky, sc.sun_dir, 3.0);
+		struct cs_irradiance irr;
+		struct cs_render_stats st = {0};
+		cs_irradiance_at(&sc, &s, v3(0.0, 0.0, wx.site.alt_m + 2.0), &irr, &st);
+		CHECK(irr.dhi_w_m2 > 0.0 && irr.dhi_w_m2 < 500.0);
+		if (last > 0.0)
+			CHECK(fabs(irr.dhi_w_m2 - last) < 0.05 * last);
+		last = irr.dhi_w_m2;
+	}
+}
+
 int main(void)
 {
 	if (cs_volume_new(&noise, 32, 32) != CS_OK ||
@@ -919,6 +948,7 @@ int main(void)
 		return 1;
 	RUN(slab_transmittance_is_beer_lambert);
 	RUN(thick_slab_transmits_like_one_over_tau);
+	RUN(diffuse_irradiance_never_sees_the_sun_disc);
 	RUN(deck_transmittance_matches_a_monte_carlo_slab);
 	RUN(renderer_reflectance_against_monte_carlo);
 	RUN(thunderstorm_has_no_speckles);
