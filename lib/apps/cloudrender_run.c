@@ -378,6 +378,8 @@ int cs_cloudrender_run(const struct cs_cloudrender_opts *o, struct cs_cloudrende
 		rc = cs_error(CS_ENOMEM, "out of memory for a %dx%d image", o->width, o->height);
 	if (rc == CS_OK && (rc = cs_scene_build(sc, &r->wx, r->wx.time_utc, &noise)) == CS_OK)
 		r->scene = sc;
+	if (rc == CS_OK && r->settings.haze_steps == 0) /* asked for their mean only */
+		sc->effects &= ~(unsigned)CS_FX_SHAFTS;
 	if (rc == CS_OK)
 		rc = load_terrain(o, r, sc, &g);
 	if (rc == CS_OK)
