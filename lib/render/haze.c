@@ -6,19 +6,17 @@
 
 #include <math.h>
 
-/* The light the haze scatters toward the eye along d, in two parts.  In a
- * clear sky it is the sky's radiance at the same azimuth and the same angle
- * from the horizon, looking up (for a plane-parallel haze layer the path
- * looking down at an angle sees what the path looking up at it sees), at
- * least 1 degree up.  Of that, the clear dome's cosine-mean radiance is
- * what an isotropic dome scatters back (dome); the rest is the sun's
- * (sun), which a cloud's shadow takes away.  Under clouds the dome is the
- * grey light they let through. */
-CS_HD void cs_haze_light(const struct cs_scene *sc, cs_v3 d, double sun[3],
-			 double dome[3])
+/* The light the haze scatters toward the eye along d under a clear sky:
+ * the sky's radiance at the same azimuth and the same angle from the
+ * horizon, looking up (for a plane-parallel haze layer the path looking
+ * down at an angle sees what the path looking up at it sees), at least 1
+ * degree up.  Of that, what exceeds the clear dome's cosine-mean radiance
+ * (which an isotropic dome scatters back) is the sun's part, which a
+ * cloud's shadow takes away. */
+CS_HD void cs_haze_light(const struct cs_scene *sc, cs_v3 d, double clear[3], double sun[3])
 {
 	for (int k = 0; k < 3; k++)
-		sun[k] = dome[k] = 0.0;
+		clear[k] = sun[k] = 0.0;
 	if (!(sc->effects & CS_FX_SKY))
 		return;
 	double up = fabs(d.z) > 0.0175 ? fabs(d.z) : 0.0175;
@@ -30,13 +28,10 @@ CS_HD void cs_haze_light(const struct cs_scene *sc, cs_v3 d, double sun[3],
 	} else {
 		dir.x = sqrt(1.0 - up * up);
 	}
-	double clear[3];
 	cs_scene_sky(sc, dir, clear);
-	const double *dm = sc->deck.on ? sc->deck.sky_below : sc->ambient_up;
 	for (int k = 0; k < 3; k++) {
 		double s = clear[k] - sc->ambient_up[k];
 		sun[k] = s > 0.0 ? s : 0.0;
-		dome[k] = sc->deck.on ? dm[k] : clear[k] - sun[k];
 	}
 }
 

@@ -404,18 +404,16 @@ CS_HD void cs_render_ray(const struct cs_scene *sc, const struct cs_render_setti
 	c.haze = (sc->effects & CS_FX_HAZE) &&
 		 (sc->haze_beta0_per_m > 0.0 || sc->fog_beta_per_m > 0.0);
 	if (c.haze) {
-		double sun[3], dome[3];
 		c.h0 = cs_scene_altitude(sc, o);
 		c.dz = v3_dot(d, v3_norm(v3(o.x, o.y, o.z + sc->earth_radius_m)));
-		cs_haze_light(sc, d, sun, dome);
+		cs_haze_light(sc, d, c.hclear, c.hsun);
 		c.tsun = sc->deck.on ? sc->deck.direct_below : 1.0;
 		/* fog droplets are grey and their light diffuse: the radiance
 		 * of the light from above, the sun's beam and the dome */
 		double sun_h = (sc->effects & CS_FX_SUN) && sc->sun_dir.z > 0.0 ? sc->sun_dir.z : 0.0;
 		const double *dm = sc->deck.on ? sc->deck.sky_below : sc->ambient_up;
 		for (int k = 0; k < 3; k++) {
-			c.hsun[k] = sun[k], c.hdome[k] = dome[k];
-			c.hclear[k] = sun[k] + sc->ambient_up[k];
+			c.hdome[k] = sc->deck.on ? dm[k] : c.hclear[k] - c.hsun[k];
 			c.fsun[k] = sc->sun_illuminance[k] * sun_h / CS_PI, c.fdome[k] = dm[k];
 		}
 		if ((sc->effects & CS_FX_SHAFTS) && s->haze_steps > 0)

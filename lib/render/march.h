@@ -25,11 +25,10 @@ CS_HD double cs_light_depth(const struct cs_scene *sc,
 			    unsigned mask, struct cs_render_stats *st);
 
 /* Aerial perspective (haze.c): the radiance the haze scatters toward the
- * eye along d, the sun's part (to be multiplied by the sun's transmittance
- * through the clouds) and the dome's, and the haze optical depth over
- * distance t from altitude h0 with vertical direction component dz. */
-CS_HD void cs_haze_light(const struct cs_scene *sc, cs_v3 d, double sun[3],
-			 double dome[3]);
+ * eye along d under a clear sky and, of it, the sun's part (which the
+ * clouds' shadows take away); the haze optical depth over distance t from
+ * altitude h0 with vertical direction component dz. */
+CS_HD void cs_haze_light(const struct cs_scene *sc, cs_v3 d, double clear[3], double sun[3]);
 CS_HD double cs_haze_depth(const struct cs_scene *sc, double h0, double dz,
 			   double t);
 /* Fog optical depth over distance t (flat Earth): the part of the path

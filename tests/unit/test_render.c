@@ -941,6 +941,39 @@ static void diffuse_irradiance_never_sees_the_sun_disc(void)
 	}
 }
 
+/* Under a clear sky the sky's radiance already holds the haze of the path:
+ * a ray into the open sky through haze (and through a cloud's shafts
+ * machinery with nothing to shade) returns exactly the sky model's radiance,
+ * in every channel, whether the horizon there is brighter or darker than
+ * the dome's mean. */
+static void clear_sky_rays_are_the_sky_model(void)
+{
+	static struct cs_scene sc;
+	memset(&sc, 0, sizeof sc);
+	sc.earth_radius_m = CS_EARTH_RADIUS_M;
+	double e = 20.0 * CS_PI / 180.0;
+	sc.sun_dir = v3(cos(e), 0.0, sin(e));
+	cs_sky_init(&sc.sky, sc.sun_dir, 3.0);
+	memcpy(sc.sun_illuminance, sc.sky.sun_illuminance, sizeof sc.sun_illuminance);
+	memcpy(sc.ambient_up, sc.sky.ambient_up, sizeof sc.ambient_up);
+	sc.effects = CS_FX_SUN | CS_FX_SKY | CS_FX_HAZE | CS_FX_SHAFTS;
+	sc.haze_scale_height_m = 1200.0;
+	sc.haze_beta0_per_m = 3.912 / 8000.0;
+	struct cs_render_settings s = plain(8, 4);
+	s.haze_steps = 16;
+	for (int a = 0; a < 12; a++) {
+		double az = a * CS_PI / 6.0, el = (a % 3) * 0.02;
+		cs_v3 d = v3(cos(el) * cos(az), cos(el) * sin(az), sin(el));
+		struct cs_ray_result r;
+		trace(&sc, &s, v3(0.0, 0.0, 2.0), d, &r);
+		double sky[3], disk[3];
+		cs_sky_radiance(&sc.sky, d, sky);
+		cs_sky_sun_disk(&sc.sky, d, disk);
+		for (int k = 0; k < 3; k++)
+			CHECK_NEAR(r.rgb[k], sky[k] + disk[k], 1e-9 * (sky[k] + disk[k]));
+	}
+}
+
 int main(void)
 {
 	if (cs_volume_new(&noise, 32, 32) != CS_OK ||
@@ -948,6 +981,7 @@ int main(void)
 		return 1;
 	RUN(slab_transmittance_is_beer_lambert);
 	RUN(thick_slab_transmits_like_one_over_tau);
+	RUN(clear_sky_rays_are_the_sky_model);
 	RUN(diffuse_irradiance_never_sees_the_sun_disc);
 	RUN(deck_transmittance_matches_a_monte_carlo_slab);
 	RUN(renderer_reflectance_against_monte_carlo);
