@@ -122,7 +122,7 @@ static void print_stats(const struct cs_cloudrender_opts *o,
 			r->cloud_fraction_alpha);
 	fprintf(stderr, ",\"effects\":[");
 	int first = 1;
-	unsigned fx = sc ? cs_effects_reported(sc->effects) : 0;
+	unsigned fx = sc ? sc->effects : 0;
 	for (int b = 0; sc && cs_effect_name(1u << b); b++)
 		if (fx & (1u << b)) {
 			fprintf(stderr, "%s\"%s\"", first ? "" : ",", cs_effect_name(1u << b));

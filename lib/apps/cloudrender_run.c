@@ -163,7 +163,7 @@ static int sky_imager(const struct cs_camera *cam, const struct cs_scene *sc, co
 			if (!cs_camera_ray(cam, i, j, &d) ||
 			    v3_dot(d, cam->zenith) < sin(CS_SKY_MIN_ELEVATION_DEG * CS_PI / 180.0))
 				continue;
-			if ((sc->effects & CS_FX_SUN) && v3_dot(d, sc->sun_dir) > cos(8.0 * CS_PI / 180.0))
+			if ((sc->effects & CS_FX_KEY) && v3_dot(d, sc->sun_dir) > cos(8.0 * CS_PI / 180.0))
 				continue;
 			if (p[3] <= 0.0f && p[4] < 0.5f * (float)CS_SKY_DEPTH_M)
 				continue; /* ground or terrain */

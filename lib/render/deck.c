@@ -70,7 +70,7 @@ void cs_scene_deck_light(struct cs_scene *sc)
 		return;
 	d->on = 1;
 	d->g = CS_CLOUD_G;
-	int sun = (sc->effects & CS_FX_SUN) && sc->sun_dir.z > 0.0;
+	int sun = (sc->effects & CS_FX_KEY) && sc->sun_dir.z > 0.0;
 	d->mu0 = sun ? sc->sun_dir.z : 0.0;
 	double e_sun_h[3], e_sky[3];
 	for (int c = 0; c < 3; c++) {

@@ -114,7 +114,7 @@ CS_HD void cs_ground_light(const struct cs_scene *sc,
 		alb[c] *= sc->ground_wet > 0.0 ? sc->ground_wet : 1.0;
 	double cosi = v3_dot(n, sc->sun_dir);
 	double direct = 0.0;
-	if ((sc->effects & CS_FX_SUN) && cosi > 0.0) {
+	if ((sc->effects & CS_FX_KEY) && cosi > 0.0) {
 		if (on_terrain)
 			self = terrain_shadow(sc->terrain, p, sc->sun_dir);
 		double T = (sc->effects & CS_FX_CLOUD_SHADOWS) && self > 0.0

@@ -89,7 +89,7 @@ CS_HD static void haze_to(const struct ray_ctx *c, struct path *P, double t)
 		cs_v3 p = v3_mad(c->o, c->d, 0.5 * (P->t_haze + t1));
 		/* the full light march: a coarse one (a third of the steps)
 		 * drew false shadows through thick stratocumulus */
-		double ts = (c->sc->effects & CS_FX_SUN) ? exp(-cs_light_depth(c->sc, c->s, p, ~0u, c->st))
+		double ts = (c->sc->effects & CS_FX_KEY) ? exp(-cs_light_depth(c->sc, c->s, p, ~0u, c->st))
 							 : 1.0;
 		haze_step(c, P, t1, ts);
 	}
@@ -244,7 +244,7 @@ CS_HD static void sample_source(const struct ray_ctx *c, cs_v3 p, double alt,
 {
 	const struct cs_scene *sc = c->sc;
 	S[0] = S[1] = S[2] = 0.0;
-	if (sc->effects & CS_FX_SUN) {
+	if (sc->effects & CS_FX_KEY) {
 		double tau = cs_light_depth(sc, c->s, p, mask, c->st);
 		double w = 0.0, a = 1.0, b = 1.0;
 		for (int k = 0; k < c->s->ms_octaves; k++) {
@@ -410,7 +410,7 @@ CS_HD void cs_render_ray(const struct cs_scene *sc, const struct cs_render_setti
 		c.tsun = sc->deck.on ? sc->deck.direct_below : 1.0;
 		/* fog droplets are grey and their light diffuse: the radiance
 		 * of the light from above, the sun's beam and the dome */
-		double sun_h = (sc->effects & CS_FX_SUN) && sc->sun_dir.z > 0.0 ? sc->sun_dir.z : 0.0;
+		double sun_h = (sc->effects & CS_FX_KEY) && sc->sun_dir.z > 0.0 ? sc->sun_dir.z : 0.0;
 		const double *dm = sc->deck.on ? sc->deck.sky_below : sc->ambient_up;
 		for (int k = 0; k < 3; k++) {
 			c.hdome[k] = sc->deck.on ? dm[k] : c.hclear[k] - c.hsun[k];

@@ -81,7 +81,7 @@ CS_HD double cs_render_sun_transmittance(const struct cs_scene *sc,
 				   const struct cs_render_settings *s, cs_v3 p,
 				   struct cs_render_stats *st)
 {
-	if (!(sc->effects & CS_FX_SUN) || sc->nlayers == 0)
+	if (!(sc->effects & CS_FX_KEY) || sc->nlayers == 0)
 		return 1.0;
 	return exp(-cs_light_depth(sc, s, p, (1u << sc->nlayers) - 1u, st));
 }

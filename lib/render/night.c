@@ -43,7 +43,7 @@ void cs_scene_night(struct cs_scene *sc, double time_utc, double lat_deg, double
 		sc->ambient_up[k] += sc->moon_sky.ambient_up[k] * sc->moon_scale;
 		sc->ambient_down[k] += sc->moon_sky.ambient_down[k] * sc->moon_scale;
 	}
-	sc->effects |= CS_FX_SUN | CS_FX_MOON;
+	sc->effects |= CS_FX_MOON;
 }
 
 CS_HD void cs_scene_sky(const struct cs_scene *sc, cs_v3 d, double rgb[3])

@@ -58,8 +58,3 @@ const char *cs_effect_name(unsigned bit)
 	return NULL;
 }
 
-unsigned cs_effects_reported(unsigned effects)
-{
-	/* at night the key light is the Moon: "moon", not "sun" */
-	return (effects & CS_FX_MOON) ? effects & ~(unsigned)CS_FX_SUN : effects;
-}

@@ -44,7 +44,7 @@ void cs_irradiance_at(const struct cs_scene *sc, const struct cs_render_settings
 	cs_v3 n = v3_cross(up, e);
 	double mu0 = v3_dot(sc->sun_dir, up);
 	double dni_klux = 0.0;
-	if ((sc->effects & CS_FX_SUN) && mu0 > 0.0)
+	if ((sc->effects & CS_FX_KEY) && mu0 > 0.0)
 		dni_klux = luminance(sc->sun_illuminance) * cs_render_sun_transmittance(sc, s, p, st);
 	/* cosine-weighted stratified directions: E = pi x their mean radiance */
 	double sum = 0.0;

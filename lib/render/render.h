@@ -62,8 +62,10 @@ enum {
 	CS_FX_SNOW = 1024,       /* falling snow (with or instead of rain) */
 	CS_FX_HALO = 2048,       /* the 22-degree halo in cirrostratus */
 	CS_FX_SHAFTS = 4096,     /* clouds' shadows in the haze: crepuscular rays */
-	CS_FX_MOON = 8192,       /* the Moon is the key light (with CS_FX_SUN) */
-	CS_FX_STARS = 16384      /* stars in the clear night sky */
+	CS_FX_MOON = 8192,       /* the Moon is the key light (the sun is down) */
+	CS_FX_STARS = 16384,     /* stars in the clear night sky */
+	/* the key light, sun_dir and sun_illuminance: the sun or the Moon */
+	CS_FX_KEY = CS_FX_SUN | CS_FX_MOON
 };
 
 /* How far along a ray the clouds' shadows in the haze are sampled, m;
@@ -96,8 +98,6 @@ enum {
 /* The name of one effect bit as --stats prints it ("sun", "deck"...), or
  * NULL past the last. */
 const char *cs_effect_name(unsigned bit);
-/* The effects as reported: the key light is named "moon" at night. */
-unsigned cs_effects_reported(unsigned effects);
 
 /* The light under and inside the cloud layers (deck.c), from the
  * two-stream transmittance of the layers' column optical depths over an
@@ -167,7 +167,7 @@ double cs_rain_extinction(double rate_mm_h);
 double cs_snow_extinction(double rate_mm_h);
 
 /* The night (night.c): with the sun below -6 deg and the Moon up, the
- * Moon becomes the key light (sun_dir, sun_illuminance; ambient light
+ * Moon becomes the key light (CS_FX_MOON, sun_dir, sun_illuminance; ambient light
  * gains the moonlit sky); below -12 deg the stars come out.  Call after
  * the sky and ambient light are set. */
 void cs_scene_night(struct cs_scene *sc, double time_utc, double lat_deg, double lon_deg,

@@ -134,9 +134,9 @@ static int build_light(struct cs_scene *sc, const struct cs_wx *wx, double time_
 		sc->effects |= CS_FX_SUN;
 	cs_scene_night(sc, time_utc, wx->site.lat_deg, wx->site.lon_deg,
 		       sun.apparent_elevation_deg, sky_t);
-	if ((sc->effects & CS_FX_SUN) && sc->nlayers > 0)
+	if ((sc->effects & CS_FX_KEY) && sc->nlayers > 0)
 		sc->effects |= CS_FX_CLOUD_SHADOWS;
-	for (int i = 0; i < sc->nlayers && (sc->effects & CS_FX_SUN); i++)
+	for (int i = 0; i < sc->nlayers && (sc->effects & CS_FX_KEY); i++)
 		if (sc->layers[i].genus == CS_CIRROSTRATUS)
 			sc->effects |= CS_FX_HALO;
 	cs_scene_deck_light(sc);
@@ -153,7 +153,7 @@ static void build_air(struct cs_scene *sc, const struct cs_wx *wx)
 	sc->haze_scale_height_m = 1200.0;
 	sc->haze_beta0_per_m = 3.912 / vis_air * exp(wx->site.alt_m / 1200.0);
 	sc->effects |= CS_FX_HAZE;
-	if ((sc->effects & CS_FX_SUN) && sc->nlayers > 0 &&
+	if ((sc->effects & CS_FX_KEY) && sc->nlayers > 0 &&
 	    sc->sun_dir.z < sin(CS_SHAFTS_MAX_ELEVATION_DEG * CS_PI / 180.0))
 		sc->effects |= CS_FX_SHAFTS;
 	if (wx->visibility_m < CS_FOG_VISIBILITY_M) {

@@ -776,8 +776,7 @@ static void moon_and_stars_only_at_night(void)
 	double t;
 	CHECK(cs_time_parse("2024-10-17T23:00:00Z", &t) == CS_OK);
 	CHECK(cs_scene_build(&sc, &wx, t, &noise) == CS_OK);
-	CHECK((sc.effects & CS_FX_MOON) && (sc.effects & CS_FX_SUN) && (sc.effects & CS_FX_STARS));
-	CHECK(!(cs_effects_reported(sc.effects) & CS_FX_SUN));
+	CHECK((sc.effects & CS_FX_MOON) && !(sc.effects & CS_FX_SUN) && (sc.effects & CS_FX_STARS));
 	double y_sun = 0.2126 * sc.sun_illuminance[0] + 0.7152 * sc.sun_illuminance[1] +
 		       0.0722 * sc.sun_illuminance[2];
 	double y_sky = 0.2126 * sc.ambient_up[0] + 0.7152 * sc.ambient_up[1] +
