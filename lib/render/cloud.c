@@ -179,6 +179,17 @@ CS_HD double cs_cloud_extinction(const struct cs_cloud_layer *l,
 	return extinction_aw(l, noise, along, across, alt_m, h, thr);
 }
 
+CS_HD double cs_cloud_column(const struct cs_cloud_layer *l, const struct cs_volume *noise,
+			     double x, double y, double z0_m, double z1_m, int steps)
+{
+	double dz = (z1_m - z0_m) / steps, tau = 0.0;
+	if (!(dz > 0.0))
+		return 0.0;
+	for (int k = 0; k < steps; k++)
+		tau += cs_cloud_extinction(l, noise, x, y, z0_m + (k + 0.5) * dz) * dz;
+	return tau;
+}
+
 /* Fraction of a grid over one whole base tile (the field's period), at the
  * middle of the profile's plateau, that is cloud. */
 enum { CAL_N = 48 };

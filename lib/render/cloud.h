@@ -101,4 +101,9 @@ CS_HD double cs_cloud_extinction(const struct cs_cloud_layer *l,
 			   const struct cs_volume *noise, double x, double y,
 			   double alt_m);
 
+/* Vertical optical depth of layer l in the column at (x, y) from altitude
+ * z0_m to z1_m: steps midpoint samples (0 when z1_m <= z0_m). */
+CS_HD double cs_cloud_column(const struct cs_cloud_layer *l, const struct cs_volume *noise,
+			     double x, double y, double z0_m, double z1_m, int steps);
+
 #endif

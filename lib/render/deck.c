@@ -34,16 +34,6 @@ CS_HD double cs_slab_transmittance(double tau, double g)
 	return t > direct ? t : direct;
 }
 
-/* Vertical optical depth of layer l in the column at (x, y). */
-static double column_tau(const struct cs_scene *sc, const struct cs_cloud_layer *l,
-			 double x, double y)
-{
-	double dz = (l->top_m - l->base_m) / COL_STEPS, tau = 0.0;
-	for (int k = 0; k < COL_STEPS; k++)
-		tau += cs_cloud_extinction(l, sc->noise, x, y, l->base_m + (k + 0.5) * dz) * dz;
-	return tau;
-}
-
 /* The light on a horizontal plane under a column of optical depth tau:
  * the sun's beam (klux, per unit of e_sun_h) and the diffuse part. */
 static void under(const struct cs_deck *d, double tau, const double e_sun_h[3],
@@ -85,7 +75,9 @@ void cs_scene_deck_light(struct cs_scene *sc)
 			double y = ((jy + 0.5) / COLS - 0.5) * AREA_M;
 			double tau[CS_SCENE_MAX_LAYERS], total = 0.0, beam, dif[3];
 			for (int i = 0; i < n; i++) {
-				tau[i] = column_tau(sc, &sc->layers[i], x, y);
+				const struct cs_cloud_layer *l = &sc->layers[i];
+				tau[i] = cs_cloud_column(l, sc->noise, x, y, l->base_m, l->top_m,
+							 COL_STEPS);
 				total += tau[i];
 				if (tau[i] > 0.05)
 					d->tau_in[i] += tau[i], incloud[i]++;

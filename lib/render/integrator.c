@@ -194,23 +194,6 @@ CS_HD static void march_rain(const struct ray_ctx *c, const struct interval *iv,
 	}
 }
 
-/* Optical depth from p straight up to the top of layer li: the local
- * column that shades the diffuse light from above, so a cloud base is
- * darker under thick parts and lighter under thin ones. */
-CS_HD static double column_above(const struct ray_ctx *c, cs_v3 p, double alt, int li)
-{
-	const struct cs_scene *sc = c->sc;
-	const struct cs_cloud_layer *l = &sc->layers[li];
-	int n = c->s->light_steps / 2 > 2 ? c->s->light_steps / 2 : 2;
-	double dz = (l->top_m - alt) / n, tau = 0.0;
-	if (!(dz > 0.0))
-		return 0.0;
-	for (int j = 0; j < n; j++)
-		tau += cs_cloud_extinction(l, sc->noise, p.x, p.y, alt + (j + 0.5) * dz) * dz;
-	c->st->light_samples += (uint64_t)n;
-	return tau;
-}
-
 /* The diffuse light inside layer li at relative height hb (0 base, 1 top),
  * cosine-mean radiance: clear-sky ambient brightening toward the top
  * without the deck model; with it, what reaches the layer's top through
@@ -267,7 +250,15 @@ CS_HD static void sample_source(const struct ray_ctx *c, cs_v3 p, double alt,
 		const struct cs_cloud_layer *l = &sc->layers[li];
 		double hb = (alt - l->base_m) / (l->top_m - l->base_m), A[3];
 		hb = hb < 0.0 ? 0.0 : hb > 1.0 ? 1.0 : hb;
-		cloud_ambient(sc, li, hb, sc->deck.on ? column_above(c, p, alt, li) : 0.0, A);
+		/* the local column above the point shades the light from above,
+		 * so a base is darker under thick parts */
+		double tau_above = 0.0;
+		if (sc->deck.on) {
+			int n = c->s->light_steps / 2 > 2 ? c->s->light_steps / 2 : 2;
+			tau_above = cs_cloud_column(l, sc->noise, p.x, p.y, alt, l->top_m, n);
+			c->st->light_samples += alt < l->top_m ? (uint64_t)n : 0u;
+		}
+		cloud_ambient(sc, li, hb, tau_above, A);
 		for (int k = 0; k < 3; k++)
 			S[k] += ss * A[k];
 	}
