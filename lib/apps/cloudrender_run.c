@@ -155,15 +155,16 @@ static int sky_imager(const struct cs_camera *cam, const struct cs_scene *sc, co
 	if (use == NULL)
 		return cs_error(CS_ENOMEM, "out of memory");
 	long opaque = 0;
+	double min_up = sin(CS_SKY_MIN_ELEVATION_DEG * CS_PI / 180.0);
+	double shade = cos(8.0 * CS_PI / 180.0); /* the imager's sun shade */
 	for (int j = 0; j < cam->height; j++)
 		for (int i = 0; i < cam->width; i++) {
 			size_t k = (size_t)j * cam->width + i;
 			const float *p = px + k * 5;
 			cs_v3 d;
-			if (!cs_camera_ray(cam, i, j, &d) ||
-			    v3_dot(d, cam->zenith) < sin(CS_SKY_MIN_ELEVATION_DEG * CS_PI / 180.0))
+			if (!cs_camera_ray(cam, i, j, &d) || v3_dot(d, cam->zenith) < min_up)
 				continue;
-			if ((sc->effects & CS_FX_KEY) && v3_dot(d, sc->sun_dir) > cos(8.0 * CS_PI / 180.0))
+			if ((sc->effects & CS_FX_KEY) && v3_dot(d, sc->sun_dir) > shade)
 				continue;
 			if (p[3] <= 0.0f && p[4] < 0.5f * (float)CS_SKY_DEPTH_M)
 				continue; /* ground or terrain */

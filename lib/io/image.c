@@ -1,5 +1,6 @@
 #include "io/image.h"
 
+#include "core/color.h"
 #include "core/err.h"
 #include "core/fileio.h"
 
@@ -97,7 +98,7 @@ double cs_auto_exposure_ev(const float *px, size_t stride, size_t n)
 	double sum = 0.0;
 	for (size_t i = 0; i < n; i++) {
 		const float *p = px + i * stride;
-		double y = 0.2126 * p[0] + 0.7152 * p[1] + 0.0722 * p[2];
+		double y = cs_luminance(p[0], p[1], p[2]);
 		sum += log(isfinite(y) && y > 1e-9 ? y : 1e-9);
 	}
 	double avg = n ? exp(sum / (double)n) : 1.0;

@@ -12,16 +12,12 @@
  * sun's beam that the clouds take away). */
 #include "render/march.h"
 
+#include "core/color.h"
 #include "core/err.h"
 
 #include <math.h>
 
 enum { N_THETA = 8, N_PHI = 24 };
-
-static double luminance(const double rgb[3])
-{
-	return 0.2126 * rgb[0] + 0.7152 * rgb[1] + 0.0722 * rgb[2];
-}
 
 double cs_beam_efficacy_lm_w(double elevation_deg)
 {
@@ -45,7 +41,7 @@ void cs_irradiance_at(const struct cs_scene *sc, const struct cs_render_settings
 	double mu0 = v3_dot(sc->sun_dir, up);
 	double dni_klux = 0.0;
 	if ((sc->effects & CS_FX_KEY) && mu0 > 0.0)
-		dni_klux = luminance(sc->sun_illuminance) * cs_render_sun_transmittance(sc, s, p, st);
+		dni_klux = cs_luminance(sc->sun_illuminance[0], sc->sun_illuminance[1], sc->sun_illuminance[2]) * cs_render_sun_transmittance(sc, s, p, st);
 	/* cosine-weighted stratified directions: E = pi x their mean radiance */
 	double sum = 0.0;
 	for (int i = 0; i < N_THETA; i++)
@@ -64,7 +60,7 @@ void cs_irradiance_at(const struct cs_scene *sc, const struct cs_render_settings
 			}
 			struct cs_ray_result r;
 			cs_render_ray(sc, s, p, d, 0.5, st, &r);
-			sum += luminance(r.rgb);
+			sum += cs_luminance(r.rgb[0], r.rgb[1], r.rgb[2]);
 		}
 	double dhi_klux = CS_PI * sum / (N_THETA * N_PHI);
 	double el = asin(mu0 < -1.0 ? -1.0 : mu0 > 1.0 ? 1.0 : mu0) * 180.0 / CS_PI;
