@@ -48,7 +48,13 @@ static void usage(void)
 	       "      --ms-octaves N     multiple-scattering octaves, 1 (single scattering)..4\n"
 	       "      --haze-steps N     samples of the clouds' shadows in the haze over\n"
 	       "                         the first 20 km (crepuscular rays), 0..10000;\n"
-	       "                         0: their area mean only\n"	       "      --no-ambient       no sky light on the clouds\n"
+	       "                         0: their area mean only\n"
+	       "      --integrator I     march (default): the fast ray march the quality\n"
+	       "                         settings tune; reference: an unbiased Monte Carlo\n"
+	       "                         path tracer (full multiple scattering, no haze)\n"
+	       "      --spp N            reference: paths per pixel, 1..1000000 (default 64)\n"
+	       "      --max-bounces N    reference: scattering events per path, 0 (no\n"
+	       "                         limit, the default)..1000000; 1: single scattering\n"	       "      --no-ambient       no sky light on the clouds\n"
 	       "      --no-jitter        sample at step midpoints (banding instead of noise)\n"
 	       "      --seed N           seed of the per-pixel jitter, 0..4294967295 (default 0)\n"
 	       "      --exposure EV|auto PNG exposure in stops, -20..20 (default 0), or auto:\n"
@@ -93,7 +99,8 @@ static void print_stats(const struct cs_cloudrender_opts *o,
 		"\"total\":%.3f},"
 		"\"pixels\":%llu,\"density_samples\":%llu,\"light_samples\":%llu,"
 		"\"rays_terminated_early\":%llu,\"layer_crossings\":%llu,\"terrain_cells\":%llu,"
-		"\"density_samples_per_pixel\":%.2f,\"density_samples_per_s\":%.0f,",
+		"\"density_samples_per_pixel\":%.2f,\"density_samples_per_s\":%.0f,"
+		"\"integrator\":\"%s\",",
 		when, o->width, o->height, o->quality, r->settings.steps,
 		r->settings.light_steps, r->settings.ms_octaves, r->exposure_ev, r->t_noise_s,
 		r->t_scene_s, r->t_render_s, r->t_write_s, total,
@@ -102,7 +109,12 @@ static void print_stats(const struct cs_cloudrender_opts *o,
 		(unsigned long long)s->rays_terminated_early,
 		(unsigned long long)s->layer_crossings, (unsigned long long)s->terrain_cells,
 		(double)s->density_samples / px,
-		r->t_render_s > 0 ? (double)s->density_samples / r->t_render_s : 0.0);
+		r->t_render_s > 0 ? (double)s->density_samples / r->t_render_s : 0.0,
+		o->reference ? "reference" : "march");
+	if (o->reference)
+		fprintf(stderr, "\"reference\":{\"spp\":%d,\"max_bounces\":%d,"
+			"\"relative_standard_error\":{\"median\":%.4f,\"p95\":%.4f}},",
+			o->spp, o->max_bounces, r->ref_rse_median, r->ref_rse_p95);
 	fprintf(stderr, "\"sun\":{\"azimuth_deg\":%.3f,\"elevation_deg\":%.3f},\"layers\":[",
 		r->sun_azimuth_deg, r->sun_elevation_deg);
 	const struct cs_scene *sc = r->scene;
@@ -149,7 +161,7 @@ enum {
 	OPT_CAMERA, OPT_LOOK, OPT_FOV, OPT_SIZE, OPT_QUALITY, OPT_STEPS,
 	OPT_LIGHT_STEPS, OPT_MS, OPT_NO_AMBIENT, OPT_NO_JITTER, OPT_SEED,
 	OPT_EXPOSURE, OPT_STATS, OPT_VERSION, OPT_TERRAIN, OPT_TERRAIN_COLOR,
-	OPT_PROJECTION, OPT_HAZE_STEPS,
+	OPT_PROJECTION, OPT_HAZE_STEPS, OPT_INTEGRATOR, OPT_SPP, OPT_MAX_BOUNCES,
 };
 
 int main(int argc, char **argv)
@@ -169,6 +181,9 @@ int main(int argc, char **argv)
 		{"fov", required_argument, NULL, OPT_FOV},
 		{"projection", required_argument, NULL, OPT_PROJECTION},
 		{"haze-steps", required_argument, NULL, OPT_HAZE_STEPS},
+		{"integrator", required_argument, NULL, OPT_INTEGRATOR},
+		{"spp", required_argument, NULL, OPT_SPP},
+		{"max-bounces", required_argument, NULL, OPT_MAX_BOUNCES},
 		{"size", required_argument, NULL, OPT_SIZE},
 		{"quality", required_argument, NULL, OPT_QUALITY},
 		{"steps", required_argument, NULL, OPT_STEPS},
@@ -264,6 +279,18 @@ int main(int argc, char **argv)
 			o.light_steps = (int)cli_long("--light-steps", optarg, 1, 10000);
 			break;
 		case OPT_MS: o.ms_octaves = (int)cli_long("--ms-octaves", optarg, 1, 4); break;
+		case OPT_INTEGRATOR:
+			if (strcmp(optarg, "march") == 0)
+				o.reference = 0;
+			else if (strcmp(optarg, "reference") == 0)
+				o.reference = 1;
+			else
+				cli_usage_error("--integrator: '%s' is not march or reference", optarg);
+			break;
+		case OPT_SPP: o.spp = (int)cli_long("--spp", optarg, 1, 1000000); break;
+		case OPT_MAX_BOUNCES:
+			o.max_bounces = (int)cli_long("--max-bounces", optarg, 0, 1000000);
+			break;
 		case OPT_NO_AMBIENT: o.no_ambient = 1; break;
 		case OPT_NO_JITTER: o.no_jitter = 1; break;
 		case OPT_SEED: o.seed = cli_long("--seed", optarg, 0, 4294967295L); break;

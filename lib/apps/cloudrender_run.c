@@ -2,11 +2,13 @@
 
 #include "io/skyclass.h"
 
+#include "core/color.h"
 #include "core/err.h"
 #include "core/geo.h"
 #include "io/exr.h"
 #include "io/image.h"
 #include "terrain/heightfield.h"
+#include "render/reference.h"
 #include "render/scene.h"
 #include "terrain/terrain.h"
 #include "astro/sun.h"
@@ -30,6 +32,7 @@ void cs_cloudrender_defaults(struct cs_cloudrender_opts *o)
 	cs_render_quality("medium", &o->settings);
 	o->seed = -1;
 	o->haze_steps = -1;
+	o->spp = 64;
 }
 
 void cs_cloudrender_settings(const struct cs_cloudrender_opts *o,
@@ -331,13 +334,50 @@ static int place_camera(const struct cs_cloudrender_opts *o, struct cs_cloudrend
 	return CS_OK;
 }
 
+static int cmp_double(const void *a, const void *b)
+{
+	double x = *(const double *)a, y = *(const double *)b;
+	return (x > y) - (x < y);
+}
+
+/* The reference integrator's frame, and how converged it is: the relative
+ * standard error of each pixel's mean luminance. */
+static int render_reference(const struct cs_cloudrender_opts *o, struct cs_cloudrender_result *r,
+			    const struct cs_scene *sc, const struct cs_camera *cam, float *px)
+{
+	size_t n = (size_t)cam->width * cam->height;
+	float *var = malloc(n * sizeof *var);
+	double *rse = malloc(n * sizeof *rse);
+	struct cs_reference_settings rs = {o->spp, r->settings.seed, o->max_bounces};
+	int rc = var && rse ? CS_OK : cs_error(CS_ENOMEM, "out of memory");
+	if (rc == CS_OK)
+		rc = cs_render_reference(sc, cam, &rs, o->threads, o->progress, o->progress_user,
+					 px, var, &r->stats);
+	size_t m = 0;
+	for (size_t i = 0; rc == CS_OK && i < n; i++) {
+		double y = cs_luminance(px[i * 5], px[i * 5 + 1], px[i * 5 + 2]);
+		if (y > 0.0)
+			rse[m++] = sqrt(var[i]) / y;
+	}
+	r->ref_rse_median = r->ref_rse_p95 = -1.0;
+	if (m > 0) {
+		qsort(rse, m, sizeof *rse, cmp_double);
+		r->ref_rse_median = rse[m / 2];
+		r->ref_rse_p95 = rse[(size_t)(0.95 * (double)(m - 1))];
+	}
+	free(var);
+	free(rse);
+	return rc;
+}
+
 /* The frame, what is measured on it, and the outputs. */
 static int render_and_write(const struct cs_cloudrender_opts *o, struct cs_cloudrender_result *r,
 			    const struct cs_scene *sc, const struct cs_camera *cam, float *px)
 {
 	double t0 = now_s();
-	int rc = cs_render_image(sc, cam, &r->settings, o->threads, o->progress,
-				 o->progress_user, px, &r->stats);
+	int rc = o->reference ? render_reference(o, r, sc, cam, px)
+			      : cs_render_image(sc, cam, &r->settings, o->threads, o->progress,
+						o->progress_user, px, &r->stats);
 	r->t_render_s = now_s() - t0;
 	if (rc != CS_OK)
 		return rc;

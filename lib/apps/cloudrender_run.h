@@ -31,6 +31,9 @@ struct cs_cloudrender_opts {
 	int haze_steps;           /* -1 keeps the preset's */
 	int no_ambient, no_jitter;
 	long long seed;
+	/* the reference integrator (render/reference.h) instead of the march:
+	 * spp paths per pixel, max_bounces (0: unlimited) */
+	int reference, spp, max_bounces;
 	const char *quality;      /* the preset name, for reports */
 	double exposure_ev;
 	int exposure_auto;        /* choose exposure_ev from the image */
@@ -61,6 +64,10 @@ struct cs_cloudrender_result {
 	 * (red/blue ratio, io/skyclass.h; -1 otherwise), and the fraction of
 	 * the same pixels whose clouds are more than half opaque */
 	double cloud_fraction_rb, cloud_fraction_alpha;
+	/* the reference integrator only: the relative standard error of the
+	 * pixels' mean luminance, median and 95th percentile over the pixels
+	 * with light (-1 otherwise) */
+	double ref_rse_median, ref_rse_p95;
 };
 
 /* Defaults: built-in weather, in-memory noise, the default camera at the

@@ -85,20 +85,17 @@ CS_HD static void terrain_albedo(const struct cs_scene *sc, double x, double y,
 	}
 }
 
-CS_HD void cs_ground_light(const struct cs_scene *sc,
-			 const struct cs_render_settings *s, cs_v3 p,
-			 int on_terrain, struct cs_render_stats *st, double rgb[3])
+CS_HD void cs_ground_surface(const struct cs_scene *sc, cs_v3 p, int on_terrain,
+			     cs_v3 *normal, double alb[3])
 {
-	cs_v3 up = v3_norm(v3(p.x, p.y, p.z + sc->earth_radius_m));
-	cs_v3 n = up;
-	double alb[3] = {sc->ground_albedo[0], sc->ground_albedo[1], sc->ground_albedo[2]};
-	double ao = 1.0, self = 1.0;
+	cs_v3 n = v3_norm(v3(p.x, p.y, p.z + sc->earth_radius_m));
+	for (int k = 0; k < 3; k++)
+		alb[k] = sc->ground_albedo[k];
 	if (on_terrain) {
 		double h;
 		cs_hfield_height(sc->terrain, p.x, p.y, &h);
 		n = cs_hfield_normal(sc->terrain, p.x, p.y);
 		terrain_albedo(sc, p.x, p.y, h, n, alb);
-		ao = terrain_ao(sc->terrain, p, h);
 	}
 	if (sc->noise && !(on_terrain && sc->terrain_color)) {
 		/* fields and woods: the albedo varies over ~1 km and ~150 m, which
@@ -109,9 +106,23 @@ CS_HD void cs_ground_light(const struct cs_scene *sc,
 		for (int c = 0; c < 3; c++)
 			alb[c] *= k;
 	}
-
 	for (int c = 0; c < 3; c++)
 		alb[c] *= sc->ground_wet > 0.0 ? sc->ground_wet : 1.0;
+	*normal = n;
+}
+
+CS_HD void cs_ground_light(const struct cs_scene *sc,
+			 const struct cs_render_settings *s, cs_v3 p,
+			 int on_terrain, struct cs_render_stats *st, double rgb[3])
+{
+	cs_v3 n;
+	double alb[3], ao = 1.0, self = 1.0;
+	cs_ground_surface(sc, p, on_terrain, &n, alb);
+	if (on_terrain) {
+		double h;
+		cs_hfield_height(sc->terrain, p.x, p.y, &h);
+		ao = terrain_ao(sc->terrain, p, h);
+	}
 	double cosi = v3_dot(n, sc->sun_dir);
 	double direct = 0.0;
 	if ((sc->effects & CS_FX_KEY) && cosi > 0.0) {

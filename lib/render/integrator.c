@@ -97,10 +97,8 @@ CS_HD static void haze_to(const struct ray_ctx *c, struct path *P, double t)
 		haze_step(c, P, t, c->tsun);
 }
 
-/* The ground along the ray: the terrain inside its grid, the flat ground
- * sphere outside it; INFINITY when the ray meets neither. */
-CS_HD static double find_ground(const struct cs_scene *sc, cs_v3 o, cs_v3 d,
-				int *on_terrain, struct cs_render_stats *st)
+CS_HD double cs_find_ground(const struct cs_scene *sc, cs_v3 o, cs_v3 d,
+			    int *on_terrain, struct cs_render_stats *st)
 {
 	double tg = INFINITY, g0, g1;
 	*on_terrain = 0;
@@ -157,9 +155,7 @@ CS_HD static int gather_intervals(const struct cs_scene *sc, cs_v3 o, cs_v3 d,
 	return n;
 }
 
-/* How much it rains at (x, y): 1 under the raining layer's cells, 0
- * between them, soft at their edges; read just above the layer's base. */
-CS_HD static double rain_shaft(const struct cs_scene *sc, double x, double y)
+CS_HD double cs_rain_shaft(const struct cs_scene *sc, double x, double y)
 {
 	const struct cs_cloud_layer *l = &sc->layers[sc->rain_layer];
 	double alt = l->base_m + 0.3 * (l->top_m - l->base_m);
@@ -181,7 +177,7 @@ CS_HD static void march_rain(const struct ray_ctx *c, const struct interval *iv,
 	for (int j = 0; j < ns && !P->terminated; j++) {
 		double t = iv->t0 + (j + c->jitter_u) * dt;
 		cs_v3 p = v3_mad(c->o, c->d, t);
-		double sigma = sc->rain_extinction_per_m * rain_shaft(sc, p.x, p.y);
+		double sigma = sc->rain_extinction_per_m * cs_rain_shaft(sc, p.x, p.y);
 		c->st->density_samples++;
 		if (sigma <= 0.0)
 			continue;
@@ -386,7 +382,7 @@ CS_HD void cs_render_ray(const struct cs_scene *sc, const struct cs_render_setti
 			 struct cs_ray_result *out)
 {
 	int on_terrain;
-	double tg = find_ground(sc, o, d, &on_terrain, st);
+	double tg = cs_find_ground(sc, o, d, &on_terrain, st);
 	struct interval iv[2 * CS_SCENE_MAX_LAYERS + 2];
 	int n = gather_intervals(sc, o, d, isfinite(tg) ? tg : 1e7, iv);
 

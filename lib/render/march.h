@@ -44,4 +44,20 @@ CS_HD void cs_ground_light(const struct cs_scene *sc,
 			   int on_terrain, struct cs_render_stats *st,
 			   double rgb[3]);
 
+/* The ground along the ray o + t d: the terrain inside its grid, the flat
+ * ground sphere outside it; the distance, or INFINITY when the ray meets
+ * neither (integrator.c). */
+CS_HD double cs_find_ground(const struct cs_scene *sc, cs_v3 o, cs_v3 d,
+			    int *on_terrain, struct cs_render_stats *st);
+
+/* How much it rains at (x, y): 1 under the raining layer's cells, 0
+ * between them, soft at their edges; read just above the layer's base
+ * (integrator.c). */
+CS_HD double cs_rain_shaft(const struct cs_scene *sc, double x, double y);
+
+/* The ground's surface at p (ground.c): its unit normal and its albedo
+ * (land cover, terrain colour, wetness). */
+CS_HD void cs_ground_surface(const struct cs_scene *sc, cs_v3 p, int on_terrain,
+			     cs_v3 *normal, double albedo[3]);
+
 #endif
