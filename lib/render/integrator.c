@@ -276,20 +276,46 @@ CS_HD static double crossing_step(const struct cs_scene *sc,
 	return dt0;
 }
 
+/* The growth ratio r of steps dt0, dt0 r, dt0 r^2 ... that cover len in n
+ * steps, dt0 (r^n - 1) / (r - 1) = len (len > n dt0, so r > 1): by
+ * bisection, to 1e-12. */
+CS_HD static double step_growth(double dt0, double len, int n)
+{
+	double lo = 1.0, hi = 2.0;
+	while (dt0 * (pow(hi, n) - 1.0) / (hi - 1.0) < len && hi < 1e6)
+		hi *= 2.0;
+	for (int k = 0; k < 60 && hi - lo > 1e-12; k++) {
+		double r = 0.5 * (lo + hi);
+		if (dt0 * (pow(r, n) - 1.0) / (r - 1.0) < len)
+			lo = r;
+		else
+			hi = r;
+	}
+	return hi;
+}
+
 /* One crossing of [t0, t1] through the layers of mask (overlapping layers
- * are marched together), at most max_steps samples. */
+ * are marched together) in steps of the layers' thickness over the
+ * settings' steps.  A crossing that would need more than max_steps of
+ * them (a long, nearly horizontal one) keeps that step where it starts
+ * and lets the steps grow geometrically along the ray to cover it in
+ * max_steps: a small cloud around the eye is sampled as finely as a
+ * vertical crossing, the distant parts of the layer more coarsely. */
 CS_HD static void march_crossing(const struct ray_ctx *c, double t0, double t1,
 				 unsigned mask, struct path *P)
 {
 	const struct cs_scene *sc = c->sc;
 	c->st->layer_crossings++;
 	int amb = 0; /* the layer a sample is in: the one with most extinction there */
-	double len = t1 - t0;
-	double steps = ceil(len / crossing_step(sc, c->s, mask));
+	double len = t1 - t0, dt0 = crossing_step(sc, c->s, mask);
+	double steps = ceil(len / dt0);
 	int ns = steps < 1.0 ? 1 : steps > c->s->max_steps ? c->s->max_steps : (int)steps;
-	double dt = len / ns;
-	for (int j = 0; j < ns; j++) {
-		double t = t0 + (j + c->jitter_u) * dt;
+	double growth = steps > c->s->max_steps ? step_growth(dt0, len, ns) : 1.0;
+	double dt = growth > 1.0 ? dt0 : len / ns, ts = t0;
+	for (int j = 0; j < ns; j++, ts += dt, dt *= growth) {
+		double t = ts + c->jitter_u * dt;
+		if (t > t1)
+			break;
 		cs_v3 p = v3_mad(c->o, c->d, t);
 		double alt = cs_scene_altitude(sc, p);
 		double sigma = cs_extinction_at(sc, mask, p, alt, &amb);
@@ -297,7 +323,7 @@ CS_HD static void march_crossing(const struct ray_ctx *c, double t0, double t1,
 		if (sigma <= 0.0)
 			continue;
 		if (P->depth == CS_SKY_DEPTH_M)
-			P->depth = t0 + j * dt;
+			P->depth = ts;
 		haze_to(c, P, t);
 		double S[3];
 		sample_source(c, p, alt, mask, amb, sc->albedo * sigma, S);

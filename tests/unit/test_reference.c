@@ -1,0 +1,233 @@
+/* The reference path tracer against closed forms and published slab
+ * values: energy conservation, single scattering, convergence, the
+ * variance estimate, determinism. */
+#include "core/color.h"
+#include "core/err.h"
+#include "core/hash.h"
+#include "render/march.h"
+#include "render/reference.h"
+#include "test.h"
+
+#include <stdlib.h>
+
+/* A homogeneous plane-parallel slab of optical depth tau, 1 km thick at
+ * 2..3 km, over black flat ground (which ends the paths that leave below,
+ * as a black lower boundary does), lit by a sun of illuminance 1 at zenith
+ * cosine mu0; one Henyey-Greenstein lobe of asymmetry g (or the two-lobe
+ * mixture when two_lobe), single-scattering albedo w; no sky. */
+static void slab(struct cs_scene *sc, double tau, double g, int two_lobe, double w,
+		 double mu0)
+{
+	memset(sc, 0, sizeof *sc);
+	sc->earth_radius_m = CS_EARTH_RADIUS_M;
+	sc->nlayers = 1;
+	sc->layers[0].kind = CS_LAYER_HOMOGENEOUS;
+	sc->layers[0].base_m = 2000.0;
+	sc->layers[0].top_m = 3000.0;
+	sc->layers[0].homog_a = tau / 1000.0;
+	sc->layers[0].coverage = 1.0;
+	sc->albedo = w;
+	if (two_lobe)
+		sc->g_forward = 0.8, sc->g_back = -0.3, sc->w_forward = 0.75;
+	else
+		sc->g_forward = sc->g_back = g, sc->w_forward = 1.0;
+	double th = acos(mu0);
+	sc->sun_dir = v3(0.0, sin(th), mu0);
+	sc->sun_illuminance[0] = sc->sun_illuminance[1] = sc->sun_illuminance[2] = 1.0;
+	sc->effects = CS_FX_CLOUDS | CS_FX_SUN | CS_FX_GROUND;
+}
+
+/* The slab's plane albedo R and total transmittance T (direct beam
+ * included) from n paths each way: radiance seen through cosine-weighted
+ * directions just above and just below the slab, F = pi E[L]. */
+static void slab_rt(const struct cs_scene *sc, int n, double *R, double *T)
+{
+	struct cs_reference_settings s = {1, 1, 0};
+	struct cs_render_stats st = {0};
+	double mu0 = sc->sun_dir.z, up = 0.0, down = 0.0;
+	for (int i = 0; i < n; i++) {
+		double u1 = cs_hash_unit(cs_hash3i(i, 0, 0, 99)), u2 = cs_hash_unit(cs_hash3i(i, 1, 0, 99));
+		double r = sqrt(u1), phi = 2.0 * CS_PI * u2, z = sqrt(1.0 - u1), L[3], depth;
+		uint64_t key = (uint64_t)cs_hash3i(i, 7, 3, 11) << 32 | cs_hash3i(i, 1, 2, 5);
+		int hit;
+		cs_reference_path(sc, &s, v3(0, 0, 3001), v3(r * cos(phi), r * sin(phi), -z), key, &st,
+				  L, &hit, &depth);
+		up += L[1];
+		cs_reference_path(sc, &s, v3(0, 0, 1999), v3(r * cos(phi), r * sin(phi), z),
+				  key ^ 0x9e3779b97f4a7c15ull, &st, L, &hit, &depth);
+		down += L[1];
+	}
+	double tau = sc->layers[0].homog_a * 1000.0;
+	*R = CS_PI * up / n / mu0;
+	*T = CS_PI * down / n / mu0 + exp(-tau / mu0);
+}
+
+/* Plane albedo R and total transmittance T of homogeneous slabs against
+ * the adding-doubling solution in tests/reference/slab-table.txt (an
+ * independent solver that matches van de Hulst's 1980 tables to 1e-6),
+ * isotropic, Henyey-Greenstein 0.85 and the clouds' two-lobe phase, with
+ * and without absorption; with albedo 1 nothing is lost (R + T = 1). */
+static void slab_matches_adding_doubling(void)
+{
+	static const struct {
+		double tau, g;
+		int two_lobe;
+		double w, mu0, R, T;
+		int n;
+	} c[] = {
+		{1.0, 0.0, 0, 1.0, 1.0, 0.3413288, 0.6586712, 8000},
+		{4.0, 0.0, 0, 1.0, 1.0, 0.6909262, 0.3090738, 8000},
+		{16.0, 0.0, 0, 1.0, 1.0, 0.9036315, 0.0963685, 8000},
+		{4.0, 0.0, 0, 0.9, 1.0, 0.4081422, 0.1285237, 8000},
+		{4.0, 0.85, 0, 1.0, 0.5, 0.4160225, 0.5839775, 60000},
+		{16.0, 0.85, 0, 1.0, 0.5, 0.6974049, 0.3025951, 60000},
+		{1.0, 0.0, 1, 0.99, 1.0, 0.1790525, 0.8075669, 30000},
+		{8.0, 0.0, 1, 0.99, 1.0, 0.5932428, 0.2578325, 30000},
+		{32.0, 0.0, 1, 1.0, 0.5, 0.9303116, 0.0696884, 30000},
+	};
+	for (size_t i = 0; i < sizeof c / sizeof c[0]; i++) {
+		struct cs_scene sc;
+		slab(&sc, c[i].tau, c[i].g, c[i].two_lobe, c[i].w, c[i].mu0);
+		double R, T;
+		slab_rt(&sc, c[i].n, &R, &T);
+		printf("  tau %g %s w %g mu0 %g: R %.4f (adding-doubling %.4f) T %.4f (%.4f)\n",
+		       c[i].tau, c[i].two_lobe ? "two-lobe" : c[i].g > 0 ? "HG 0.85" : "isotropic",
+		       c[i].w, c[i].mu0, R, c[i].R, T, c[i].T);
+		CHECK_NEAR(R, c[i].R, 0.015);
+		CHECK_NEAR(T, c[i].T, 0.015);
+		if (c[i].w == 1.0)
+			CHECK_NEAR(R + T, 1.0, 0.02);
+	}
+}
+
+/* Single scattering (max_bounces 1) in a thin slab seen from above,
+ * against the closed form L = w E p(theta) mu0 / (mu0 + mu)
+ * (1 - exp(-tau (1/mu0 + 1/mu))) (e.g. Liou, An Introduction to
+ * Atmospheric Radiation, 2002, eq. 6.2.3), for HG phase g = 0.85. */
+static void single_scattering_matches_closed_form(void)
+{
+	static const double mus[] = {1.0, 0.5, 0.2};
+	double tau = 0.2, mu0 = cos(40.0 * CS_PI / 180.0);
+	struct cs_scene sc;
+	slab(&sc, tau, 0.85, 0, 0.9, mu0);
+	struct cs_reference_settings s = {1, 1, 1};
+	for (int m = 0; m < 3; m++) {
+		double mu = mus[m], sn = sqrt(1.0 - mu * mu);
+		/* looking down, toward the sun's side: a scattering angle of
+		 * acos(-mu mu0 - sn sin0) from the beam */
+		cs_v3 d = v3(0.0, sn, -mu);
+		struct cs_render_stats st = {0};
+		double sum = 0.0, L[3], depth;
+		int n = 60000, hit;
+		for (int i = 0; i < n; i++) {
+			uint64_t key = (uint64_t)cs_hash3i(i, m, 3, 11) << 32 | cs_hash3i(i, 1, m, 5);
+			cs_reference_path(&sc, &s, v3(0, 0, 3001), d, key, &st, L, &hit, &depth);
+			sum += L[1];
+		}
+		double cth = v3_dot(d, sc.sun_dir);
+		double want = 0.9 * cs_phase_hg(cth, 0.85) * mu0 / (mu0 + mu) *
+			      (1.0 - exp(-tau * (1.0 / mu0 + 1.0 / mu)));
+		printf("  mu %.1f: L %.5f closed form %.5f\n", mu, sum / n, want);
+		CHECK_NEAR(sum / n / want, 1.0, 0.03);
+	}
+}
+
+/* A small image of the thin slab from below, single scattering: its
+ * pixels' error against the closed form halves as the paths quadruple,
+ * and the reported variance is the squared error it predicts. */
+static double image_error(const struct cs_scene *sc, int spp, double want, double *mean_var)
+{
+	struct cs_camera cam;
+	memset(&cam, 0, sizeof cam);
+	cs_camera_init(&cam, sc, v3(0, 0, 10), 0.0, 0.0, 89.9, 2.0, 16, 16);
+	float *px = malloc(16 * 16 * 5 * sizeof *px), *var = malloc(16 * 16 * sizeof *var);
+	struct cs_reference_settings s = {spp, 7, 1};
+	struct cs_render_stats st;
+	CHECK(cs_render_reference(sc, &cam, &s, 2, NULL, NULL, px, var, &st) == CS_OK);
+	double e2 = 0.0, v = 0.0;
+	for (int i = 0; i < 256; i++) {
+		double y = cs_luminance(px[i * 5], px[i * 5 + 1], px[i * 5 + 2]);
+		e2 += (y - want) * (y - want);
+		v += var[i];
+	}
+	free(px);
+	free(var);
+	*mean_var = v / 256;
+	return sqrt(e2 / 256);
+}
+
+static void error_halves_as_paths_quadruple(void)
+{
+	struct cs_scene sc;
+	double tau = 0.5, mu0 = 1.0;
+	slab(&sc, tau, 0.0, 0, 1.0, mu0);
+	sc.effects &= ~(unsigned)CS_FX_GROUND;
+	/* from below, looking (nearly) straight up: the transmitted single
+	 * scattering of an isotropic slab at mu = mu0 = 1, w tau e^-tau / 4 pi */
+	double want = tau * exp(-tau) / (4.0 * CS_PI);
+	double v16, v64, v256;
+	double e16 = image_error(&sc, 16, want, &v16);
+	double e64 = image_error(&sc, 64, want, &v64);
+	double e256 = image_error(&sc, 256, want, &v256);
+	printf("  rms error 16 spp %.3g, 64 %.3g, 256 %.3g; predicted %.3g %.3g %.3g\n", e16,
+	       e64, e256, sqrt(v16), sqrt(v64), sqrt(v256));
+	CHECK_NEAR(e16 / e64, 2.0, 0.5);
+	CHECK_NEAR(e64 / e256, 2.0, 0.5);
+	CHECK_NEAR(sqrt(v64) / e64, 1.0, 0.25);
+	CHECK_NEAR(sqrt(v256) / e256, 1.0, 0.25);
+}
+
+/* The same seed gives the same image on one thread and on three. */
+static void same_image_for_any_thread_count(void)
+{
+	struct cs_scene sc;
+	slab(&sc, 4.0, 0.85, 1, 0.99, 0.7);
+	struct cs_camera cam;
+	memset(&cam, 0, sizeof cam);
+	cs_camera_init(&cam, &sc, v3(0, 0, 10), 0.0, 0.0, 30.0, 60.0, 12, 8);
+	float a[12 * 8 * 5], b[12 * 8 * 5];
+	struct cs_reference_settings s = {4, 3, 0};
+	struct cs_render_stats st;
+	CHECK(cs_render_reference(&sc, &cam, &s, 1, NULL, NULL, a, NULL, &st) == CS_OK);
+	CHECK(cs_render_reference(&sc, &cam, &s, 3, NULL, NULL, b, NULL, &st) == CS_OK);
+	CHECK(memcmp(a, b, sizeof a) == 0);
+	s.seed = 4;
+	CHECK(cs_render_reference(&sc, &cam, &s, 3, NULL, NULL, b, NULL, &st) == CS_OK);
+	CHECK(memcmp(a, b, sizeof a) != 0);
+	s.spp = 0;
+	CHECK(cs_render_reference(&sc, &cam, &s, 1, NULL, NULL, b, NULL, &st) == CS_EINVAL);
+}
+
+/* A 50 m cloud around the eye in a 1 km layer, looked through
+ * horizontally (an 80 km crossing of the shell): every preset sees its
+ * transmittance exp(-sigma 50 m), not the clear sky between the few
+ * samples a capped uniform march would spread over 80 km. */
+static void every_preset_sees_a_small_cloud_around_the_eye(void)
+{
+	static const char *const q[] = {"low", "medium", "high", "reference"};
+	struct cs_scene sc;
+	slab(&sc, 1.0, 0.0, 0, 1.0, 1.0);
+	sc.layers[0].base_m = 500.0, sc.layers[0].top_m = 1500.0;
+	sc.layers[0].homog_a = 0.001, sc.layers[0].homog_radius_m = 50.0;
+	sc.effects = CS_FX_CLOUDS;
+	double want = exp(-0.001 * 50.0);
+	for (int i = 0; i < 4; i++) {
+		struct cs_render_settings s;
+		CHECK(cs_render_quality(q[i], &s) == CS_OK);
+		struct cs_render_stats st = {0};
+		struct cs_ray_result r;
+		cs_render_ray(&sc, &s, v3(0, 0, 1000.0), v3(1.0, 0.0, 0.0), 0.5, &st, &r);
+		printf("  %s: transmittance %.4f (closed form %.4f)\n", q[i], r.transmittance, want);
+		CHECK_NEAR(r.transmittance, want, 0.01);
+	}
+}
+
+int main(void)
+{
+	RUN(slab_matches_adding_doubling);
+	RUN(single_scattering_matches_closed_form);
+	RUN(error_halves_as_paths_quadruple);
+	RUN(same_image_for_any_thread_count);
+	RUN(every_preset_sees_a_small_cloud_around_the_eye);
+	TEST_EXIT();
+}
