@@ -9,6 +9,8 @@
 #   make WERROR=0     warnings stay warnings (the default, WERROR=1, for CI
 #                     and developers, makes them errors)
 #   make bench        benchmarks (not part of check)
+#   make study        the accuracy study: error against the reference integrator
+#                     and time, per scene and setting (not part of check)
 #   make demo         bake the noise, make a synthetic Bern terrain, render into out/
 #   make install PREFIX=/usr/local DESTDIR=
 #   make deps         install the Debian packages the project needs
@@ -60,7 +62,11 @@ HELP_SRC  := $(wildcard tests/helpers/*.c)
 HELP_BINS := $(HELP_SRC:tests/helpers/%.c=$(B)/tests/helpers/%)
 
 .SECONDARY:
-.PHONY: all check check-all check-run tests bench demo install deps have-deps clean
+# the accuracy study's tools: bench/*.c -> $(B)/bench/*
+BENCH_SRC := $(wildcard bench/*.c)
+BENCH_BINS := $(BENCH_SRC:bench/%.c=$(B)/bench/%)
+
+.PHONY: all check check-all check-run tests bench study demo install deps have-deps clean
 all: $(B)/libcloudscape.a $(BINS)
 
 $(B)/lib/%.o: lib/%.c
@@ -72,6 +78,12 @@ $(B)/tools/%.o: tools/%.c
 $(B)/tests/%.o: tests/unit/%.c
 	@mkdir -p $(@D)
 	$(CC) $(ALL_CFLAGS) -iquote tests/unit -c $< -o $@
+
+$(B)/bench/%.o: bench/%.c
+	@mkdir -p $(@D)
+	$(CC) $(ALL_CFLAGS) -c $< -o $@
+$(B)/bench/%: $(B)/bench/%.o $(B)/libcloudscape.a
+	$(CC) $(CFLAGS) $(SANFLAGS) -o $@ $^ $(LDLIBS)
 
 $(B)/tests/helpers/%.o: tests/helpers/%.c
 	@mkdir -p $(@D)
@@ -88,7 +100,7 @@ $(B)/bin/%: $(B)/tools/%.o $(CLI_OBJ) $(B)/libcloudscape.a
 $(B)/tests/test_%: $(B)/tests/test_%.o $(B)/libcloudscape.a
 	$(CC) $(CFLAGS) $(SANFLAGS) -o $@ $^ $(LDLIBS)
 
-tests: all $(UNIT_BINS) $(HELP_BINS)
+tests: all $(UNIT_BINS) $(HELP_BINS) $(BENCH_BINS)
 
 # check installs what is missing first (only then: no dpkg or apt-get when
 # everything is there), then re-enters make so that pkg-config sees the
@@ -110,6 +122,10 @@ have-deps:
 
 deps:
 	@scripts/deps
+
+# the accuracy study (scripts/accuracy-study): STUDY_ARGS=--full for 1280x720
+study: have-deps all $(BENCH_BINS)
+	@scripts/accuracy-study --build $(B) $(STUDY_ARGS)
 
 bench: have-deps
 	@$(MAKE) --no-print-directory all

@@ -54,7 +54,9 @@ static void usage(void)
 	       "                         path tracer (full multiple scattering, no haze)\n"
 	       "      --spp N            reference: paths per pixel, 1..1000000 (default 64)\n"
 	       "      --max-bounces N    reference: scattering events per path, 0 (no\n"
-	       "                         limit, the default)..1000000; 1: single scattering\n"	       "      --no-ambient       no sky light on the clouds\n"
+	       "                         limit, the default)..1000000; 1: single scattering\n"
+	       "      --no-haze          no aerosol haze between the eye and the clouds (fog\n"
+	       "                         stays): what the reference integrator compares with\n"	       "      --no-ambient       no sky light on the clouds\n"
 	       "      --no-jitter        sample at step midpoints (banding instead of noise)\n"
 	       "      --seed N           seed of the per-pixel jitter, 0..4294967295 (default 0)\n"
 	       "      --exposure EV|auto PNG exposure in stops, -20..20 (default 0), or auto:\n"
@@ -161,7 +163,7 @@ enum {
 	OPT_CAMERA, OPT_LOOK, OPT_FOV, OPT_SIZE, OPT_QUALITY, OPT_STEPS,
 	OPT_LIGHT_STEPS, OPT_MS, OPT_NO_AMBIENT, OPT_NO_JITTER, OPT_SEED,
 	OPT_EXPOSURE, OPT_STATS, OPT_VERSION, OPT_TERRAIN, OPT_TERRAIN_COLOR,
-	OPT_PROJECTION, OPT_HAZE_STEPS, OPT_INTEGRATOR, OPT_SPP, OPT_MAX_BOUNCES,
+	OPT_PROJECTION, OPT_HAZE_STEPS, OPT_INTEGRATOR, OPT_SPP, OPT_MAX_BOUNCES, OPT_NO_HAZE,
 };
 
 int main(int argc, char **argv)
@@ -183,6 +185,7 @@ int main(int argc, char **argv)
 		{"haze-steps", required_argument, NULL, OPT_HAZE_STEPS},
 		{"integrator", required_argument, NULL, OPT_INTEGRATOR},
 		{"spp", required_argument, NULL, OPT_SPP},
+		{"no-haze", no_argument, NULL, OPT_NO_HAZE},
 		{"max-bounces", required_argument, NULL, OPT_MAX_BOUNCES},
 		{"size", required_argument, NULL, OPT_SIZE},
 		{"quality", required_argument, NULL, OPT_QUALITY},
@@ -291,6 +294,7 @@ int main(int argc, char **argv)
 		case OPT_MAX_BOUNCES:
 			o.max_bounces = (int)cli_long("--max-bounces", optarg, 0, 1000000);
 			break;
+		case OPT_NO_HAZE: o.no_haze = 1; break;
 		case OPT_NO_AMBIENT: o.no_ambient = 1; break;
 		case OPT_NO_JITTER: o.no_jitter = 1; break;
 		case OPT_SEED: o.seed = cli_long("--seed", optarg, 0, 4294967295L); break;

@@ -421,6 +421,10 @@ int cs_cloudrender_run(const struct cs_cloudrender_opts *o, struct cs_cloudrende
 		r->scene = sc;
 	if (rc == CS_OK && r->settings.haze_steps == 0) /* asked for their mean only */
 		sc->effects &= ~(unsigned)CS_FX_SHAFTS;
+	if (rc == CS_OK && o->no_haze) { /* the air clear; the fog stays */
+		sc->haze_beta0_per_m = 0.0;
+		sc->effects &= ~(unsigned)CS_FX_SHAFTS;
+	}
 	if (rc == CS_OK)
 		rc = load_terrain(o, r, sc, &g);
 	if (rc == CS_OK)

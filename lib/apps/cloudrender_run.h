@@ -34,6 +34,7 @@ struct cs_cloudrender_opts {
 	/* the reference integrator (render/reference.h) instead of the march:
 	 * spp paths per pixel, max_bounces (0: unlimited) */
 	int reference, spp, max_bounces;
+	int no_haze;              /* no aerosol haze (fog stays) */
 	const char *quality;      /* the preset name, for reports */
 	double exposure_ev;
 	int exposure_auto;        /* choose exposure_ev from the image */

@@ -311,11 +311,13 @@ CS_HD static void march_crossing(const struct ray_ctx *c, double t0, double t1,
 	double steps = ceil(len / dt0);
 	int ns = steps < 1.0 ? 1 : steps > c->s->max_steps ? c->s->max_steps : (int)steps;
 	double growth = steps > c->s->max_steps ? step_growth(dt0, len, ns) : 1.0;
-	double dt = growth > 1.0 ? dt0 : len / ns, ts = t0;
-	for (int j = 0; j < ns; j++, ts += dt, dt *= growth) {
-		double t = ts + c->jitter_u * dt;
-		if (t > t1)
+	double grown = growth > 1.0 ? dt0 : len / ns, ts = t0;
+	for (int j = 0; j < ns; j++, ts += grown, grown *= growth) {
+		/* the last step ends where the crossing does */
+		double dt = j == ns - 1 ? t1 - ts : grown;
+		if (!(dt > 0.0))
 			break;
+		double t = ts + c->jitter_u * dt;
 		cs_v3 p = v3_mad(c->o, c->d, t);
 		double alt = cs_scene_altitude(sc, p);
 		double sigma = cs_extinction_at(sc, mask, p, alt, &amb);
