@@ -46,6 +46,15 @@ static void usage(void)
 	       "      --steps N          view samples across a layer's thickness, 1..100000\n"
 	       "      --light-steps N    samples toward the sun, 1..10000\n"
 	       "      --ms-octaves N     multiple-scattering octaves, 1 (single scattering)..4\n"
+	       "      --max-steps N      most view samples in one crossing of a layer,\n"
+	       "                         1..1000000 (at least --steps; longer crossings\n"
+	       "                         grow their steps along the ray)\n"
+	       "      --min-transmittance X  a ray stops when it sees less than X, 0..0.5\n"
+	       "      --march M          standard (default); naive: a plain constant-step\n"
+	       "                         sum, the baseline; skip: empty space probed every\n"
+	       "                         4 steps and skipped\n"
+	       "      --light-march M    uniform (default) or quadratic: light samples\n"
+	       "                         dense near the point\n"
 	       "      --haze-steps N     samples of the clouds' shadows in the haze over\n"
 	       "                         the first 20 km (crepuscular rays), 0..10000;\n"
 	       "                         0: their area mean only\n"
@@ -163,7 +172,8 @@ enum {
 	OPT_CAMERA, OPT_LOOK, OPT_FOV, OPT_SIZE, OPT_QUALITY, OPT_STEPS,
 	OPT_LIGHT_STEPS, OPT_MS, OPT_NO_AMBIENT, OPT_NO_JITTER, OPT_SEED,
 	OPT_EXPOSURE, OPT_STATS, OPT_VERSION, OPT_TERRAIN, OPT_TERRAIN_COLOR,
-	OPT_PROJECTION, OPT_HAZE_STEPS, OPT_INTEGRATOR, OPT_SPP, OPT_MAX_BOUNCES, OPT_NO_HAZE,
+	OPT_PROJECTION, OPT_HAZE_STEPS, OPT_INTEGRATOR, OPT_SPP, OPT_MAX_BOUNCES, OPT_NO_HAZE, OPT_MARCH, OPT_LIGHT_MARCH,
+	OPT_MAX_STEPS, OPT_MIN_T,
 };
 
 int main(int argc, char **argv)
@@ -186,6 +196,10 @@ int main(int argc, char **argv)
 		{"integrator", required_argument, NULL, OPT_INTEGRATOR},
 		{"spp", required_argument, NULL, OPT_SPP},
 		{"no-haze", no_argument, NULL, OPT_NO_HAZE},
+		{"march", required_argument, NULL, OPT_MARCH},
+		{"light-march", required_argument, NULL, OPT_LIGHT_MARCH},
+		{"max-steps", required_argument, NULL, OPT_MAX_STEPS},
+		{"min-transmittance", required_argument, NULL, OPT_MIN_T},
 		{"max-bounces", required_argument, NULL, OPT_MAX_BOUNCES},
 		{"size", required_argument, NULL, OPT_SIZE},
 		{"quality", required_argument, NULL, OPT_QUALITY},
@@ -295,6 +309,28 @@ int main(int argc, char **argv)
 			o.max_bounces = (int)cli_long("--max-bounces", optarg, 0, 1000000);
 			break;
 		case OPT_NO_HAZE: o.no_haze = 1; break;
+		case OPT_MARCH:
+			if (strcmp(optarg, "standard") == 0)
+				o.march = CS_MARCH_STANDARD;
+			else if (strcmp(optarg, "naive") == 0)
+				o.march = CS_MARCH_NAIVE;
+			else if (strcmp(optarg, "skip") == 0)
+				o.march = CS_MARCH_SKIP;
+			else
+				cli_usage_error("--march: '%s' is not standard, naive or skip", optarg);
+			break;
+		case OPT_LIGHT_MARCH:
+			if (strcmp(optarg, "uniform") == 0)
+				o.light_march = CS_LIGHT_UNIFORM;
+			else if (strcmp(optarg, "quadratic") == 0)
+				o.light_march = CS_LIGHT_QUADRATIC;
+			else
+				cli_usage_error("--light-march: '%s' is not uniform or quadratic", optarg);
+			break;
+		case OPT_MAX_STEPS: o.max_steps = (int)cli_long("--max-steps", optarg, 1, 1000000); break;
+		case OPT_MIN_T:
+			o.min_transmittance = cli_double("--min-transmittance", optarg, 0.0, 0.5);
+			break;
 		case OPT_NO_AMBIENT: o.no_ambient = 1; break;
 		case OPT_NO_JITTER: o.no_jitter = 1; break;
 		case OPT_SEED: o.seed = cli_long("--seed", optarg, 0, 4294967295L); break;

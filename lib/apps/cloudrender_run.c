@@ -32,6 +32,8 @@ void cs_cloudrender_defaults(struct cs_cloudrender_opts *o)
 	cs_render_quality("medium", &o->settings);
 	o->seed = -1;
 	o->haze_steps = -1;
+	o->min_transmittance = -1.0;
+	o->march = o->light_march = -1;
 	o->spp = 64;
 }
 
@@ -56,6 +58,14 @@ void cs_cloudrender_settings(const struct cs_cloudrender_opts *o,
 		s->seed = (uint32_t)o->seed;
 	if (o->haze_steps >= 0)
 		s->haze_steps = o->haze_steps;
+	if (o->max_steps > 0)
+		s->max_steps = o->max_steps < s->steps ? s->steps : o->max_steps;
+	if (o->min_transmittance >= 0.0)
+		s->min_transmittance = o->min_transmittance;
+	if (o->march >= 0)
+		s->march = o->march;
+	if (o->light_march >= 0)
+		s->light_march = o->light_march;
 }
 
 int cs_output_kind(const char *path)

@@ -29,6 +29,9 @@ struct cs_cloudrender_opts {
 	 * preset's; more steps raise max_steps to at least 4 x steps */
 	int steps, light_steps, ms_octaves;
 	int haze_steps;           /* -1 keeps the preset's */
+	int max_steps;            /* 0 keeps the preset's (or 4 x steps) */
+	double min_transmittance; /* < 0 keeps the preset's */
+	int march, light_march;   /* -1 keep the preset's (CS_MARCH_*, CS_LIGHT_*) */
 	int no_ambient, no_jitter;
 	long long seed;
 	/* the reference integrator (render/reference.h) instead of the march:

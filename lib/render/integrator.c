@@ -307,23 +307,39 @@ CS_HD static void march_crossing(const struct ray_ctx *c, double t0, double t1,
 	const struct cs_scene *sc = c->sc;
 	c->st->layer_crossings++;
 	int amb = 0; /* the layer a sample is in: the one with most extinction there */
+	int naive = c->s->march == CS_MARCH_NAIVE, skip = c->s->march == CS_MARCH_SKIP;
 	double len = t1 - t0, dt0 = crossing_step(sc, c->s, mask);
 	double steps = ceil(len / dt0);
-	int ns = steps < 1.0 ? 1 : steps > c->s->max_steps ? c->s->max_steps : (int)steps;
-	double growth = steps > c->s->max_steps ? step_growth(dt0, len, ns) : 1.0;
+	int cap = naive ? 1000000 : c->s->max_steps;
+	int ns = steps < 1.0 ? 1 : steps > cap ? cap : (int)steps;
+	double growth = steps > cap ? step_growth(dt0, len, ns) : 1.0;
 	double grown = growth > 1.0 ? dt0 : len / ns, ts = t0;
+	int empty_run = 0; /* skip: how many samples in a row found nothing */
 	for (int j = 0; j < ns; j++, ts += grown, grown *= growth) {
 		/* the last step ends where the crossing does */
 		double dt = j == ns - 1 ? t1 - ts : grown;
 		if (!(dt > 0.0))
 			break;
-		double t = ts + c->jitter_u * dt;
+		double t = naive ? ts : ts + c->jitter_u * dt;
 		cs_v3 p = v3_mad(c->o, c->d, t);
 		double alt = cs_scene_altitude(sc, p);
 		double sigma = cs_extinction_at(sc, mask, p, alt, &amb);
 		c->st->density_samples++;
-		if (sigma <= 0.0)
+		if (sigma <= 0.0) {
+			/* skip: after two empty samples, probe 4 steps ahead and
+			 * jump there while that is empty too */
+			if (skip && ++empty_run >= 2 && j + 4 < ns - 1 && growth == 1.0) {
+				cs_v3 q = v3_mad(c->o, c->d, t + 4.0 * dt);
+				int a2;
+				c->st->density_samples++;
+				if (cs_extinction_at(sc, mask, q, cs_scene_altitude(sc, q), &a2) <= 0.0) {
+					j += 3, ts += 3.0 * grown;
+				} else
+					empty_run = 0;
+			}
 			continue;
+		}
+		empty_run = 0;
 		if (P->depth == CS_SKY_DEPTH_M)
 			P->depth = ts;
 		haze_to(c, P, t);
@@ -331,9 +347,10 @@ CS_HD static void march_crossing(const struct ray_ctx *c, double t0, double t1,
 		sample_source(c, p, alt, mask, amb, sc->albedo * sigma, S);
 		/* Energy-conserving step (Hillaire 2015): the source is
 		 * integrated against the transmittance over the step,
-		 * S (1 - exp(-sigma dt)) / sigma, not S dt. */
+		 * S (1 - exp(-sigma dt)) / sigma, not S dt (which the naive
+		 * baseline keeps). */
 		double tr = exp(-sigma * dt);
-		double integ = -expm1(-sigma * dt) / sigma;
+		double integ = naive ? dt : -expm1(-sigma * dt) / sigma;
 		for (int k = 0; k < 3; k++)
 			P->L[k] += P->T * P->th * S[k] * integ;
 		P->T *= tr;

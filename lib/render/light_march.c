@@ -65,11 +65,16 @@ CS_HD double cs_light_depth(const struct cs_scene *sc,
 					   sc->earth_radius_m + l->top_m, 20000.0, iv);
 		for (int k = 0; k < n; k++) {
 			double len = iv[k][1] - iv[k][0];
-			double dt = len / steps;
+			double dt = len / steps, n2 = (double)steps * steps;
 			for (int j = 0; j < steps; j++) {
-				cs_v3 q = v3_mad(p, sc->sun_dir, iv[k][0] + (j + 0.5) * dt);
+				double t = iv[k][0] + (j + 0.5) * dt, w = dt;
+				if (s->light_march == CS_LIGHT_QUADRATIC) {
+					t = iv[k][0] + len * (j + 0.5) * (j + 0.5) / n2;
+					w = len * (2 * j + 1) / n2;
+				}
+				cs_v3 q = v3_mad(p, sc->sun_dir, t);
 				tau += cs_cloud_extinction(l, sc->noise, q.x, q.y,
-							   cs_scene_altitude(sc, q)) * dt;
+							   cs_scene_altitude(sc, q)) * w;
 			}
 			st->light_samples += (uint64_t)steps;
 		}

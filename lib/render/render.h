@@ -39,6 +39,26 @@ struct cs_render_settings {
 	int haze_steps;        /* samples of the clouds' shadows in the haze
 				  (crepuscular rays) over the first 20 km;
 				  0: their area mean only */
+	int march;             /* CS_MARCH_*: how view samples are placed */
+	int light_march;       /* CS_LIGHT_*: how light samples are placed */
+};
+
+/* The view march (cs_render_settings.march). */
+enum {
+	CS_MARCH_STANDARD, /* steps of a layer's thickness over steps, the
+			      source integrated over each step against its
+			      transmittance, steps growing along long crossings */
+	CS_MARCH_NAIVE,    /* the same steps, a plain sum S sigma dt at each
+			      step's start, no cap: the constant-step shader
+			      this project grew from, as a baseline */
+	CS_MARCH_SKIP      /* standard, but empty space probed every 4 steps
+			      and the 3 between skipped while it stays empty */
+};
+/* The light march (cs_render_settings.light_march). */
+enum {
+	CS_LIGHT_UNIFORM,   /* equal steps toward the sun */
+	CS_LIGHT_QUADRATIC  /* samples at (k + 1/2)^2 / n^2 of the path: dense
+			       near the point, where its own cloud shades it */
 };
 
 /* The named presets: "low", "medium", "high", "reference".  0 or CS_EINVAL. */

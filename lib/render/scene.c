@@ -215,7 +215,7 @@ int cs_scene_build(struct cs_scene *sc, const struct cs_wx *wx, double time_utc,
 	 * integrator and the adding-doubling table agree: 0.014 instead of
 	 * 0.10). */
 	sc->albedo = 0.99999;
-	sc->g_forward = 0.8, sc->g_back = -0.3, sc->w_forward = 0.75;
+	sc->g_forward = 0.9, sc->g_back = -0.3, sc->w_forward = 0.96;
 	sc->effects = CS_FX_SKY | CS_FX_GROUND;
 	build_layers(sc, wx, time_utc, noise);
 	rc = build_light(sc, wx, time_utc);
