@@ -1,5 +1,8 @@
 #include "cli.h"
 
+#include "core/err.h"
+#include "core/info.h"
+
 #include <errno.h>
 #include <math.h>
 #include <stdarg.h>
@@ -139,4 +142,20 @@ void cli_progress_done(void)
 		fputc('\n', stderr);
 	bar_drawn = 0;
 	bar_last_pct = -1;
+}
+
+int cli_info_print(struct cs_info *in)
+{
+	char *text = NULL;
+	if (cs_info_finish(in, &text) != CS_OK) {
+		cli_err("%s", cs_errmsg());
+		return EXIT_DATA;
+	}
+	fputs(text, stdout);
+	free(text);
+	if (fflush(stdout) != 0 || ferror(stdout)) {
+		cli_err("standard output: %s", strerror(errno));
+		return EXIT_DATA;
+	}
+	return EXIT_OK;
 }
