@@ -159,10 +159,22 @@ static int make_water(const struct cs_terrainprep_opts *o, struct cs_reproject *
 			 slash ? slash + 1 : o->water_mask);
 		CS_TRY(cs_reproject_water_mask(rp, o->water_mask, t, t->water));
 	}
+	/* below the level the surface is the water's: level */
 	if (o->have_water_level)
 		for (size_t i = 0; i < n; i++)
-			if (t->h[i] <= o->water_level_m)
+			if (t->h[i] <= o->water_level_m) {
 				t->water[i] = 1.0f;
+				t->h[i] = (float)o->water_level_m;
+			}
+	if (o->have_water_level) {
+		t->min_m = INFINITY;
+		t->max_m = -INFINITY;
+		for (size_t i = 0; i < n; i++)
+			if (!isnan(t->h[i])) {
+				t->min_m = fmin(t->min_m, t->h[i]);
+				t->max_m = fmax(t->max_m, t->h[i]);
+			}
+	}
 	return CS_OK;
 }
 
