@@ -119,6 +119,9 @@ static void describe(const struct cs_terrainprep_opts *o, const struct cs_terrai
 		r->resampling_used, r->voids, 100.0 * (double)r->voids / n,
 		r->voids == 0 ? "" : o->fill == CS_FILL_NONE ? " kept" : " filled");
 	fprintf(stderr, "terrainprep: centre %.6f, %.6f (WGS84)\n", t->center_lat, t->center_lon);
+	if (t->water)
+		fprintf(stderr, "terrainprep: %ld water samples (%.2f%%)\n", cs_terrain_water_count(t),
+			100.0 * (double)cs_terrain_water_count(t) / n);
 	if (r->warning[0])
 		fprintf(stderr, "terrainprep: GDAL warned: %s\n", r->warning);
 }
