@@ -1,5 +1,8 @@
 #include "cli.h"
 
+#include "core/err.h"
+#include "core/info.h"
+
 #include <errno.h>
 #include <math.h>
 #include <stdarg.h>
@@ -112,22 +115,51 @@ void cli_double_list(const char *opt, const char *s, double lo, double hi,
 		out[i] = cli_double(opt, tok[i], lo, hi);
 }
 
+static double bar_start_s = -1.0;
+
+static double mono_s(void)
+{
+	struct timespec ts;
+	clock_gettime(CLOCK_MONOTONIC, &ts);
+	return (double)ts.tv_sec + ts.tv_nsec * 1e-9;
+}
+
+/* "1:05" or "1:02:05" */
+static void clock_text(char *buf, size_t size, double s)
+{
+	long t = (long)(s + 0.5);
+	if (t >= 3600)
+		snprintf(buf, size, "%ld:%02ld:%02ld", t / 3600, t / 60 % 60, t % 60);
+	else
+		snprintf(buf, size, "%ld:%02ld", t / 60, t % 60);
+}
+
 int cli_progress(void *label, double fraction)
 {
 	if (cli_quiet || !isatty(STDERR_FILENO))
 		return 0;
+	double now = mono_s();
+	if (bar_start_s < 0.0)
+		bar_start_s = now;
 	int pct = (int)(fraction * 100.0 + 0.5);
 	if (pct == bar_last_pct)
 		return 0;
 	bar_last_pct = pct;
 	enum { W = 40 };
-	char bar[W + 1];
+	char bar[W + 1], elapsed[32], eta[32] = "--:--";
 	int fill = (int)(fraction * W + 0.5);
 	for (int i = 0; i < W; i++)
 		bar[i] = i < fill ? '#' : '.';
 	bar[W] = '\0';
-	fprintf(stderr, "\r%s: %s [%s] %3d%%", cli_prog,
-		label ? (const char *)label : "", bar, pct);
+	double spent = now - bar_start_s;
+	clock_text(elapsed, sizeof elapsed, spent);
+	/* the rest at the rate so far (after 1 %, when there is a rate) */
+	if (fraction >= 0.01 && fraction < 1.0)
+		clock_text(eta, sizeof eta, spent * (1.0 - fraction) / fraction);
+	else if (fraction >= 1.0)
+		snprintf(eta, sizeof eta, "0:00");
+	fprintf(stderr, "\r%s: %s [%s] %3d%% %s ETA %s ", cli_prog,
+		label ? (const char *)label : "", bar, pct, elapsed, eta);
 	fflush(stderr);
 	bar_drawn = 1;
 	return 0;
@@ -139,4 +171,21 @@ void cli_progress_done(void)
 		fputc('\n', stderr);
 	bar_drawn = 0;
 	bar_last_pct = -1;
+	bar_start_s = -1.0;
+}
+
+int cli_info_print(struct cs_info *in)
+{
+	char *text = NULL;
+	if (cs_info_finish(in, &text) != CS_OK) {
+		cli_err("%s", cs_errmsg());
+		return EXIT_DATA;
+	}
+	fputs(text, stdout);
+	free(text);
+	if (fflush(stdout) != 0 || ferror(stdout)) {
+		cli_err("standard output: %s", strerror(errno));
+		return EXIT_DATA;
+	}
+	return EXIT_OK;
 }

@@ -6,6 +6,8 @@
 
 #include <stdio.h>
 
+struct cs_info;
+
 enum { EXIT_OK = 0, EXIT_DATA = 1, EXIT_USAGE = 2 };
 
 extern const char *cli_prog; /* set by cli_init() */
@@ -42,5 +44,9 @@ void cli_double_list(const char *opt, const char *s, double lo, double hi,
 int cli_progress(void *label, double fraction);
 /* Ends the bar line (if one was drawn). */
 void cli_progress_done(void);
+
+/* Finishes an --info text (core/info.h) and writes it to standard output;
+ * EXIT_OK, or EXIT_DATA with a message when that fails. */
+int cli_info_print(struct cs_info *in);
 
 #endif

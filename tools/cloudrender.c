@@ -32,6 +32,8 @@ static void usage(void)
 	       "      --terrain FILE     heightfield from terrainprep (EXR + .json sidecar;\n"
 	       "                         default: flat ground at the weather site's height)\n"
 	       "      --terrain-color FILE  PNG draped over the terrain's grid\n"
+	       "      --terrain-cpt FILE    colour the terrain by height with a GMT CPT palette\n"
+	       "                         (z0 r g b z1 r g b lines, as makecpt writes)\n"
 	       "      --time TIME        UTC time, ISO 8601 (default: the weather state's)\n"
 	       "      --view NAME        named viewpoint: gurten, bantiger\n"
 	       "      --list-views       list the viewpoints and exit\n"
@@ -75,7 +77,8 @@ static void usage(void)
 	       "                         ground irradiance (GHI, DNI, DHI in W/m2) at the\n"
 	       "                         camera and over 10 km around the site\n"
 	       "  -q, --quiet            no progress bar\n"
-	       "  -v, --verbose          say what is being done\n"
+	       "  -v, --verbose          say what is rendered (time, site, sun, camera,\n"
+	       "                         layers, effects, quality) and the time of each phase\n"
 	       "  -h, --help             this help\n"
 	       "      --version          print the version\n"
 	       "\n"
@@ -154,6 +157,55 @@ static void print_stats(const struct cs_cloudrender_opts *o,
 	fprintf(stderr, "]}\n");
 }
 
+/* -v, before the frame: what is about to be rendered. */
+static void describe(void *user, const struct cs_cloudrender_result *r)
+{
+	const struct cs_cloudrender_opts *o = user;
+	const struct cs_wx *wx = &r->wx;
+	const struct cs_scene *sc = r->scene;
+	char when[32];
+	static const char *const proj[] = {"perspective", "fisheye", "equirect"};
+	cs_time_format(wx->time_utc, when, sizeof when);
+	cli_err("time %s, site %s%s%.4f, %.4f, %.0f m", when, wx->site.name,
+		wx->site.name[0] ? " " : "", wx->site.lat_deg, wx->site.lon_deg, wx->site.alt_m);
+	cli_err("sun azimuth %.1f deg, elevation %.1f deg (%s)", r->sun_azimuth_deg,
+		r->sun_elevation_deg, r->sun_elevation_deg > -0.8 ? "up" : "down");
+	cli_err("camera %.5f, %.5f, %.0f m, looking azimuth %.1f deg, elevation %.1f deg, "
+		"fov %.0f deg, %s %dx%d (%s)", r->cam_lat_deg, r->cam_lon_deg, r->cam_alt_m,
+		r->look_az_deg, r->look_el_deg, r->fov_deg, proj[o->projection], o->width,
+		o->height, r->look_why);
+	if (sc->nlayers == 0)
+		cli_err("layers: none (clear sky)");
+	for (int i = 0; i < sc->nlayers; i++) {
+		const struct cs_cloud_layer *l = &sc->layers[i];
+		char from[80] = "";
+		if (l->site >= 0 && l->site < wx->nfar)
+			snprintf(from, sizeof from, " (far site %s)", wx->far[l->site].site.name);
+		cli_err("layer %d: %s, cover %.2f, base %.0f m, top %.0f m%s", i + 1,
+			cs_genus_name(l->genus), l->coverage, l->base_m, l->top_m, from);
+	}
+	char fx[256] = "";
+	size_t k = 0;
+	for (int b = 0; cs_effect_name(1u << b) && k < sizeof fx; b++)
+		if (sc->effects & (1u << b))
+			k += (size_t)snprintf(fx + k, sizeof fx - k, "%s%s", k ? " " : "",
+					      cs_effect_name(1u << b));
+	cli_err("effects: %s", fx);
+	cli_err("quality %s: %d steps, %d light steps, %d multiple-scattering octaves, "
+		"%d haze steps%s%s", o->quality, r->settings.steps, r->settings.light_steps,
+		r->settings.ms_octaves, r->settings.haze_steps,
+		r->settings.ambient ? "" : ", no ambient", r->settings.jitter > 0 ? "" : ", no jitter");
+}
+
+static void report_times(const struct cs_cloudrender_result *r)
+{
+	double total = r->t_noise_s + r->t_scene_s + r->t_render_s + r->t_irradiance_s +
+		       r->t_write_s;
+	cli_err("time: noise %.2f s, scene %.2f s, render %.2f s, irradiance %.2f s, "
+		"write %.2f s, total %.2f s", r->t_noise_s, r->t_scene_s, r->t_render_s,
+		r->t_irradiance_s, r->t_write_s, total);
+}
+
 static void parse_pair(const char *opt, const char *s, double *a, double *b,
 		       double alo, double ahi, double blo, double bhi)
 {
@@ -172,8 +224,8 @@ enum {
 	OPT_CAMERA, OPT_LOOK, OPT_FOV, OPT_SIZE, OPT_QUALITY, OPT_STEPS,
 	OPT_LIGHT_STEPS, OPT_MS, OPT_NO_AMBIENT, OPT_NO_JITTER, OPT_SEED,
 	OPT_EXPOSURE, OPT_STATS, OPT_VERSION, OPT_TERRAIN, OPT_TERRAIN_COLOR,
-	OPT_PROJECTION, OPT_HAZE_STEPS, OPT_INTEGRATOR, OPT_SPP, OPT_MAX_BOUNCES, OPT_NO_HAZE, OPT_MARCH, OPT_LIGHT_MARCH,
-	OPT_MAX_STEPS, OPT_MIN_T,
+	OPT_PROJECTION, OPT_HAZE_STEPS, OPT_TERRAIN_CPT, OPT_INTEGRATOR, OPT_SPP, OPT_MAX_BOUNCES,
+	OPT_NO_HAZE, OPT_MARCH, OPT_LIGHT_MARCH, OPT_MAX_STEPS, OPT_MIN_T,
 };
 
 int main(int argc, char **argv)
@@ -185,6 +237,7 @@ int main(int argc, char **argv)
 		{"noise-size", required_argument, NULL, OPT_NOISE_SIZE},
 		{"terrain", required_argument, NULL, OPT_TERRAIN},
 		{"terrain-color", required_argument, NULL, OPT_TERRAIN_COLOR},
+		{"terrain-cpt", required_argument, NULL, OPT_TERRAIN_CPT},
 		{"time", required_argument, NULL, OPT_TIME},
 		{"view", required_argument, NULL, OPT_VIEW},
 		{"list-views", no_argument, NULL, OPT_LIST_VIEWS},
@@ -238,6 +291,7 @@ int main(int argc, char **argv)
 		case OPT_NOISE: o.noise_path = optarg; break;
 		case OPT_TERRAIN: o.terrain_path = optarg; break;
 		case OPT_TERRAIN_COLOR: o.terrain_color_path = optarg; break;
+		case OPT_TERRAIN_CPT: o.terrain_cpt_path = optarg; break;
 		case OPT_NOISE_SIZE: o.noise_size = (int)cli_long("--noise-size", optarg, 16, 256); break;
 		case OPT_TIME:
 			if (cs_time_parse(optarg, &o.time_utc) != CS_OK)
@@ -355,6 +409,10 @@ int main(int argc, char **argv)
 		cli_usage_error("unexpected argument '%s'", argv[optind]);
 	if (o.terrain_color_path && !o.terrain_path)
 		cli_usage_error("--terrain-color needs --terrain");
+	if (o.terrain_cpt_path && !o.terrain_path)
+		cli_usage_error("--terrain-cpt needs --terrain");
+	if (o.terrain_cpt_path && o.terrain_color_path)
+		cli_usage_error("--terrain-color and --terrain-cpt exclude each other");
 	if (o.noutputs == 0)
 		cli_usage_error("no output: give -o FILE.png and/or -o FILE.exr");
 	int to_stdout = 0;
@@ -369,10 +427,8 @@ int main(int argc, char **argv)
 	o.progress = cli_progress;
 	o.progress_user = "rendering";
 	if (cli_verbose) {
-		struct cs_render_settings rs;
-		cs_cloudrender_settings(&o, &rs);
-		fprintf(stderr, "cloudrender: %dx%d, quality %s (%d steps, %d light steps)\n",
-			o.width, o.height, o.quality, rs.steps, rs.light_steps);
+		o.ready = describe;
+		o.ready_user = &o;
 	}
 	int rc = cs_cloudrender_run(&o, &r);
 	cli_progress_done();
@@ -388,6 +444,8 @@ int main(int argc, char **argv)
 			r.wx.site.name[0] ? r.wx.site.name : "unnamed");
 	if (!cli_quiet && r.camera_terrain_km > 300.0)
 		cli_err("warning: the camera is %.0f km from the terrain's centre", r.camera_terrain_km);
+	if (cli_verbose)
+		report_times(&r);
 	if (stats)
 		print_stats(&o, &r);
 	cs_cloudrender_result_free(&r);

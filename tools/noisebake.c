@@ -2,6 +2,7 @@
 #include "cli.h"
 
 #include "core/err.h"
+#include "core/info.h"
 #include "apps/noisebake_run.h"
 #include "noise/volume.h"
 
@@ -39,7 +40,8 @@ static void usage(void)
 	       "      --slices LIST      slices shown in the preview (default: 4 evenly spaced)\n"
 	       "      --channels LETTERS channels shown in the preview (default RGBA)\n"
 	       "      --info FILE        validate a volume and print its attributes and\n"
-	       "                         per-channel statistics\n"
+	       "                         per-channel statistics (as terrainprep --info)\n"
+	       "      --json             --info as one JSON object\n"
 	       "  -q, --quiet            no progress bar\n"
 	       "  -v, --verbose          report the bake time and rate on stderr\n"
 	       "  -h, --help             this help\n"
@@ -49,7 +51,7 @@ static void usage(void)
 	       "See noisebake(1) and cloudscape-noise(5).\n");
 }
 
-static int info(const char *path)
+static int info(const char *path, int json)
 {
 	struct cs_volume v;
 	if (cs_volume_read_exr(path, &v) != CS_OK) {
@@ -58,19 +60,30 @@ static int info(const char *path)
 	}
 	char recipe[512];
 	cs_noise_recipe_format(&v.recipe, recipe, sizeof recipe);
-	printf("file: %s\nsize: %d x %d x %d\nseed: %u\nrecipe: %s\n", path,
-	       v.nx, v.ny, v.nz, v.recipe.seed, recipe);
-	static const char names[4] = {'R', 'G', 'B', 'A'};
+	struct cs_info in;
+	cs_info_init(&in, json);
+	cs_info_str(&in, "file", "file", path);
+	const double size[3] = {v.nx, v.ny, v.nz};
+	cs_info_nums(&in, "size", "size", size, 3, 0, " x ", NULL);
+	cs_info_num(&in, "seed", "seed", v.recipe.seed, 0, NULL);
+	cs_info_str(&in, "recipe", "recipe", recipe);
+	static const char *const names[4] = {"R", "G", "B", "A"};
+	cs_info_open(&in, "channels", "channels");
 	for (int c = 0; c < 4; c++) {
 		int p[3];
 		double lo, hi, mean;
 		cs_noise_period(&v.recipe, c, v.nx, v.nz, p);
 		cs_volume_channel_stats(&v, c, &lo, &hi, &mean);
-		printf("channel %c: period %dx%dx%d cells, min %.4f max %.4f mean %.4f\n",
-		       names[c], p[0], p[1], p[2], lo, hi, mean);
+		const double period[3] = {p[0], p[1], p[2]};
+		cs_info_open(&in, names[c], names[c]);
+		cs_info_nums(&in, "period_cells", "period", period, 3, 0, " x ", "cells");
+		cs_info_num(&in, "min", "min", lo, 4, NULL);
+		cs_info_num(&in, "max", "max", hi, 4, NULL);
+		cs_info_num(&in, "mean", "mean", mean, 4, NULL);
+		cs_info_close(&in);
 	}
 	cs_volume_free(&v);
-	return EXIT_OK;
+	return cli_info_print(&in);
 }
 
 /* Whether an output name fits its format: "-", an existing device or pipe
@@ -86,7 +99,7 @@ static int named_as(const char *path, const char *ext)
 
 enum {
 	OPT_SEED = 256, OPT_FREQ, OPT_OCTAVES, OPT_WORLEY_OCTAVES, OPT_GAIN,
-	OPT_FLOAT, OPT_PREVIEW, OPT_SLICES, OPT_CHANNELS, OPT_INFO, OPT_VERSION,
+	OPT_FLOAT, OPT_PREVIEW, OPT_SLICES, OPT_CHANNELS, OPT_INFO, OPT_JSON, OPT_VERSION,
 };
 
 int main(int argc, char **argv)
@@ -106,6 +119,7 @@ int main(int argc, char **argv)
 		{"slices", required_argument, NULL, OPT_SLICES},
 		{"channels", required_argument, NULL, OPT_CHANNELS},
 		{"info", required_argument, NULL, OPT_INFO},
+		{"json", no_argument, NULL, OPT_JSON},
 		{"quiet", no_argument, NULL, 'q'},
 		{"verbose", no_argument, NULL, 'v'},
 		{"help", no_argument, NULL, 'h'},
@@ -114,6 +128,7 @@ int main(int argc, char **argv)
 	};
 	struct cs_noisebake_opts o;
 	const char *info_path = NULL;
+	int json = 0;
 	const char *slices_arg = NULL;
 	int opt;
 
@@ -144,6 +159,7 @@ int main(int argc, char **argv)
 			strcpy(o.channels, optarg);
 			break;
 		case OPT_INFO: info_path = optarg; break;
+		case OPT_JSON: json = 1; break;
 		case 'q': cli_quiet = 1; break;
 		case 'v': cli_verbose = 1; break;
 		case 'h': usage(); return EXIT_OK;
@@ -158,8 +174,10 @@ int main(int argc, char **argv)
 	if (info_path) {
 		if (o.output || o.preview)
 			cli_usage_error("--info reads a volume; it cannot be combined with -o or --preview");
-		return info(info_path);
+		return info(info_path, json);
 	}
+	if (json)
+		cli_usage_error("--json goes with --info");
 	if (o.output == NULL && o.preview == NULL)
 		cli_usage_error("no output: give -o FILE.exr and/or --preview FILE.png");
 	if (o.output && !named_as(o.output, ".exr"))

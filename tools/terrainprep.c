@@ -50,6 +50,13 @@ static void usage(void)
 	       "      --altitude DEG       sun altitude (default 45)\n"
 	       "      --z-factor Z         vertical exaggeration (default 1)\n"
 	       "      --scale S            horizontal units per vertical unit (default 1)\n"
+	       "      --water-level M      samples at or below M metres are water\n"
+	       "      --water-mask FILE    raster GDAL reads (e.g. a lake rasterised with\n"
+	       "                           gdal_rasterize): non-zero, non-nodata is water\n"
+	       "      --info FILE.exr      describe a heightfield: size, CRS, pixel size in\n"
+	       "                           CRS units and on the ground, WGS84 bounds,\n"
+	       "                           min/max/mean height, voids, water\n"
+	       "      --json               --info as one JSON object\n"
 	       "  -q, --quiet              no progress bar\n"
 	       "  -v, --verbose            describe the result on stderr\n"
 	       "  -h, --help               this help\n"
@@ -112,6 +119,9 @@ static void describe(const struct cs_terrainprep_opts *o, const struct cs_terrai
 		r->resampling_used, r->voids, 100.0 * (double)r->voids / n,
 		r->voids == 0 ? "" : o->fill == CS_FILL_NONE ? " kept" : " filled");
 	fprintf(stderr, "terrainprep: centre %.6f, %.6f (WGS84)\n", t->center_lat, t->center_lon);
+	if (t->water)
+		fprintf(stderr, "terrainprep: %ld water samples (%.2f%%)\n", cs_terrain_water_count(t),
+			100.0 * (double)cs_terrain_water_count(t) / n);
 	if (r->warning[0])
 		fprintf(stderr, "terrainprep: GDAL warned: %s\n", r->warning);
 }
@@ -120,6 +130,7 @@ enum {
 	OPT_STDIN_NAME = 256, OPT_S_SRS, OPT_T_SRS, OPT_CENTER, OPT_RADIUS, OPT_BOUNDS,
 	OPT_BOUNDS_SRS, OPT_RES, OPT_SIZE, OPT_SRC_NODATA, OPT_FILL, OPT_MAX_VOID, OPT_FLIP,
 	OPT_HILLSHADE, OPT_AZIMUTH, OPT_ALTITUDE, OPT_Z_FACTOR, OPT_SCALE, OPT_VERSION,
+	OPT_WATER_LEVEL, OPT_WATER_MASK, OPT_INFO, OPT_JSON,
 };
 
 int main(int argc, char **argv)
@@ -146,6 +157,10 @@ int main(int argc, char **argv)
 		{"altitude", required_argument, NULL, OPT_ALTITUDE},
 		{"z-factor", required_argument, NULL, OPT_Z_FACTOR},
 		{"scale", required_argument, NULL, OPT_SCALE},
+		{"water-level", required_argument, NULL, OPT_WATER_LEVEL},
+		{"water-mask", required_argument, NULL, OPT_WATER_MASK},
+		{"info", required_argument, NULL, OPT_INFO},
+		{"json", no_argument, NULL, OPT_JSON},
 		{"quiet", no_argument, NULL, 'q'},
 		{"verbose", no_argument, NULL, 'v'},
 		{"help", no_argument, NULL, 'h'},
@@ -153,7 +168,8 @@ int main(int argc, char **argv)
 		{NULL, 0, NULL, 0},
 	};
 	struct cs_terrainprep_opts o;
-	int have_radius = 0;
+	int have_radius = 0, json = 0;
+	const char *info_path = NULL;
 	double ll[2];
 	int opt;
 
@@ -202,6 +218,13 @@ int main(int argc, char **argv)
 		case OPT_ALTITUDE: o.altitude_deg = cli_double("--altitude", optarg, 0.0, 90.0); break;
 		case OPT_Z_FACTOR: o.z_factor = cli_double("--z-factor", optarg, 1e-6, 1e6); break;
 		case OPT_SCALE: o.scale = cli_double("--scale", optarg, 1e-6, 1e9); break;
+		case OPT_WATER_LEVEL:
+			o.water_level_m = cli_double("--water-level", optarg, -12000.0, 9000.0);
+			o.have_water_level = 1;
+			break;
+		case OPT_WATER_MASK: o.water_mask = optarg; break;
+		case OPT_INFO: info_path = optarg; break;
+		case OPT_JSON: json = 1; break;
 		case 'q': cli_quiet = 1; break;
 		case 'v': cli_verbose = 1; break;
 		case 'h': usage(); return EXIT_OK;
@@ -211,6 +234,20 @@ int main(int argc, char **argv)
 			return EXIT_USAGE;
 		}
 	}
+	if (info_path) {
+		if (optind < argc || o.output || o.hillshade)
+			cli_usage_error("--info reads a heightfield: no DEM, -o or --hillshade with it");
+		char *text = NULL;
+		if (cs_terrainprep_info(info_path, json, &text) != CS_OK) {
+			cli_err("%s", cs_errmsg());
+			return EXIT_DATA;
+		}
+		fputs(text, stdout);
+		free(text);
+		return fflush(stdout) == 0 ? EXIT_OK : EXIT_DATA;
+	}
+	if (json)
+		cli_usage_error("--json goes with --info");
 	o.inputs = (const char **)(argv + optind);
 	o.ninputs = argc - optind;
 	if (o.ninputs == 0)

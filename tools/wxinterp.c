@@ -20,6 +20,7 @@ static void usage(void)
 {
 	printf("Usage: wxinterp [options] FILE... [--at TIME | --from TIME --to TIME]\n"
 	       "       wxinterp --template [options]\n"
+	       "       wxinterp --summary [--daily] [--json] FILE...\n"
 	       "Describe the sky from hourly meteoblue or Open-Meteo files: cloud layers\n"
 	       "(genus, coverage, base, top), rain, wind, visibility and fog at any minute,\n"
 	       "as cloudwx JSON; a series of times as JSON Lines.  Several FILEs of one\n"
@@ -42,6 +43,11 @@ static void usage(void)
 	       "      --template         the built-in fair-weather state, no input files\n"
 	       "                         (indented; edit it by hand or with --set)\n"
 	       "      --pretty           indent the JSON (one state only)\n"
+	       "      --summary          instead of states, a table of what the sky does each\n"
+	       "                         hour (--step): sun, cloud cover, layers, rain, snow,\n"
+	       "                         visibility, fog\n"
+	       "      --daily            --summary per UTC day: rain totals, hours, genera\n"
+	       "      --json             --summary as JSON Lines (one object per row)\n"
 	       "  -q, --quiet            no warnings\n"
 	       "  -v, --verbose          say what was read and which rule gave each layer\n"
 	       "  -h, --help             this help\n"
@@ -79,7 +85,7 @@ static double duration(const char *opt, const char *s)
 enum {
 	OPT_AT = 256, OPT_FROM, OPT_TO, OPT_STEP, OPT_FAR, OPT_FAR_NAME,
 	OPT_SITE_NAME, OPT_ALT, OPT_MAX_GAP, OPT_SET, OPT_TEMPLATE, OPT_PRETTY,
-	OPT_VERSION,
+	OPT_VERSION, OPT_SUMMARY, OPT_DAILY, OPT_JSON,
 };
 
 int main(int argc, char **argv)
@@ -98,6 +104,9 @@ int main(int argc, char **argv)
 		{"set", required_argument, NULL, OPT_SET},
 		{"template", no_argument, NULL, OPT_TEMPLATE},
 		{"pretty", no_argument, NULL, OPT_PRETTY},
+		{"summary", no_argument, NULL, OPT_SUMMARY},
+		{"daily", no_argument, NULL, OPT_DAILY},
+		{"json", no_argument, NULL, OPT_JSON},
 		{"quiet", no_argument, NULL, 'q'},
 		{"verbose", no_argument, NULL, 'v'},
 		{"help", no_argument, NULL, 'h'},
@@ -105,7 +114,7 @@ int main(int argc, char **argv)
 		{NULL, 0, NULL, 0},
 	};
 	struct cs_wxinterp_opts o;
-	int opt, have_step = 0;
+	int opt, have_step = 0, daily = 0;
 
 	cli_init("wxinterp");
 	cs_wxinterp_defaults(&o);
@@ -149,6 +158,9 @@ int main(int argc, char **argv)
 			break;
 		case OPT_TEMPLATE: o.template_state = 1; break;
 		case OPT_PRETTY: o.pretty = 1; break;
+		case OPT_SUMMARY: o.summary = o.summary ? o.summary : 1; break;
+		case OPT_DAILY: daily = 1; break;
+		case OPT_JSON: o.summary_json = 1; break;
 		case 'q': cli_quiet = 1; break;
 		case 'v': cli_verbose = 1; break;
 		case 'h': usage(); return EXIT_OK;
@@ -163,6 +175,14 @@ int main(int argc, char **argv)
 			cli_usage_error("at most %d input files", CS_WXINTERP_MAX_INPUTS);
 		o.inputs[o.ninputs++] = argv[optind];
 	}
+	if (daily && !o.summary)
+		cli_usage_error("--daily goes with --summary");
+	if (daily)
+		o.summary = 2;
+	if (o.summary_json && !o.summary)
+		cli_usage_error("--json goes with --summary");
+	if (daily && have_step)
+		cli_usage_error("--daily sums the hours of each day: no --step with it");
 	if (o.have_at && have_step)
 		cli_usage_error("--step sets the interval of a series; --at gives one time");
 	if (o.template_state && o.have_from != o.have_to)
@@ -181,7 +201,7 @@ int main(int argc, char **argv)
 		return rc == CS_EINVAL ? EXIT_USAGE : EXIT_DATA;
 	}
 	if (cli_verbose)
-		cli_err("wrote %ld state%s to %s", r.nstates, r.nstates == 1 ? "" : "s",
+		cli_err("wrote %ld %s%s to %s", r.nstates, o.summary ? "row" : "state", r.nstates == 1 ? "" : "s",
 			strcmp(o.output, "-") == 0 ? "standard output" : o.output);
 	return EXIT_OK;
 }

@@ -7,9 +7,12 @@
 #include "core/geo.h"
 #include "io/exr.h"
 #include "io/image.h"
+#include "io/cpt.h"
+#include "render/water.h"
 #include "terrain/heightfield.h"
 #include "render/reference.h"
 #include "render/scene.h"
+#include "render/camera.h"
 #include "terrain/terrain.h"
 #include "astro/sun.h"
 #include "core/time.h"
@@ -17,6 +20,7 @@
 
 #include <ctype.h>
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <strings.h>
@@ -264,6 +268,7 @@ struct ground {
 	struct cs_hfield hf;
 	int have_terrain, have_hf;
 	uint8_t *drape;
+	struct cs_cpt *cpt;
 };
 
 static int load_terrain(const struct cs_cloudrender_opts *o, struct cs_cloudrender_result *r,
@@ -271,7 +276,10 @@ static int load_terrain(const struct cs_cloudrender_opts *o, struct cs_cloudrend
 {
 	if (!o->terrain_path)
 		return o->terrain_color_path ? cs_error(CS_EINVAL, "--terrain-color needs --terrain")
+		       : o->terrain_cpt_path ? cs_error(CS_EINVAL, "--terrain-cpt needs --terrain")
 					     : CS_OK;
+	if (o->terrain_color_path && o->terrain_cpt_path)
+		return cs_error(CS_EINVAL, "--terrain-color and --terrain-cpt exclude each other");
 	int rc = cs_terrain_read(o->terrain_path, &g->terrain);
 	if (rc != CS_OK)
 		return rc;
@@ -289,19 +297,32 @@ static int load_terrain(const struct cs_cloudrender_opts *o, struct cs_cloudrend
 			return rc;
 		sc->terrain_color = g->drape;
 	}
+	if (o->terrain_cpt_path) {
+		if ((g->cpt = malloc(sizeof *g->cpt)) == NULL)
+			return cs_error(CS_ENOMEM, "out of memory");
+		CS_TRY(cs_cpt_read(o->terrain_cpt_path, g->cpt));
+		sc->terrain_cpt = g->cpt;
+	}
+	if (g->terrain.water && cs_terrain_water_count(&g->terrain) > 0) {
+		sc->terrain_water = g->terrain.water;
+		sc->water_mss = cs_water_slope_variance(r->wx.wind_speed_m_s);
+		sc->effects |= CS_FX_WATER;
+	}
 	return CS_OK;
 }
 
-/* The camera: the default eye 2 m above the site looking south-south-east,
- * a named view, or an explicit place and look; on the terrain where there
- * is one; never below the ground. */
+/* The camera: the default eye 2 m above the site looking where the clouds
+ * are (cs_default_look), a named view, or an explicit place and look; on
+ * the terrain where there is one; never below the ground. */
 static int place_camera(const struct cs_cloudrender_opts *o, struct cs_cloudrender_result *r,
 			const struct cs_scene *sc, const struct cs_view *view,
 			const struct ground *g, struct cs_camera *cam)
 {
 	double lat = r->wx.site.lat_deg, lon = r->wx.site.lon_deg;
-	double alt = r->wx.site.alt_m + 2.0, az = 160.0, el = 8.0, fov = 70.0;
+	double alt = r->wx.site.alt_m + 2.0, az = 0.0, el = 8.0, fov = 70.0;
+	snprintf(r->look_why, sizeof r->look_why, "--look");
 	if (view) {
+		snprintf(r->look_why, sizeof r->look_why, "view %s", view->name);
 		lat = view->place->lat_deg, lon = view->place->lon_deg;
 		alt = cs_view_alt_m(view);
 		az = view->azimuth_deg, el = view->elevation_deg, fov = view->fov_deg;
@@ -327,6 +348,21 @@ static int place_camera(const struct cs_cloudrender_opts *o, struct cs_cloudrend
 	if (alt < ground)
 		return cs_error(CS_EINVAL, "the camera at %.1f m is below the %s (%.1f m)",
 				alt, over_terrain ? "terrain" : "ground", ground);
+	if (!view && !o->have_look) {
+		double fx[CS_WX_MAX_FAR], fy[CS_WX_MAX_FAR];
+		for (int f = 0; f < r->wx.nfar; f++) {
+			cs_v3 p = cs_geo_to_world(r->wx.site.lat_deg, r->wx.site.lon_deg,
+						  sc->earth_radius_m, r->wx.far[f].site.lat_deg,
+						  r->wx.far[f].site.lon_deg, 0.0);
+			fx[f] = p.x, fy[f] = p.y;
+		}
+		char why[128];
+		cs_default_look(sc, alt, fov, o->width, o->height, fx, fy, r->wx.nfar, &az,
+				&el, why, sizeof why);
+		snprintf(r->look_why, sizeof r->look_why, "default view: %s", why);
+	}
+	r->cam_lat_deg = lat, r->cam_lon_deg = lon, r->cam_alt_m = alt;
+	r->look_az_deg = az, r->look_el_deg = el, r->fov_deg = fov;
 	int rc = cs_camera_init(cam, sc, pos, r->wx.site.lat_deg, az, el, fov, o->width, o->height);
 	if (rc != CS_OK)
 		return rc;
@@ -440,10 +476,13 @@ int cs_cloudrender_run(const struct cs_cloudrender_opts *o, struct cs_cloudrende
 	if (rc == CS_OK)
 		rc = place_camera(o, r, sc, view, &g, &cam);
 	r->t_scene_s = now_s() - t0;
+	if (rc == CS_OK && o->ready)
+		o->ready(o->ready_user, r);
 	if (rc == CS_OK)
 		rc = render_and_write(o, r, sc, &cam, px);
 	free(px);
 	free(g.drape);
+	free(g.cpt);
 	if (g.have_hf)
 		cs_hfield_free(&g.hf);
 	if (g.have_terrain)
@@ -451,6 +490,8 @@ int cs_cloudrender_run(const struct cs_cloudrender_opts *o, struct cs_cloudrende
 	if (r->scene) { /* what it pointed to is gone: terrain, colour, noise */
 		r->scene->terrain = NULL;
 		r->scene->terrain_color = NULL;
+		r->scene->terrain_water = NULL;
+		r->scene->terrain_cpt = NULL;
 		r->scene->noise = NULL;
 	}
 	if (rc != CS_OK) {

@@ -7,11 +7,14 @@
 
 #define CS_RENDER_MAX_OUTPUTS 4
 
+struct cs_cloudrender_result;
+
 struct cs_cloudrender_opts {
 	const char *wx_path;      /* cloudwx JSON or "-", or NULL: built-in */
 	const char *noise_path;   /* noise volume, or NULL: baked in memory */
 	const char *terrain_path; /* heightfield from terrainprep, or NULL: flat */
 	const char *terrain_color_path; /* PNG draped over the terrain, or NULL */
+	const char *terrain_cpt_path;   /* GMT CPT palette for the terrain, or NULL */
 	int noise_size;           /* in-memory bake size (default 64) */
 	int have_time;
 	double time_utc;          /* overrides the weather state's time */
@@ -46,6 +49,10 @@ struct cs_cloudrender_opts {
 	int noutputs;
 	cs_progress_fn progress;
 	void *progress_user;
+	/* Called once the scene and camera are set, before the frame is
+	 * rendered, with the result so far (for cloudrender -v), or NULL. */
+	void (*ready)(void *user, const struct cs_cloudrender_result *r);
+	void *ready_user;
 };
 
 /* What a run produced, for the program's report (--stats, warnings). */
@@ -58,6 +65,11 @@ struct cs_cloudrender_result {
 	struct cs_scene *scene;   /* valid until cs_cloudrender_result_free() */
 	double sun_azimuth_deg, sun_elevation_deg;
 	double camera_site_km;    /* from the camera to the weather site */
+	/* the camera as placed */
+	double cam_lat_deg, cam_lon_deg, cam_alt_m;
+	double look_az_deg, look_el_deg, fov_deg;
+	char look_why[160];       /* "view gurten", "--look", or the default
+				     view's reason (cs_default_look) */
 	double camera_terrain_km; /* to the terrain's centre (-1 without terrain) */
 	/* with opts.irradiance: at the camera, and the mean over a square of
 	 * area_size_m around the weather site (a forecast's grid cell) */

@@ -6,6 +6,8 @@
 
 #include "terrain/dem.h"
 #include "core/err.h"
+#include "core/geo.h"
+#include "core/info.h"
 #include "io/image.h"
 
 #include <math.h>
@@ -139,6 +141,125 @@ static int write_outputs(const struct cs_terrainprep_opts *o, struct cs_reprojec
 	return rc;
 }
 
+/* Water where the mask says so or at or below the water level. */
+static int make_water(const struct cs_terrainprep_opts *o, struct cs_reproject *rp,
+		      struct cs_terrain *t)
+{
+	t->water_level_m = o->have_water_level ? o->water_level_m : NAN;
+	t->water_source[0] = '\0';
+	if (!o->have_water_level && o->water_mask == NULL)
+		return CS_OK;
+	size_t n = (size_t)t->width * t->height;
+	t->water = calloc(n, sizeof *t->water);
+	if (t->water == NULL)
+		return cs_error(CS_ENOMEM, "out of memory");
+	if (o->water_mask) {
+		const char *slash = strrchr(o->water_mask, '/');
+		snprintf(t->water_source, sizeof t->water_source, "%s",
+			 slash ? slash + 1 : o->water_mask);
+		CS_TRY(cs_reproject_water_mask(rp, o->water_mask, t, t->water));
+	}
+	/* below the level the surface is the water's: level */
+	if (o->have_water_level)
+		for (size_t i = 0; i < n; i++)
+			if (t->h[i] <= o->water_level_m) {
+				t->water[i] = 1.0f;
+				t->h[i] = (float)o->water_level_m;
+			}
+	if (o->have_water_level) {
+		t->min_m = INFINITY;
+		t->max_m = -INFINITY;
+		for (size_t i = 0; i < n; i++)
+			if (!isnan(t->h[i])) {
+				t->min_m = fmin(t->min_m, t->h[i]);
+				t->max_m = fmax(t->max_m, t->h[i]);
+			}
+	}
+	return CS_OK;
+}
+
+/* ---- --info ------------------------------------------------------------ */
+
+int cs_terrainprep_info(const char *path, int json, char **text)
+{
+	struct cs_terrain t;
+	*text = NULL;
+	CS_TRY(cs_terrain_read(path, &t));
+	size_t n = (size_t)t.width * t.height;
+	double sum = 0.0;
+	for (size_t i = 0; i < n; i++)
+		sum += t.h[i];
+	struct cs_info in;
+	cs_info_init(&in, json);
+	cs_info_str(&in, "file", "file", path);
+	cs_info_str(&in, "format", "format", "cloudscape heightfield (OpenEXR float32 \"Y\" + JSON sidecar)");
+	const double size[2] = {t.width, t.height};
+	cs_info_nums(&in, "size", "size", size, 2, 0, " x ", "samples");
+	char crs[32];
+	snprintf(crs, sizeof crs, t.epsg > 0 ? "EPSG:%d" : "unknown (WKT only)", t.epsg);
+	cs_info_str(&in, "crs", "crs", crs);
+	const double px[2] = {t.pixel_x_m, t.pixel_y_m};
+	cs_info_nums(&in, "pixel_size_m", "pixel size", px, 2, 3, " x ", "m (CRS units)");
+	/* true metres: great circles between the corner sample centres */
+	double gx = t.width > 1 ? cs_great_circle_m(t.corner_lat[0], t.corner_lon[0],
+		t.corner_lat[1], t.corner_lon[1]) / (t.width - 1) : NAN;
+	double gy = t.height > 1 ? cs_great_circle_m(t.corner_lat[0], t.corner_lon[0],
+		t.corner_lat[3], t.corner_lon[3]) / (t.height - 1) : NAN;
+	const double ground[2] = {gx, gy};
+	cs_info_nums(&in, "ground_pixel_size_m", "ground pixel size", ground, 2, 3, " x ",
+		     "m (great circle along the north and west edges)");
+	const double origin[2] = {t.origin_x, t.origin_y};
+	cs_info_nums(&in, "origin", "origin", origin, 2, 3, ", ", "(upper-left corner, CRS)");
+	/* the outer edges: the corner sample centres moved out by half a
+	 * sample along the grid (affine in lat/lon over the grid) */
+	double lat[4], lon[4];
+	const int right[4] = {1, 0, 3, 2}, down[4] = {3, 2, 1, 0};
+	for (int c = 0; c < 4; c++) {
+		double sx = t.width > 1 ? 0.5 / (t.width - 1) : 0.0;
+		double sy = t.height > 1 ? 0.5 / (t.height - 1) : 0.0;
+		lat[c] = t.corner_lat[c] + (t.corner_lat[c] - t.corner_lat[right[c]]) * sx +
+			 (t.corner_lat[c] - t.corner_lat[down[c]]) * sy;
+		lon[c] = t.corner_lon[c] + (t.corner_lon[c] - t.corner_lon[right[c]]) * sx +
+			 (t.corner_lon[c] - t.corner_lon[down[c]]) * sy;
+	}
+	double s = 90, nth = -90, w = 180, e = -180;
+	for (int c = 0; c < 4; c++) {
+		s = fmin(s, lat[c]);
+		nth = fmax(nth, lat[c]);
+		w = fmin(w, lon[c]);
+		e = fmax(e, lon[c]);
+	}
+	cs_info_open(&in, "bounds_wgs84_deg", "bounds (WGS84, degrees)");
+	cs_info_num(&in, "south", "south", s, 6, NULL);
+	cs_info_num(&in, "north", "north", nth, 6, NULL);
+	cs_info_num(&in, "west", "west", w, 6, NULL);
+	cs_info_num(&in, "east", "east", e, 6, NULL);
+	cs_info_close(&in);
+	const double centre[2] = {t.center_lat, t.center_lon};
+	cs_info_nums(&in, "center_wgs84_deg", "centre (WGS84)", centre, 2, 6, ", ", "deg (lat, lon)");
+	cs_info_open(&in, "height_m", "height");
+	cs_info_num(&in, "min", "min", t.min_m, 3, "m");
+	cs_info_num(&in, "max", "max", t.max_m, 3, "m");
+	cs_info_num(&in, "mean", "mean", sum / (double)n, 3, "m");
+	cs_info_close(&in);
+	cs_info_open(&in, "voids", "voids");
+	cs_info_num(&in, "count", "count", t.voids >= 0 ? (double)t.voids : NAN, 0,
+		    t.voids > 0 ? "(filled)" : NULL);
+	cs_info_str(&in, "policy", "policy", t.nodata_policy[0] ? t.nodata_policy : "unknown");
+	cs_info_close(&in);
+	cs_info_open(&in, "water", "water");
+	long nw = cs_terrain_water_count(&t);
+	cs_info_num(&in, "samples", "samples", (double)nw, 0, NULL);
+	cs_info_num(&in, "percent", "percent", 100.0 * (double)nw / (double)n, 2, "%");
+	if (t.water != NULL) {
+		cs_info_num(&in, "level_m", "level", t.water_level_m, 3, "m");
+		cs_info_str(&in, "mask", "mask", t.water_source[0] ? t.water_source : "none");
+	}
+	cs_info_close(&in);
+	cs_terrain_free(&t);
+	return cs_info_finish(&in, text);
+}
+
 /* ---- the run ---------------------------------------------------------- */
 
 static int check_opts(const struct cs_terrainprep_opts *o, enum cs_terrain_format format)
@@ -181,6 +302,10 @@ static int check_opts(const struct cs_terrainprep_opts *o, enum cs_terrain_forma
 		return cs_error(CS_EINVAL, "--flip applies to --format r16 only");
 	if (format == CS_TERRAIN_R16 && o->fill == CS_FILL_NONE)
 		return cs_error(CS_EINVAL, "--format r16 cannot hold voids: use --fill nearest or --fill value");
+	if ((o->have_water_level || o->water_mask) && o->output && format != CS_TERRAIN_EXR)
+		return cs_error(CS_EINVAL, "--water-level and --water-mask: water is stored in EXR heightfields only");
+	if (o->have_water_level && !isfinite(o->water_level_m))
+		return cs_error(CS_EINVAL, "--water-level: not a number");
 	if (o->resampling && !cs_reproject_resampling_known(o->resampling))
 		return cs_error(CS_EINVAL, "-r: unknown resampling '%s'", o->resampling);
 	return CS_OK;
@@ -221,6 +346,8 @@ int cs_terrainprep_run(const struct cs_terrainprep_opts *o, struct cs_terrainpre
 		rc = handle_voids(o, t, &res->voids);
 	if (rc == CS_OK)
 		rc = cs_reproject_georeference(rp, t);
+	if (rc == CS_OK)
+		rc = make_water(o, rp, t);
 	if (rc == CS_OK)
 		rc = write_outputs(o, rp, res);
 	if (rc == CS_OK && o->progress)

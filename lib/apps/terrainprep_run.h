@@ -42,6 +42,9 @@ struct cs_terrainprep_opts {
 	int r16_south_up;
 	const char *hillshade;    /* PNG path, or NULL */
 	double azimuth_deg, altitude_deg, z_factor, scale;
+	int have_water_level;
+	double water_level_m;     /* samples at or below this height are water */
+	const char *water_mask;   /* raster GDAL reads: non-zero is water */
 	cs_progress_fn progress;
 	void *progress_user;
 };
@@ -67,6 +70,14 @@ void cs_terrainprep_defaults(struct cs_terrainprep_opts *o);
 int cs_terrainprep_run(const struct cs_terrainprep_opts *o,
 		       struct cs_terrainprep_result *r);
 void cs_terrainprep_result_free(struct cs_terrainprep_result *r);
+
+/* terrainprep --info: a heightfield (EXR and sidecar) described in the
+ * --info style (core/info.h): size, CRS, pixel size in CRS units and on
+ * the ground (great-circle distance along the grid's edges over the
+ * samples between them), the WGS84 bounds of the outer edges, min/max/mean
+ * height, the voids the source had and how they were filled, the water.
+ * *text is malloc'ed for the caller. */
+int cs_terrainprep_info(const char *path, int json, char **text);
 
 /* The format a name means: "exr", "r16" or "raw", "tif" or "tiff" (any
  * case); CS_EINVAL for any other. */

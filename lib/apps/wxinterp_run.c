@@ -1,5 +1,7 @@
 #include "apps/wxinterp_run.h"
 
+#include "apps/wxsummary.h"
+
 #include "core/err.h"
 #include "core/fileio.h"
 #include "core/json.h"
@@ -183,7 +185,8 @@ static int far_state(const struct run *r, int i, double t, struct cs_wx_far *f)
 }
 
 /* The state at time t, before the --set edits. */
-static int derive(const struct run *r, double t, struct cs_wx *wx)
+static int derive(const struct run *r, double t, struct cs_wx *wx,
+		  struct cs_wx_obs *obs)
 {
 	struct cs_wx_obs ob;
 	memset(wx, 0, sizeof *wx);
@@ -208,6 +211,8 @@ static int derive(const struct run *r, double t, struct cs_wx *wx)
 	wx->nfar = r->o->nfar;
 	for (int i = 0; i < r->o->nfar; i++)
 		CS_TRY(far_state(r, i, t, &wx->far[i]));
+	if (obs != NULL)
+		*obs = ob;
 	return CS_OK;
 }
 
@@ -225,7 +230,7 @@ static int one_state(struct run *r, double t, struct cs_outfile *of)
 		if (o->have_alt)
 			wx.site.alt_m = o->alt_m;
 	} else {
-		CS_TRY(derive(r, t, &wx));
+		CS_TRY(derive(r, t, &wx, NULL));
 		if (cs_wx_validate(&wx) != CS_OK)
 			return cs_error(CS_EDATA, "%s: the state at %s is invalid: "
 					"%s", r->main_label, cs_time_text(t).s,
@@ -280,11 +285,48 @@ static int check_opts(const struct cs_wxinterp_opts *o)
 	if (!(o->step_s >= 1) || !(o->max_gap_s >= 3600))
 		return cs_error(CS_EINVAL, "the step must be at least 1 s and "
 				"--max-gap at least 1 h");
+	if (o->summary && (o->template_state || o->nsets > 0 || o->pretty))
+		return cs_error(CS_EINVAL, "--summary describes provider files: "
+				"not with --template, --set or --pretty");
+	if (o->summary == 2 && (o->step_s != 3600 || o->have_at))
+		return cs_error(CS_EINVAL, "--daily sums the hours of each day: "
+				"no --step or --at with it");
+	if (o->summary_json && !o->summary)
+		return cs_error(CS_EINVAL, "--json goes with --summary");
 	if (o->have_alt && !(o->alt_m >= -500 && o->alt_m <= 9000))
 		return cs_error(CS_EINVAL, "--alt: outside -500..9000 m");
 	for (int i = 0; i < o->nsets; i++)
 		CS_TRY(cs_wx_set_check(o->sets[i]));
 	return CS_OK;
+}
+
+/* --summary: the state and observation at each time, as a table. */
+static int summary(struct run *r, double t0, long count)
+{
+	const struct cs_wxinterp_opts *o = r->o;
+	struct cs_wxsum_row *rows = calloc((size_t)count, sizeof *rows);
+	if (rows == NULL)
+		return cs_error(CS_ENOMEM, "out of memory (%ld times)", count);
+	int rc = CS_OK;
+	for (long k = 0; rc == CS_OK && k < count; k++) {
+		double t = t0 + (double)k * o->step_s;
+		rc = derive(r, t, &rows[k].wx, &rows[k].ob);
+		if (rc == CS_OK && cs_wx_validate(&rows[k].wx) != CS_OK)
+			rc = cs_error(CS_EDATA, "%s: the state at %s is invalid: %s",
+				      r->main_label, cs_time_text(t).s, cs_errmsg());
+	}
+	struct cs_outfile of;
+	if (rc == CS_OK && (rc = cs_outfile_open(&of, o->output)) == CS_OK) {
+		rc = cs_wxsum_write(rows, count, o->step_s, o->summary == 2,
+				    o->summary_json, &of);
+		if (rc == CS_OK)
+			rc = cs_outfile_commit(&of);
+		cs_outfile_abort(&of);
+	}
+	if (rc == CS_OK)
+		r->res->nstates = count;
+	free(rows);
+	return rc;
 }
 
 static int run_times(struct run *r)
@@ -314,6 +356,8 @@ static int run_times(struct run *r)
 				"series of %.0f (JSON Lines)", count);
 	if (!o->template_state)
 		CS_TRY(covered(r, t0, t1));
+	if (o->summary)
+		return summary(r, t0, (long)count);
 	struct cs_outfile of;
 	CS_TRY(cs_outfile_open(&of, o->output));
 	int rc = CS_OK;

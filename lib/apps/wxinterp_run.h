@@ -36,6 +36,9 @@ struct cs_wxinterp_opts {
 	double alt_m;                         /* ground height override */
 	int template_state;                   /* the default state, no inputs */
 	int pretty;                           /* indented JSON (one state) */
+	int summary;                          /* 1: a table per time (wxsummary.h)
+						 instead of states; 2: per UTC day */
+	int summary_json;                     /* the summary as JSON Lines */
 	const char *output;                   /* path or "-" (default) */
 	cs_note_fn note;
 	void *note_user;

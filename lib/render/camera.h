@@ -6,6 +6,8 @@
 #include "core/hd.h"
 #include "core/vec.h"
 
+#include <stddef.h>
+
 struct cs_scene;
 
 /* How pixels map to directions. */
@@ -40,6 +42,25 @@ int cs_projection_parse(const char *name, enum cs_projection *p);
 int cs_camera_init(struct cs_camera *c, const struct cs_scene *sc, cs_v3 pos,
 		   double origin_lat_deg, double azimuth_deg, double elevation_deg,
 		   double fov_deg, int width, int height);
+
+/* The default view (man 1 cloudrender, DEFAULT VIEW): where to look from
+ * an eye at eye_alt_m (m above sea level) at the scene's site with a
+ * perspective camera of horizontal field fov_deg and a width x height
+ * image.  Azimuth: with the sun up, away from it (the clouds lit from the
+ * front, as photographers shoot them); with the sun down, toward it (the
+ * twilight); when only far sites have clouds, toward the one with the most
+ * cover (far_x, far_y: their world positions, nfar of them).  Elevation:
+ * 8 deg, or higher when the haze and fog would hide the lowest layer's
+ * base: the lowest elevation at which the base is seen through an optical
+ * depth of at most CS_VIEW_MAX_DEPTH (flat Earth) is kept a quarter of the
+ * frame below its top edge, at most CS_VIEW_MAX_ELEVATION_DEG.  why gets a short reason. */
+#define CS_VIEW_DEFAULT_ELEVATION_DEG 8.0
+#define CS_VIEW_MAX_DEPTH 1.5 /* transmittance e^-1.5 = 22 % */
+#define CS_VIEW_MAX_ELEVATION_DEG 60.0 /* the horizon's side stays in view */
+void cs_default_look(const struct cs_scene *sc, double eye_alt_m, double fov_deg,
+		     int width, int height, const double *far_x, const double *far_y,
+		     int nfar, double *azimuth_deg, double *elevation_deg, char *why,
+		     size_t why_size);
 
 /* The world direction through the centre of pixel (i, j), j = 0 at the
  * top, into *d: 1, or 0 for a pixel outside a fisheye's circle. */

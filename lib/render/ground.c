@@ -3,6 +3,8 @@
  * sky, with the terrain's own soft shadows and horizon occlusion. */
 #include "render/march.h"
 
+#include "io/cpt.h"
+#include "render/water.h"
 #include "terrain/heightfield.h"
 
 #include <math.h>
@@ -59,7 +61,8 @@ CS_HD static double srgb_to_linear(double c)
 }
 
 /* Ground colour of the terrain: from the colour image when there is one,
- * else grass, rock on steep slopes and snow high up. */
+ * else from the palette (its sRGB colour at the height), else grass, rock
+ * on steep slopes and snow high up. */
 CS_HD static void terrain_albedo(const struct cs_scene *sc, double x, double y,
 			   double h, cs_v3 n, double alb[3])
 {
@@ -76,6 +79,13 @@ CS_HD static void terrain_albedo(const struct cs_scene *sc, double x, double y,
 			alb[k] = srgb_to_linear(px[k] / 255.0);
 		return;
 	}
+	if (sc->terrain_cpt) {
+		double c[3];
+		cs_cpt_color(sc->terrain_cpt, h, c);
+		for (int k = 0; k < 3; k++)
+			alb[k] = srgb_to_linear(c[k] / 255.0);
+		return;
+	}
 	double steep = n.z < 0.7 ? 1.0 : n.z > 0.85 ? 0.0 : (0.85 - n.z) / 0.15;
 	double high = h < 2400.0 ? 0.0 : h > 2900.0 ? 1.0 : (h - 2400.0) / 500.0;
 	high *= n.z > 0.6 ? 1.0 : 0.0; /* snow does not stick to cliffs */
@@ -83,6 +93,61 @@ CS_HD static void terrain_albedo(const struct cs_scene *sc, double x, double y,
 		double g = grass[k] + steep * (rock[k] - grass[k]);
 		alb[k] = g + high * (snow[k] - g);
 	}
+}
+
+/* Whether the terrain sample nearest to world (x, y) is water. */
+CS_HD static int water_at(const struct cs_scene *sc, double x, double y)
+{
+	const struct cs_hfield *f = sc->terrain;
+	if (sc->terrain_water == NULL)
+		return 0;
+	double col = f->a[0] + f->a[1] * x + f->a[2] * y;
+	double row = f->b[0] + f->b[1] * x + f->b[2] * y;
+	int i = (int)floor(col + 0.5), j = (int)floor(row + 0.5);
+	if (i < 0 || j < 0 || i >= f->w || j >= f->h)
+		return 0;
+	return sc->terrain_water[(size_t)j * f->w + i] >= 0.5f;
+}
+
+CS_HD void cs_water_light(const struct cs_scene *sc, const struct cs_render_settings *s,
+			  cs_v3 p, cs_v3 d, int on_terrain, struct cs_render_stats *st,
+			  double rgb[3])
+{
+	cs_v3 n = v3_norm(v3(p.x, p.y, p.z + sc->earth_radius_m)); /* level water */
+	double cv = -v3_dot(d, n);
+	cv = cv > 1e-4 ? cv : 1e-4;
+	/* the sky in the mirror direction: under a deck what it lets through */
+	cs_v3 r = v3_norm(v3_mad(d, n, 2.0 * cv));
+	double sky[3] = {0.0, 0.0, 0.0};
+	if (sc->effects & CS_FX_SKY) {
+		if (sc->deck.on)
+			for (int k = 0; k < 3; k++)
+				sky[k] = sc->deck.sky_below[k];
+		else
+			cs_scene_sky(sc, r, sky);
+	}
+	double F = cs_water_fresnel(cv);
+	/* the water body: light that entered, scattered and came back up */
+	const double body[3] = {CS_WATER_BODY_R, CS_WATER_BODY_G, CS_WATER_BODY_B};
+	const double *amb = sc->deck.on ? sc->deck.sky_below : sc->ambient_up;
+	double cosi = v3_dot(n, sc->sun_dir), sunT = 0.0;
+	if ((sc->effects & CS_FX_KEY) && cosi > 0.0) {
+		double self = on_terrain ? terrain_shadow(sc->terrain, p, sc->sun_dir) : 1.0;
+		sunT = (sc->effects & CS_FX_CLOUD_SHADOWS) && self > 0.0
+			       ? self * cs_render_sun_transmittance(sc, s, p, st)
+			       : self;
+	}
+	double glint = 0.0;
+	if (sunT > 0.0) {
+		cs_v3 v = v3_scale(d, -1.0);
+		cs_v3 h = v3_norm(v3_add(v, sc->sun_dir));
+		glint = cs_water_glint(cv, cosi, v3_dot(h, n), v3_dot(v, h), sc->water_mss);
+	}
+	for (int k = 0; k < 3; k++)
+		rgb[k] = F * sky[k] +
+			 (1.0 - F) * body[k] * (sc->sun_illuminance[k] * cosi * sunT / CS_PI +
+						((sc->effects & CS_FX_SKY) ? amb[k] : 0.0)) +
+			 glint * sc->sun_illuminance[k] * sunT;
 }
 
 CS_HD void cs_ground_surface(const struct cs_scene *sc, cs_v3 p, int on_terrain,
@@ -97,7 +162,7 @@ CS_HD void cs_ground_surface(const struct cs_scene *sc, cs_v3 p, int on_terrain,
 		n = cs_hfield_normal(sc->terrain, p.x, p.y);
 		terrain_albedo(sc, p.x, p.y, h, n, alb);
 	}
-	if (sc->noise && !(on_terrain && sc->terrain_color)) {
+	if (sc->noise && !(on_terrain && (sc->terrain_color || sc->terrain_cpt))) {
 		/* fields and woods: the albedo varies over ~1 km and ~150 m, which
 		 * also shows the eye how far away the ground is */
 		double v = 0.6 * cs_volume_sample(sc->noise, 1, p.x / 4000.0, p.y / 4000.0, 0.3) +
@@ -112,9 +177,13 @@ CS_HD void cs_ground_surface(const struct cs_scene *sc, cs_v3 p, int on_terrain,
 }
 
 CS_HD void cs_ground_light(const struct cs_scene *sc,
-			 const struct cs_render_settings *s, cs_v3 p,
+			 const struct cs_render_settings *s, cs_v3 p, cs_v3 d,
 			 int on_terrain, struct cs_render_stats *st, double rgb[3])
 {
+	if (on_terrain && water_at(sc, p.x, p.y)) {
+		cs_water_light(sc, s, p, d, on_terrain, st, rgb);
+		return;
+	}
 	cs_v3 n;
 	double alb[3], ao = 1.0, self = 1.0;
 	cs_ground_surface(sc, p, on_terrain, &n, alb);

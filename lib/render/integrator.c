@@ -395,7 +395,7 @@ CS_HD static void finish_ray(const struct ray_ctx *c, double tg, int on_terrain,
 	if (!P->terminated) {
 		if (isfinite(tg)) {
 			haze_to(c, P, tg);
-			cs_ground_light(sc, c->s, v3_mad(c->o, c->d, tg), on_terrain, c->st, bg);
+			cs_ground_light(sc, c->s, v3_mad(c->o, c->d, tg), c->d, on_terrain, c->st, bg);
 			for (int k = 0; k < 3; k++)
 				bg[k] *= P->th;
 			if (P->depth == CS_SKY_DEPTH_M)

@@ -36,11 +36,13 @@ CS_HD double cs_haze_depth(const struct cs_scene *sc, double h0, double dz,
 CS_HD double cs_fog_depth(const struct cs_scene *sc, double h0, double dz,
 			  double t);
 
-/* Radiance leaving the ground at p toward the eye (ground.c): flat ground
- * or, when on_terrain, the heightfield with its normal, colour, horizon
- * occlusion and self-shadow; cloud shadows when the scene has them. */
+/* Radiance leaving the ground at p toward the eye, which looks along d
+ * (ground.c): flat ground or, when on_terrain, the heightfield with its
+ * normal, colour (drape, palette or land cover), horizon occlusion and
+ * self-shadow, or its water (Fresnel sky reflection, sun glint, the dark
+ * water body); cloud shadows when the scene has them. */
 CS_HD void cs_ground_light(const struct cs_scene *sc,
-			   const struct cs_render_settings *s, cs_v3 p,
+			   const struct cs_render_settings *s, cs_v3 p, cs_v3 d,
 			   int on_terrain, struct cs_render_stats *st,
 			   double rgb[3]);
 
@@ -59,5 +61,13 @@ CS_HD double cs_rain_shaft(const struct cs_scene *sc, double x, double y);
  * (land cover, terrain colour, wetness). */
 CS_HD void cs_ground_surface(const struct cs_scene *sc, cs_v3 p, int on_terrain,
 			     cs_v3 *normal, double albedo[3]);
+
+/* Radiance leaving open water at p toward the eye looking along d: the sky
+ * in the mirror direction times Fresnel's reflectance (Schlick, n 1.333),
+ * the sun's glint on the wind's ripples (sc->water_mss), the dark water
+ * body; shadowed by the terrain (on_terrain) and the clouds. */
+CS_HD void cs_water_light(const struct cs_scene *sc, const struct cs_render_settings *s,
+			  cs_v3 p, cs_v3 d, int on_terrain, struct cs_render_stats *st,
+			  double rgb[3]);
 
 #endif

@@ -55,7 +55,8 @@ int cs_render_settings_check(const struct cs_render_settings *s)
 const char *cs_effect_name(unsigned bit)
 {
 	static const char *const names[] = {"sun", "sky", "clouds", "ground", "haze",
-					    "rain", "cloud_shadows", "terrain", "deck", "fog", "snow", "halo", "shafts", "moon", "stars"};
+					    "rain", "cloud_shadows", "terrain", "deck", "fog", "snow", "halo", "shafts", "moon", "stars",
+					    "water"};
 	for (unsigned b = 0; b < sizeof names / sizeof names[0]; b++)
 		if (bit == 1u << b)
 			return names[b];

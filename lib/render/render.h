@@ -18,6 +18,8 @@
 #include "render/cloud.h"
 #include "render/phase.h"
 #include "terrain/heightfield.h"
+
+struct cs_cpt;
 #include "render/sky.h"
 #include "core/geo.h" /* CS_EARTH_RADIUS_M */
 #include "core/vec.h"
@@ -84,6 +86,8 @@ enum {
 	CS_FX_SHAFTS = 4096,     /* clouds' shadows in the haze: crepuscular rays */
 	CS_FX_MOON = 8192,       /* the Moon is the key light (the sun is down) */
 	CS_FX_STARS = 16384,     /* stars in the clear night sky */
+	CS_FX_WATER = 32768,     /* open water on the terrain: sky reflection
+				    and sun glint (render/water.h) */
 	/* the key light, sun_dir and sun_illuminance: the sun or the Moon */
 	CS_FX_KEY = CS_FX_SUN | CS_FX_MOON
 };
@@ -146,6 +150,10 @@ struct cs_scene {
 					    else flat ground only outside it */
 	const uint8_t *terrain_color; /* sRGB 8-bit RGB over the terrain grid, or NULL */
 	int terrain_color_w, terrain_color_h;
+	const float *terrain_water;   /* 1 where the terrain's sample is water
+					 (its grid, w x h), or NULL */
+	double water_mss;             /* the water's mean square slope (wind) */
+	const struct cs_cpt *terrain_cpt; /* height -> colour, or NULL */
 	int nlayers;
 	struct cs_cloud_layer layers[CS_SCENE_MAX_LAYERS];
 	const struct cs_volume *noise;

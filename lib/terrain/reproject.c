@@ -691,6 +691,54 @@ int cs_reproject_geotiff(struct cs_reproject *rp, const struct cs_terrain *t,
 	return leave(rp, encode_tif(rp, t, rp->tif_path, nan_nodata, bytes, len));
 }
 
+/* The mask warped onto the heights' grid (r->gt, w x h): nearest
+ * neighbour, outside the mask and its nodata 0; water where the value is
+ * not 0.  A mask without a CRS is taken to be in the target CRS. */
+static int warp_mask(struct cs_reproject *r, const char *path, int w, int h, float *water)
+{
+	log_reset(&r->log);
+	GDALDatasetH src = GDALOpenEx(path, GDAL_OF_RASTER | GDAL_OF_READONLY | GDAL_OF_VERBOSE_ERROR,
+				      NULL, NULL, NULL);
+	if (src == NULL) {
+		return cs_error(CS_EDATA, "--water-mask %s: %s", path,
+				r->log.failure[0] ? r->log.failure : "GDAL cannot open it");
+	}
+	char **av = add(add(add(add(NULL, "-of"), "MEM"), "-ot"), "Float32");
+	av = add(add(av, "-t_srs"), r->t_wkt);
+	if (GDALGetSpatialRef(src) == NULL)
+		av = add(add(av, "-s_srs"), r->t_wkt);
+	av = add(av, "-te");
+	av = addnum(av, r->gt[0]);
+	av = addnum(av, r->gt[3] + h * r->gt[5]);
+	av = addnum(av, r->gt[0] + w * r->gt[1]);
+	av = addnum(av, r->gt[3]);
+	av = addnum(addnum(add(av, "-ts"), w), h);
+	av = add(add(av, "-r"), "near");
+	av = add(add(av, "-dstnodata"), "0");
+	GDALDatasetH mem = NULL;
+	int rc = warp(r, av, &src, 1, 0, &mem);
+	GDALClose(src);
+	if (rc != CS_OK)
+		return cs_error(rc, "--water-mask %s: %s", path, cs_errmsg());
+	CPLErr e = CE_Failure;
+	if (GDALGetRasterXSize(mem) == w && GDALGetRasterYSize(mem) == h)
+		e = GDALRasterIO(GDALGetRasterBand(mem, 1), GF_Read, 0, 0, w, h, water, w, h,
+				 GDT_Float32, 0, 0);
+	GDALClose(mem);
+	if (e != CE_None || r->log.failed)
+		return gdal_fail(r, "reading the warped water mask");
+	for (size_t i = 0; i < (size_t)w * h; i++)
+		water[i] = isfinite(water[i]) && water[i] != 0.0f ? 1.0f : 0.0f;
+	return CS_OK;
+}
+
+int cs_reproject_water_mask(struct cs_reproject *rp, const char *path,
+			    const struct cs_terrain *t, float *water)
+{
+	enter(rp);
+	return leave(rp, warp_mask(rp, path, t->width, t->height, water));
+}
+
 const char *cs_reproject_source(const struct cs_reproject *rp)
 {
 	return rp->source;

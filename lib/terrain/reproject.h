@@ -70,6 +70,14 @@ int cs_reproject_georeference(struct cs_reproject *rp, struct cs_terrain *t);
 int cs_reproject_geotiff(struct cs_reproject *rp, const struct cs_terrain *t,
 			 int nan_nodata, const void **bytes, size_t *len);
 
+/* A water mask (any raster GDAL reads, e.g. a lake polygon rasterised with
+ * gdal_rasterize) on the grid of t (after cs_reproject_warp): water[i] 1
+ * where the mask's first band is non-zero and not nodata, else 0 (also
+ * outside the mask).  Nearest-neighbour; a mask without a CRS is taken to
+ * be in the heightfield's.  Unreadable: CS_EDATA. */
+int cs_reproject_water_mask(struct cs_reproject *rp, const char *path,
+			    const struct cs_terrain *t, float *water);
+
 /* The inputs as the sidecar names them: "a.tif, b.tif", the drivers
  * ("GTiff,AAIGrid"), the source nodata ("-32767", "none"). */
 const char *cs_reproject_source(const struct cs_reproject *rp);

@@ -47,8 +47,19 @@ void cs_terrain_free(struct cs_terrain *t)
 {
 	free(t->h);
 	free(t->crs_wkt);
+	free(t->water);
 	t->h = NULL;
 	t->crs_wkt = NULL;
+	t->water = NULL;
+}
+
+long cs_terrain_water_count(const struct cs_terrain *t)
+{
+	long n = 0;
+	if (t->water != NULL)
+		for (size_t i = 0; i < (size_t)t->width * t->height; i++)
+			n += t->water[i] >= 0.5f;
+	return n;
 }
 
 double cs_terrain_height(const struct cs_terrain *t, double col, double row)
@@ -148,6 +159,13 @@ static char *sidecar_json(const char *path, const struct cs_terrain *t,
 	for (int c = 0; c < 4; c++)
 		add_pair(o, corner_keys[c], "lat", t->corner_lat[c], "lon", t->corner_lon[c]);
 	add_pair(o, "center", "lat", t->center_lat, "lon", t->center_lon);
+	if (t->water != NULL) {
+		o = cJSON_AddObjectToObject(root, "water");
+		add_str(o, "channel", "W");
+		add_num(o, "samples", (double)cs_terrain_water_count(t));
+		add_num(o, "level_m", t->water_level_m); /* null if none */
+		add_str(o, "mask", t->water_source[0] ? t->water_source : NULL);
+	}
 	char *text = root ? cJSON_Print(root) : NULL;
 	cJSON_Delete(root);
 	return text;
@@ -183,10 +201,10 @@ static int write_data(const char *path, const struct cs_terrain *t,
 		return write_r16(path, t, m, scale);
 	if (m->format == CS_TERRAIN_TIF)
 		return cs_write_file(path, m->bytes, m->nbytes);
-	const struct cs_exr_channel ch = {"Y", 1, t->h, 1};
+	const struct cs_exr_channel ch[2] = {{"Y", 1, t->h, 1}, {"W", 0, t->water, 1}};
 	const struct cs_exr_attr attr = {"cloudscapeTerrain", CS_EXR_INT,
 					 {CS_TERRAIN_FORMAT, 0, 0}, NULL, 0};
-	return cs_exr_write(path, t->width, t->height, &ch, 1, &attr, 1);
+	return cs_exr_write(path, t->width, t->height, ch, t->water ? 2 : 1, &attr, 1);
 }
 
 int cs_terrain_write_as(const char *path, const struct cs_terrain *t,
@@ -203,6 +221,8 @@ int cs_terrain_write_as(const char *path, const struct cs_terrain *t,
 	    !isfinite(t->min_m) || !isfinite(t->max_m) || t->min_m > t->max_m ||
 	    !(t->pixel_x_m > 0.0) || !(t->pixel_y_m > 0.0))
 		return cs_error(CS_EINVAL, "%s: not a valid heightfield", path);
+	if (t->water != NULL && m->format != CS_TERRAIN_EXR)
+		return cs_error(CS_EINVAL, "%s: water is stored in EXR heightfields only", path);
 	if (m->format == CS_TERRAIN_TIF && m->bytes == NULL)
 		return cs_error(CS_EINVAL, "%s: no GeoTIFF to write", path);
 	double scale = (t->max_m - t->min_m) / 65535.0;
@@ -304,8 +324,10 @@ static void need_latlon(struct reader *r, const char *key, double *lat, double *
 }
 
 static int parse_sidecar(const char *text, size_t len, const char *name,
-			 struct cs_terrain *t)
+			 struct cs_terrain *t, int *has_water)
 {
+	*has_water = 0;
+	t->water_level_m = NAN;
 	cJSON *root = cJSON_ParseWithLength(text, len);
 	if (!cJSON_IsObject(root)) {
 		cJSON_Delete(root);
@@ -347,6 +369,24 @@ static int parse_sidecar(const char *text, size_t len, const char *name,
 	for (int c = 0; c < 4; c++)
 		need_latlon(&r, corner_keys[c], &t->corner_lat[c], &t->corner_lon[c]);
 	need_latlon(&r, "center", &t->center_lat, &t->center_lon);
+	const cJSON *voids = member(root, "nodata.voids");
+	t->voids = cJSON_IsNumber(voids) ? (long)voids->valuedouble : -1;
+	const cJSON *pol = member(root, "nodata.policy");
+	snprintf(t->nodata_policy, sizeof t->nodata_policy, "%s",
+		 cJSON_IsString(pol) ? pol->valuestring : "");
+	const cJSON *water = member(root, "water");
+	if (r.rc == CS_OK && water != NULL && !cJSON_IsNull(water)) {
+		const char *ch = need_str(&r, "water.channel");
+		if (r.rc == CS_OK && strcmp(ch, "W") != 0)
+			r.rc = cs_error(CS_EDATA, "%s: water.channel \"%.20s\" is not \"W\"",
+					name, ch);
+		const cJSON *lv = member(root, "water.level_m");
+		t->water_level_m = cJSON_IsNumber(lv) ? lv->valuedouble : NAN;
+		const cJSON *mk = member(root, "water.mask");
+		snprintf(t->water_source, sizeof t->water_source, "%s",
+			 cJSON_IsString(mk) ? mk->valuestring : "");
+		*has_water = 1;
+	}
 	if (r.rc == CS_OK && (t->crs_wkt = strdup(wkt)) == NULL)
 		r.rc = cs_error(CS_ENOMEM, "out of memory");
 	cJSON_Delete(root);
@@ -370,18 +410,31 @@ int cs_terrain_read(const char *exr_path, struct cs_terrain *t)
 		return rc;
 	rc = cs_exr_read_float_channel(data, len, exr_path, "Y", &t->width,
 				       &t->height, &t->h);
-	free(data);
-	data = NULL;
-	if (rc != CS_OK)
+	if (rc != CS_OK) {
+		free(data);
 		return rc;
+	}
 	if (access(json_path, F_OK) != 0) {
+		free(data);
 		rc = cs_error(CS_EDATA, "%s: its sidecar %s is missing (%s)", exr_path,
 			      json_path, strerror(errno));
 		goto fail;
 	}
-	rc = cs_read_all(json_path, MAX_SIDECAR_BYTES, &data, &len);
+	unsigned char *side = NULL;
+	size_t side_len = 0;
+	int has_water = 0;
+	rc = cs_read_all(json_path, MAX_SIDECAR_BYTES, &side, &side_len);
 	if (rc == CS_OK)
-		rc = parse_sidecar((const char *)data, len, json_path, t);
+		rc = parse_sidecar((const char *)side, side_len, json_path, t, &has_water);
+	free(side);
+	if (rc == CS_OK && has_water) {
+		int ww, wh;
+		rc = cs_exr_read_float_channel(data, len, exr_path, "W", &ww, &wh,
+					       &t->water);
+		if (rc == CS_OK && (ww != t->width || wh != t->height))
+			rc = cs_error(CS_EDATA, "%s: water is %dx%d, heights %dx%d",
+				      exr_path, ww, wh, t->width, t->height);
+	}
 	free(data);
 	if (rc != CS_OK)
 		goto fail;

@@ -26,6 +26,16 @@ struct cs_terrain {
 	 * grid on the sphere (an affine fit is good to metres over ~100 km). */
 	double corner_lat[4], corner_lon[4];
 	double center_lat, center_lon;
+	/* Water (optional): NULL, or width * height values, 1 where the sample
+	 * is open water (a lake, the sea), 0 on land; stored as channel "W"
+	 * of the EXR and "water" in the sidecar.  Files without it read with
+	 * water NULL. */
+	float *water;
+	double water_level_m;     /* --water-level that made it, NaN if none */
+	char water_source[256];   /* the mask file it came from, or "" */
+	/* From the sidecar, for terrainprep --info (not needed to render). */
+	long voids;               /* void samples the source had; -1 unknown */
+	char nodata_policy[160];  /* e.g. "fill=nearest; source nodata -32767" */
 };
 
 /* How the data file next to the sidecar is encoded. */
@@ -55,8 +65,9 @@ struct cs_terrain_meta {
  * does not fit in size bytes. */
 int cs_terrain_sidecar_path(const char *path, char *out, size_t size);
 
-/* Reads a heightfield: the EXR (one channel "Y", 32-bit float) and its
- * sidecar (cs_terrain_sidecar_path); validates both and their agreement.
+/* Reads a heightfield: the EXR (channel "Y", 32-bit float, and "W", the
+ * water, when the sidecar has a "water" object) and its sidecar
+ * (cs_terrain_sidecar_path); validates both and their agreement.
  * "-" is not accepted (two files are needed).  Voids (NaN, from
  * terrainprep --fill none) are an error. */
 int cs_terrain_read(const char *exr_path, struct cs_terrain *t);
@@ -68,11 +79,15 @@ int cs_terrain_write(const char *exr_path, const struct cs_terrain *t,
 		     const char *source, const char *driver,
 		     const char *nodata_policy);
 
+/* The number of water samples (0 without water). */
+long cs_terrain_water_count(const struct cs_terrain *t);
+
 /* The same for any format: writes the data file (in m->format) and the
  * sidecar; the sidecar is prepared first and committed last, so a failure
  * leaves neither new file.  NaN voids are allowed in EXR and TIF only (the
  * reader refuses them).  R16 maps min..max to 0..65535 and records the
- * scale and offset. */
+ * scale and offset.  Water (t->water) is stored in EXR files only
+ * (CS_EINVAL for the others). */
 int cs_terrain_write_as(const char *path, const struct cs_terrain *t,
 			const struct cs_terrain_meta *m);
 

@@ -18,7 +18,7 @@ expect_rc 0
 run "$NB" --info "$T/o.exr"
 expect_out "size: 12 x 12 x 6"; expect_out "seed: 99"
 expect_out "recipe: R=perlin-worley:2:1:2;G=worley-fbm:3:2;B=worley-fbm:4:3;A=worley-fbm:5:4;gain=0.7"
-expect_out "channel B: period 4x4x2 cells"
+expect_out "  B:"; expect_out "    period: 4 x 4 x 2 cells"
 end
 
 begin noisebake_output_bytes_do_not_depend_on_threads

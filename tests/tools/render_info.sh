@@ -1,0 +1,72 @@
+# cloudrender -v (what it renders, the time of each phase), the progress
+# bar's elapsed time and ETA on a terminal, and the default view.
+. "$TOP/tests/tools/lib.sh"
+CR="$BIN/cloudrender"
+WX="$BIN/wxinterp"
+FAST="--quality low --noise-size 32 --size 64x36"
+MB="${DATA:-}/weather/meteoblue-basic-clouds-solar-1h.json"
+
+begin cloudrender_verbose_says_what_it_renders
+run "$CR" -v $FAST -o "$T/a.png"; expect_rc 0
+# the built-in state (man 5 cloudwx): Bern, cumulus and cirrus
+expect_err "cloudrender: time 2021-06-14T14:00:00Z, site Bern 46.9500, 7.4400, 540 m"
+expect_err "cloudrender: sun azimuth "
+expect_err "cloudrender: camera 46.95000, 7.44000, 542 m, looking azimuth "
+expect_err "cloudrender: layer 1: cumulus, cover 0.35, base 1500 m, top 2700 m"
+expect_err "cloudrender: layer 2: cirrus, cover 0.20, base 9000 m, top 9600 m"
+expect_err "cloudrender: effects: sun sky clouds ground haze"
+expect_err "cloudrender: quality low: 24 steps, 4 light steps"
+expect_err "cloudrender: time: noise "
+# the sun agrees with --stats (NOAA's algorithm), to the printed 0.1 deg
+run "$CR" -v --stats $FAST -o "$T/a.png"; expect_rc 0
+az=$(sed -n 's/.*"sun":{"azimuth_deg":\([0-9.]*\),.*/\1/p' "$T/err")
+grep -q "sun azimuth $(printf '%.1f' "$az") deg" "$T/err" || bad "-v sun azimuth differs from --stats $az"
+# the description comes before the render's end: the time line is last
+tail -n 2 "$T/err" | grep -q "time: noise" || bad "the phase times are not at the end"
+run "$CR" $FAST -o "$T/a.png"; expect_rc 0
+[ -s "$T/err" ] && bad "without -v stderr is not empty: $(head -c 200 "$T/err")"
+end
+
+begin cloudrender_progress_shows_elapsed_and_eta_on_a_terminal
+if command -v script >/dev/null 2>&1; then
+	script -qc "'$CR' $FAST -o '$T/b.png'" /dev/null >"$T/tty" 2>&1 </dev/null
+	tr '\r' '\n' <"$T/tty" | grep -q 'rendering \[.*\] 100% [0-9]*:[0-9][0-9] ETA 0:00' ||
+		bad "no bar with elapsed time and ETA on a terminal: $(tr '\r' '\n' <"$T/tty" | tail -n 2)"
+	run "$CR" $FAST -o "$T/b.png"
+	grep -q ETA "$T/err" && bad "a progress bar without a terminal"
+	end
+else
+	skip cloudrender_progress_shows_elapsed_and_eta_on_a_terminal "no script(1)"
+fi
+
+begin cloudrender_default_view_looks_away_from_the_sun
+if [ -f "$MB" ]; then
+	# Montevideo, 2024-10-07 15:00 UTC: not Bern's south-south-east
+	"$WX" --at 2024-10-07T15:00Z "$MB" >"$T/mv.json"
+	run "$CR" --wx "$T/mv.json" -v $FAST -o "$T/mv.png"; expect_rc 0
+	sun=$(sed -n 's/.*sun azimuth \([0-9.]*\) deg.*/\1/p' "$T/err")
+	look=$(sed -n 's/.*looking azimuth \([0-9.]*\) deg.*/\1/p' "$T/err")
+	awk -v s="$sun" -v l="$look" 'BEGIN { d = l - s - 180; while (d < -180) d += 360; while (d > 180) d -= 360
+		exit !(d < 0.15 && d > -0.15) }' || bad "look azimuth $look is not opposite the sun's $sun"
+	expect_err "(default view: away from the sun"
+	# an explicit --look is kept
+	run "$CR" --wx "$T/mv.json" -v --look 160,8 $FAST -o "$T/mv.png"; expect_rc 0
+	expect_err "looking azimuth 160.0 deg, elevation 8.0 deg"
+	end
+else
+	skip cloudrender_default_view_looks_away_from_the_sun "no $MB (shared data absent)"
+fi
+
+begin cloudrender_hazy_default_view_looks_up_to_the_clouds
+# 2 km visibility under the built-in cumulus (base 960 m above the eye):
+# sin e = 3.912/2000 * 1200 * (1 - exp(-960/1200)) / 1.5 = 0.859, e = 59.2
+# deg, less a quarter of the 43.1-deg frame: 48.5 deg
+"$WX" --template --set visibility=2000 >"$T/hz.json"
+run "$CR" --wx "$T/hz.json" -v --quality low --noise-size 32 --size 64x36 -o "$T/hz.png"; expect_rc 0
+el=$(sed -n 's/.*looking azimuth [0-9.]* deg, elevation \([0-9.]*\) deg.*/\1/p' "$T/err")
+ref=$(awk 'BEGIN { pi = atan2(0, -1); s = 3.912 / 2000 * 1200 * (1 - exp(-958 / 1200)) / 1.5
+	e = atan2(s, sqrt(1 - s * s)) * 180 / pi; v = 2 * atan2(sin(35 * pi / 180) / cos(35 * pi / 180) * 36 / 64, 1) * 180 / pi
+	printf "%.1f", e - v / 4 }')
+awk -v a="$el" -v b="$ref" 'BEGIN { d = a - b; exit !(d < 0.25 && d > -0.25) }' || bad "hazy default elevation $el, expected $ref"
+expect_err "raised to see the lowest base through the haze"
+end
