@@ -6,6 +6,7 @@
 #include "core/hash.h"
 #include "render/march.h"
 #include "render/reference.h"
+#include "render/scene.h"
 #include "test.h"
 
 #include <stdlib.h>
@@ -222,6 +223,31 @@ static void every_preset_sees_a_small_cloud_around_the_eye(void)
 	}
 }
 
+/* The clouds' phase function has the asymmetry of water droplets in the
+ * visible, g = <cos theta> = 0.85 (Hansen & Travis 1974; what the light
+ * under the decks, deck.c, assumes): integrated over the sphere here,
+ * not read from the parameters. */
+static void cloud_phase_has_the_droplets_asymmetry(void)
+{
+	struct cs_wx wx;
+	cs_wx_default(&wx);
+	wx.nlayers = 0;
+	static struct cs_scene sc;
+	CHECK(cs_scene_build(&sc, &wx, wx.time_utc, NULL) == CS_OK);
+	double norm = 0.0, g = 0.0;
+	int n = 200000;
+	for (int i = 0; i < n; i++) {
+		double mu = -1.0 + (i + 0.5) * 2.0 / n;
+		double p = cs_phase_two_lobe(mu, sc.g_forward, sc.g_back, sc.w_forward, 1.0);
+		norm += 2.0 * CS_PI * p * 2.0 / n;
+		g += 2.0 * CS_PI * p * mu * 2.0 / n;
+	}
+	printf("  phase: integral %.4f, mean cosine %.4f\n", norm, g);
+	CHECK_NEAR(norm, 1.0, 0.01);
+	CHECK_NEAR(g, 0.85, 0.02);
+	CHECK(sc.albedo > 0.9999);
+}
+
 int main(void)
 {
 	RUN(slab_matches_adding_doubling);
@@ -229,5 +255,6 @@ int main(void)
 	RUN(error_halves_as_paths_quadruple);
 	RUN(same_image_for_any_thread_count);
 	RUN(every_preset_sees_a_small_cloud_around_the_eye);
+	RUN(cloud_phase_has_the_droplets_asymmetry);
 	TEST_EXIT();
 }
