@@ -30,7 +30,7 @@ static void usage(void)
 	       "      --blend W          make the overlay a blend, the photo's weight 0..1\n"
 	       "      --diff FILE.png    false colour: render minus photo in display luminance\n"
 	       "                         (red: render brighter, blue: darker; grey: not sky)\n"
-	       "      --diff-range L     levels at full colour, 1..255 (default 64)\n"
+	       "      --diff-range L     levels at full colour, 1..255 (default 32)\n"
 	       "      --threshold RB     R/B on linear RGB at or above which a pixel is cloud,\n"
 	       "                         0.05..5 (default 0.75)\n"
 	       "      --mask FILE        the photo's sky: a picture of its size, white = sky\n"

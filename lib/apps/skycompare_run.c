@@ -20,7 +20,7 @@ void cs_skycompare_defaults(struct cs_skycompare_opts *o)
 	o->horizon_row = -1;
 	o->split = 0.5;
 	o->blend = -1.0;
-	o->diff_range = 64.0;
+	o->diff_range = 32.0;
 }
 
 /* ---- series patterns ---------------------------------------------------- */

@@ -67,7 +67,7 @@ struct cs_skycompare_result {
 };
 
 /* Defaults: threshold CS_SKY_RB_THRESHOLD, exposure 0, automatic photo sky,
- * the render's grid, split at 0.5, diff range 64 levels, series from -1 to -1. */
+ * the render's grid, split at 0.5, diff range 32 levels, series from -1 to -1. */
 void cs_skycompare_defaults(struct cs_skycompare_opts *o);
 
 /* Compares the pair, or every pair of the series, and writes the pictures

@@ -215,7 +215,7 @@ static int read_gdal(const char *path, struct cs_picture *p)
 	GDALDatasetH ds = GDALOpenEx(path, GDAL_OF_RASTER | GDAL_OF_READONLY, NULL, NULL, NULL);
 	int rc;
 	if (ds == NULL)
-		rc = cs_error(CS_EDATA, "%s: not a picture PNG, OpenEXR or GDAL can read%s%s", path,
+		rc = cs_error(CS_EDATA, "%s: not a picture that PNG, OpenEXR or GDAL can read%s%s", path,
 			      g.text[0] ? ": " : "", g.text);
 	else
 		rc = read_gdal_open(path, ds, &g, p);

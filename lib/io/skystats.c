@@ -59,7 +59,7 @@ int cs_sky_mask_horizon(struct cs_picture *p, int row)
 int cs_sky_mask_image(struct cs_picture *p, const struct cs_picture *mask, const char *mask_name)
 {
 	if (mask->width != p->width || mask->height != p->height)
-		return cs_error(CS_EINVAL, "%s: the mask is %dx%d, its picture %dx%d", mask_name,
+		return cs_error(CS_EDATA, "%s: the mask is %dx%d, its picture %dx%d", mask_name,
 				mask->width, mask->height, p->width, p->height);
 	CS_TRY(new_mask(p));
 	size_t n = (size_t)p->width * p->height;

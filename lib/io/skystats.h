@@ -47,7 +47,7 @@ struct cs_sky_diff {
  * pixel is sky unless it is clear (A <= 0) and its depth is under half
  * sky_depth_m (ground or terrain); CS_EINVAL without A and Z.
  * _horizon: rows 0..row-1 (row counted in p's rows, clamped).
- * _image: the pixels of mask (a picture of p's size) whose display
+ * _image: the pixels of mask (a picture of p's size, else CS_EDATA) whose display
  * luminance is at least half white.
  * _auto: an estimate for a photograph: see cs_sky_mask_auto. */
 int cs_sky_mask_all(struct cs_picture *p);
