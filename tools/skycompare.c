@@ -35,6 +35,8 @@ static void usage(void)
 	       "                         0.05..5 (default 0.75)\n"
 	       "      --mask FILE        the photo's sky: a picture of its size, white = sky\n"
 	       "      --horizon ROW      the photo's sky: the rows above ROW (0 = top)\n"
+	       "      --render-horizon ROW  the render's sky: only the rows above ROW\n"
+	       "                         (with its depth mask: the haze near the horizon)\n"
 	       "      --sky-all          every pixel of both pictures is sky\n"
 	       "                         (default: an EXR's depth and alpha, else an\n"
 	       "                         automatic estimate: see skycompare(1))\n"
@@ -267,7 +269,7 @@ static void parse_size(const char *opt, char *s, int *w, int *h)
 
 enum {
 	OPT_OVERLAY = 256, OPT_SPLIT, OPT_BLEND, OPT_DIFF, OPT_DIFF_RANGE, OPT_THRESHOLD,
-	OPT_MASK, OPT_HORIZON, OPT_SKY_ALL, OPT_CROP, OPT_FOV, OPT_GRID, OPT_EXPOSURE,
+	OPT_MASK, OPT_HORIZON, OPT_RENDER_HORIZON, OPT_SKY_ALL, OPT_CROP, OPT_FOV, OPT_GRID, OPT_EXPOSURE,
 	OPT_SERIES, OPT_FIRST, OPT_LAST, OPT_JSON, OPT_VERSION,
 };
 
@@ -283,6 +285,7 @@ int main(int argc, char **argv)
 		{"threshold", required_argument, NULL, OPT_THRESHOLD},
 		{"mask", required_argument, NULL, OPT_MASK},
 		{"horizon", required_argument, NULL, OPT_HORIZON},
+		{"render-horizon", required_argument, NULL, OPT_RENDER_HORIZON},
 		{"sky-all", no_argument, NULL, OPT_SKY_ALL},
 		{"crop", required_argument, NULL, OPT_CROP},
 		{"fov", required_argument, NULL, OPT_FOV},
@@ -315,6 +318,9 @@ int main(int argc, char **argv)
 		case OPT_THRESHOLD: o.rb_threshold = cli_double("--threshold", optarg, 0.05, 5.0); break;
 		case OPT_MASK: o.mask_path = optarg; break;
 		case OPT_HORIZON: o.horizon_row = (int)cli_long("--horizon", optarg, 0, 16384); break;
+		case OPT_RENDER_HORIZON:
+			o.render_horizon_row = (int)cli_long("--render-horizon", optarg, 0, 16384);
+			break;
 		case OPT_SKY_ALL: o.sky_all = 1; break;
 		case OPT_CROP: {
 			double c[4];
@@ -357,9 +363,9 @@ int main(int argc, char **argv)
 				argc - optind < 2 ? (series ? " pattern" : "") : argv[optind + 2]);
 	if (o.mask_path && o.horizon_row >= 0)
 		cli_usage_error("--mask and --horizon both give the photo's sky: choose one");
-	if (o.sky_all && (o.mask_path || o.horizon_row >= 0))
+	if (o.sky_all && (o.mask_path || o.horizon_row >= 0 || o.render_horizon_row >= 0))
 		cli_usage_error("--sky-all and --%s contradict each other",
-				o.mask_path ? "mask" : "horizon");
+				o.mask_path ? "mask" : o.horizon_row >= 0 ? "horizon" : "render-horizon");
 	if (!series && (o.first >= 0 || o.last >= 0))
 		cli_usage_error("--first and --last need --series");
 	if (o.first >= 0 && o.last >= 0 && o.last < o.first)

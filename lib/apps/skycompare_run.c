@@ -17,7 +17,7 @@ void cs_skycompare_defaults(struct cs_skycompare_opts *o)
 	memset(o, 0, sizeof *o);
 	o->first = o->last = -1;
 	o->rb_threshold = CS_SKY_RB_THRESHOLD;
-	o->horizon_row = -1;
+	o->horizon_row = o->render_horizon_row = -1;
 	o->split = 0.5;
 	o->blend = -1.0;
 	o->diff_range = 32.0;
@@ -89,18 +89,29 @@ int cs_series_name(const char *pattern, long i, char *buf, size_t size)
 
 /* ---- one pair ------------------------------------------------------------ */
 
-/* Reads a picture and decides its sky. */
+/* Reads a picture and decides its sky: all; cloudrender's A and Z, less
+ * the rows from the horizon option's down; the photo's mask; the horizon
+ * option's rows; or the estimate. */
 static int load(const struct cs_skycompare_opts *o, const char *path, int photo,
 		struct cs_picture *p, char *how, size_t how_size)
 {
 	CS_TRY(cs_picture_read(path, o->exposure_ev[photo], p));
+	int row = photo ? o->horizon_row : o->render_horizon_row;
+	int depth = p->alpha && p->depth;
 	if (o->sky_all) {
 		snprintf(how, how_size, "all");
 		return cs_sky_mask_all(p);
 	}
-	if (p->alpha && p->depth) {
-		snprintf(how, how_size, "depth");
-		return cs_sky_mask_depth(p, CS_SKY_DEPTH_M);
+	if (row > p->height)
+		return cs_error(CS_EINVAL, "--%shorizon %d is below the %dx%d picture %s",
+				photo ? "" : "render-", row, p->width, p->height, path);
+	if (depth) {
+		snprintf(how, how_size, "%s", row >= 0 ? "depth+horizon" : "depth");
+		CS_TRY(cs_sky_mask_depth(p, CS_SKY_DEPTH_M));
+		if (row >= 0)
+			memset(p->sky + (size_t)row * p->width, 0,
+			       (size_t)(p->height - row) * p->width);
+		return CS_OK;
 	}
 	if (photo && o->mask_path) {
 		struct cs_picture m;
@@ -111,12 +122,9 @@ static int load(const struct cs_skycompare_opts *o, const char *path, int photo,
 		cs_picture_free(&m);
 		return rc;
 	}
-	if (photo && o->horizon_row >= 0) {
+	if (row >= 0) {
 		snprintf(how, how_size, "horizon");
-		if (o->horizon_row > p->height)
-			return cs_error(CS_EINVAL, "--horizon %d is below the %dx%d picture %s",
-					o->horizon_row, p->width, p->height, path);
-		return cs_sky_mask_horizon(p, o->horizon_row);
+		return cs_sky_mask_horizon(p, row);
 	}
 	snprintf(how, how_size, "auto");
 	return cs_sky_mask_auto(p);

@@ -27,6 +27,7 @@ struct cs_skycompare_opts {
 	double exposure_ev[2];    /* display exposure of an OpenEXR render, photo */
 	const char *mask_path;    /* the photo's sky: a mask picture, or NULL */
 	int horizon_row;          /* the photo's sky: rows above this one; -1: none */
+	int render_horizon_row;   /* the render's sky: only rows above this one; -1: all */
 	int sky_all;              /* every pixel of both is sky */
 	int have_crop;
 	int crop[4];              /* the photo's window x, y, w, h (pixels) */
@@ -49,7 +50,8 @@ struct cs_skycompare_pair {
 	char message[512];        /* why, when status is not CS_OK */
 	int render_w, render_h, photo_w, photo_h, grid_w, grid_h;
 	int aspect_differs;       /* the photo window's aspect is not the grid's (> 2 %) */
-	char render_sky[16], photo_sky[16]; /* how the sky was found: depth, auto, mask, horizon, all */
+	char render_sky[24], photo_sky[24]; /* how the sky was found: depth, auto, mask,
+					     * horizon, all, depth+horizon */
 	struct cs_sky_stats render_stats, photo_stats;
 	struct cs_sky_diff diff;
 	enum cs_verdict verdict;
