@@ -207,10 +207,14 @@ static void text_pair(const struct cs_skycompare_opts *o, const struct cs_skycom
 	snprintf(s2, sizeof s2, "%.0f %.0f %.0f", b->median_rgb[0], b->median_rgb[1],
 		 b->median_rgb[2]);
 	printf("%-20s%-24s%-24s|diff| %.1f levels\n", "median colour", s1, s2, d->mean_abs_d_level);
-	printf("%-20s%.2f %.2f %.2f levels (mean %.2f)\n", "EMD R G B", d->emd[0], d->emd[1],
-	       d->emd[2], d->emd_mean);
-	printf("%-20s%.4f %.4f %.4f (mean %.4f)\n", "chi2 R G B", d->chi2[0], d->chi2[1],
-	       d->chi2[2], d->chi2_mean);
+	if (isfinite(d->emd_mean)) {
+		printf("%-20s%.2f %.2f %.2f levels (mean %.2f)\n", "EMD R G B", d->emd[0],
+		       d->emd[1], d->emd[2], d->emd_mean);
+		printf("%-20s%.4f %.4f %.4f (mean %.4f)\n", "chi2 R G B", d->chi2[0], d->chi2[1],
+		       d->chi2[2], d->chi2_mean);
+	} else {
+		printf("%-20s- (a picture without sky)\n%-20s-\n", "EMD R G B", "chi2 R G B");
+	}
 	if (cli_verbose) {
 		static const char *const lab[2][3] = {{"render R", "render G", "render B"},
 						      {"photo R", "photo G", "photo B"}};
@@ -229,9 +233,14 @@ static void text_line(const struct cs_skycompare_pair *p)
 		return;
 	}
 	const struct cs_sky_diff *d = &p->diff;
-	printf("%6ld  cloud %.3f %.3f %+.3f  lum x%.3f  EMD %5.1f  %s\n", p->index,
+	char lum[32] = "-", emd[32] = "-";
+	if (isfinite(d->lum_ratio))
+		snprintf(lum, sizeof lum, "x%.3f", d->lum_ratio);
+	if (isfinite(d->emd_mean))
+		snprintf(emd, sizeof emd, "%5.1f", d->emd_mean);
+	printf("%6ld  cloud %.3f %.3f %+.3f  lum %s  EMD %s  %s\n", p->index,
 	       p->render_stats.cls.cloud_fraction, p->photo_stats.cls.cloud_fraction,
-	       d->d_cloud_fraction, d->lum_ratio, d->emd_mean, verdict_word[p->verdict]);
+	       d->d_cloud_fraction, lum, emd, verdict_word[p->verdict]);
 }
 
 static void summary(const struct cs_skycompare_result *r, int json)
@@ -243,8 +252,10 @@ static void summary(const struct cs_skycompare_result *r, int json)
 		       r->npairs, r->compared, r->missing, r->failed, r->mean_d_cloud,
 		       r->mean_abs_d_cloud);
 		jnum(5, r->mean_lum_ratio);
-		printf(",\"emd_levels_mean\":%.4f,\"verdicts\":{\"match\":%d,\"fair\":%d,\"poor\":%d}}}\n",
-		       r->mean_emd, r->verdicts[0], r->verdicts[1], r->verdicts[2]);
+		printf(",\"emd_levels_mean\":");
+		jnum(4, r->mean_emd);
+		printf(",\"verdicts\":{\"match\":%d,\"fair\":%d,\"poor\":%d}}}\n",
+		       r->verdicts[0], r->verdicts[1], r->verdicts[2]);
 		return;
 	}
 	printf("summary: %d pairs, %d compared, %d missing, %d failed; cloud fraction render - "

@@ -447,7 +447,7 @@ static int add_pair(struct cs_skycompare_result *r, struct cs_skycompare_pair **
 static void summarise(struct cs_skycompare_result *r)
 {
 	double lr = 0.0;
-	int nl = 0;
+	int nl = 0, ne = 0;
 	for (int i = 0; i < r->npairs; i++) {
 		const struct cs_skycompare_pair *p = &r->pairs[i];
 		if (p->status == 1)
@@ -459,7 +459,8 @@ static void summarise(struct cs_skycompare_result *r)
 		r->compared++;
 		r->mean_d_cloud += p->diff.d_cloud_fraction;
 		r->mean_abs_d_cloud += fabs(p->diff.d_cloud_fraction);
-		r->mean_emd += p->diff.emd_mean;
+		if (isfinite(p->diff.emd_mean))
+			r->mean_emd += p->diff.emd_mean, ne++;
 		r->verdicts[p->verdict]++;
 		if (isfinite(p->diff.lum_ratio) && p->diff.lum_ratio > 0.0)
 			lr += log(p->diff.lum_ratio), nl++;
@@ -467,7 +468,7 @@ static void summarise(struct cs_skycompare_result *r)
 	if (r->compared) {
 		r->mean_d_cloud /= r->compared;
 		r->mean_abs_d_cloud /= r->compared;
-		r->mean_emd /= r->compared;
+		r->mean_emd = ne ? r->mean_emd / ne : NAN;
 	}
 	r->mean_lum_ratio = nl ? exp(lr / nl) : NAN; /* geometric: 2x and 0.5x cancel */
 }

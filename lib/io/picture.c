@@ -276,27 +276,28 @@ int cs_picture_crop(struct cs_picture *p, int x, int y, int w, int h)
 	return CS_OK;
 }
 
-/* The source pixels a target pixel covers along one axis, with the length
- * of each overlap: target i of m covers [i n/m, (i+1) n/m) of n. */
+/* The source pixels a target pixel covers along one axis: target i of m
+ * covers [a, b) = [i n/m, (i+1) n/m) of n, pixels first..last. */
 struct span {
-	int first, count;
-	double w[64];
+	double a, b;
+	int first, last;
 };
 
 static void cover(int i, int m, int n, struct span *s)
 {
-	double a = (double)i * n / m, b = (double)(i + 1) * n / m;
-	int first = (int)floor(a), last = (int)ceil(b) - 1;
-	if (last >= n)
-		last = n - 1;
-	if (last - first + 1 > 64) /* a shrink by more than 64: the middle 64 */
-		first = (first + last) / 2 - 32, last = first + 63;
-	s->first = first;
-	s->count = last - first + 1;
-	for (int k = 0; k < s->count; k++) {
-		double lo = fmax(a, first + k), hi = fmin(b, first + k + 1.0);
-		s->w[k] = hi > lo ? hi - lo : 0.0;
-	}
+	s->a = (double)i * n / m;
+	s->b = (double)(i + 1) * n / m;
+	s->first = (int)floor(s->a);
+	s->last = (int)ceil(s->b) - 1;
+	if (s->last >= n)
+		s->last = n - 1;
+}
+
+/* The length of source pixel k inside the span. */
+static double overlap(const struct span *s, int k)
+{
+	double lo = fmax(s->a, k), hi = fmin(s->b, k + 1.0);
+	return hi > lo ? hi - lo : 0.0;
 }
 
 int cs_picture_resample(struct cs_picture *p, int width, int height)
@@ -317,10 +318,10 @@ int cs_picture_resample(struct cs_picture *p, int width, int height)
 		for (int i = 0; i < width; i++) {
 			cover(i, width, p->width, &sx);
 			double acc[6] = {0}, wsum = 0.0;
-			for (int b = 0; b < sy.count; b++)
-				for (int a = 0; a < sx.count; a++) {
-					double wt = sy.w[b] * sx.w[a];
-					size_t s = (size_t)(sy.first + b) * p->width + sx.first + a;
+			for (int y = sy.first; y <= sy.last; y++)
+				for (int x = sx.first; x <= sx.last; x++) {
+					double wt = overlap(&sy, y) * overlap(&sx, x);
+					size_t s = (size_t)y * p->width + x;
 					for (int c = 0; c < 3; c++) {
 						acc[c] += wt * p->srgb[s * 3 + c];
 						acc[3 + c] += wt * p->lin[s * 3 + c];
@@ -352,10 +353,10 @@ int cs_mask_resample(const uint8_t *m, int w, int h, int width, int height, uint
 		for (int i = 0; i < width; i++) {
 			cover(i, width, w, &sx);
 			double on = 0.0, all = 0.0;
-			for (int b = 0; b < sy.count; b++)
-				for (int a = 0; a < sx.count; a++) {
-					double wt = sy.w[b] * sx.w[a];
-					on += wt * (m[(size_t)(sy.first + b) * w + sx.first + a] != 0);
+			for (int y = sy.first; y <= sy.last; y++)
+				for (int x = sx.first; x <= sx.last; x++) {
+					double wt = overlap(&sy, y) * overlap(&sx, x);
+					on += wt * (m[(size_t)y * w + x] != 0);
 					all += wt;
 				}
 			(*out)[(size_t)j * width + i] = on >= 0.5 * all;
