@@ -46,6 +46,8 @@ static void usage(void)
 	       "      --grid WxH         the common grid (default: the render's size)\n"
 	       "      --exposure EV[,EV] display exposure of an OpenEXR render[, photo],\n"
 	       "                         stops, -20..20 (default 0, as cloudrender's PNG)\n"
+	       "      --undo-tonemap     the render is a PNG of cloudrender's (at --exposure):\n"
+	       "                         classify the radiance its display transform came from\n"
 	       "      --series           RENDER and PHOTO are printf patterns (%%05d): one line\n"
 	       "                         per pair and a summary; -o, --overlay, --diff too\n"
 	       "      --first N          the series' first index (default 0, or 1 when the\n"
@@ -281,7 +283,7 @@ static void parse_size(const char *opt, char *s, int *w, int *h)
 enum {
 	OPT_OVERLAY = 256, OPT_SPLIT, OPT_BLEND, OPT_DIFF, OPT_DIFF_RANGE, OPT_THRESHOLD,
 	OPT_MASK, OPT_HORIZON, OPT_RENDER_HORIZON, OPT_SKY_ALL, OPT_CROP, OPT_FOV, OPT_GRID, OPT_EXPOSURE,
-	OPT_SERIES, OPT_FIRST, OPT_LAST, OPT_JSON, OPT_VERSION,
+	OPT_UNDO_TONEMAP, OPT_SERIES, OPT_FIRST, OPT_LAST, OPT_JSON, OPT_VERSION,
 };
 
 int main(int argc, char **argv)
@@ -302,6 +304,7 @@ int main(int argc, char **argv)
 		{"fov", required_argument, NULL, OPT_FOV},
 		{"grid", required_argument, NULL, OPT_GRID},
 		{"exposure", required_argument, NULL, OPT_EXPOSURE},
+		{"undo-tonemap", no_argument, NULL, OPT_UNDO_TONEMAP},
 		{"series", no_argument, NULL, OPT_SERIES},
 		{"first", required_argument, NULL, OPT_FIRST},
 		{"last", required_argument, NULL, OPT_LAST},
@@ -355,6 +358,7 @@ int main(int argc, char **argv)
 				o.exposure_ev[0] = o.exposure_ev[1] =
 					cli_double("--exposure", optarg, -20.0, 20.0);
 			break;
+		case OPT_UNDO_TONEMAP: o.undo_tonemap = 1; break;
 		case OPT_SERIES: series = 1; break;
 		case OPT_FIRST: o.first = cli_long("--first", optarg, 0, 999999999); break;
 		case OPT_LAST: o.last = cli_long("--last", optarg, 0, 999999999); break;

@@ -96,6 +96,8 @@ static int load(const struct cs_skycompare_opts *o, const char *path, int photo,
 		struct cs_picture *p, char *how, size_t how_size)
 {
 	CS_TRY(cs_picture_read(path, o->exposure_ev[photo], p));
+	if (!photo && o->undo_tonemap)
+		cs_picture_undo_display(p, o->exposure_ev[0]);
 	int row = photo ? o->horizon_row : o->render_horizon_row;
 	int depth = p->alpha && p->depth;
 	if (o->sky_all) {

@@ -25,6 +25,8 @@ struct cs_skycompare_opts {
 	long last;                /* series: last index; -1: until a render is absent */
 	double rb_threshold;      /* R/B on linear RGB at or above which a pixel is cloud */
 	double exposure_ev[2];    /* display exposure of an OpenEXR render, photo */
+	int undo_tonemap;         /* the render is cloudrender's PNG: classify the radiance
+				   * behind it (cs_picture_undo_display at exposure_ev[0]) */
 	const char *mask_path;    /* the photo's sky: a mask picture, or NULL */
 	int horizon_row;          /* the photo's sky: rows above this one; -1: none */
 	int render_horizon_row;   /* the render's sky: only rows above this one; -1: all */

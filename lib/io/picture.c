@@ -27,6 +27,29 @@ double cs_srgb8_to_linear(int level)
 	return v <= 0.04045 ? v / 12.92 : pow((v + 0.055) / 1.055, 2.4);
 }
 
+double cs_aces_inverse(double y)
+{
+	y = y < 0.0 ? 0.0 : y > 1.0 ? 1.0 : y;
+	double a = 2.43 * y - 2.51, b = 0.59 * y - 0.03, c = 0.14 * y;
+	if (c == 0.0)
+		return 0.0;
+	/* a < 0 <= c: the roots have opposite signs; this one is positive */
+	return (-b - sqrt(b * b - 4.0 * a * c)) / (2.0 * a);
+}
+
+void cs_picture_undo_display(struct cs_picture *p, double exposure_ev)
+{
+	if (p->hdr)
+		return;
+	double lut[256], k = 16.0 / pow(2.0, exposure_ev);
+	for (int i = 0; i < 256; i++)
+		lut[i] = k * cs_aces_inverse(cs_srgb8_to_linear(i));
+	size_t n = (size_t)p->width * p->height * 3;
+	for (size_t i = 0; i < n; i++)
+		p->lin[i] = (float)lut[p->srgb[i]];
+	p->hdr = 1;
+}
+
 void cs_picture_free(struct cs_picture *p)
 {
 	free(p->srgb);

@@ -46,6 +46,17 @@ int cs_picture_resample(struct cs_picture *p, int width, int height);
  * at least half of what it covers is; *out is malloc'ed for the caller. */
 int cs_mask_resample(const uint8_t *m, int w, int h, int width, int height, uint8_t **out);
 
+/* For a PNG of cloudrender's (not an EXR): replaces lin by the radiance the
+ * display transform came from (kcd/m^2), inverting the sRGB encoding, the
+ * ACES curve (cs_aces_inverse) and the exposure (x = L 2^ev / 16); p->hdr
+ * becomes 1.  Levels 255 (the curve's clipped top) stay at the curve's
+ * value for 1.  A no-op for an EXR. */
+void cs_picture_undo_display(struct cs_picture *p, double exposure_ev);
+
+/* The x >= 0 with cs_tonemap_aces(x) = y, y in 0..1: the positive root of
+ * (2.43 y - 2.51) x^2 + (0.59 y - 0.03) x + 0.14 y = 0. */
+double cs_aces_inverse(double y);
+
 /* The sRGB decoding (IEC 61966-2-1 EOTF) of an 8-bit level, 0..1. */
 double cs_srgb8_to_linear(int level);
 

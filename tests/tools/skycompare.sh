@@ -158,6 +158,19 @@ run "$SC" "$T/c.exr" "$T/c.exr" --json
 near "$(json cloud_fraction)" 0 0.1 && bad "the haze band is not cloud any more: $(json cloud_fraction)"
 end
 
+begin skycompare_undo_tonemap_classifies_a_render_png_like_its_exr
+# cloudrender's display transform pales the sky: its PNG's decoded R/B is
+# well above its EXR's; inverting ACES and the exposure brings it back
+run "$SC" "$T/r.png" "$T/r.exr" --json
+d=$(grep -o '"difference":{[^}]*' "$T/out" | grep -o '"cloud_fraction":[-0-9.]*' | cut -d: -f2)
+near "$d" 0 0.1 && bad "the PNG classifies like the EXR without --undo-tonemap ($d)"
+run "$SC" "$T/r.png" "$T/r.exr" --undo-tonemap --json
+expect_rc 0
+d=$(grep -o '"difference":{[^}]*' "$T/out" | grep -o '"cloud_fraction":[-0-9.]*' | cut -d: -f2)
+near "$d" 0 0.02 || bad "with --undo-tonemap the PNG's cloud fraction is $d off its EXR's"
+expect_out '"mean_luminance_kcd_m2"'
+end
+
 begin skycompare_sky_masks_from_depth_mask_horizon_and_estimate
 run "$SC" "$T/r.exr" "$T/r.png" --json
 expect_rc 0

@@ -319,6 +319,28 @@ static void masks_from_depth_horizon_and_an_estimate(void)
 	cs_picture_free(&p);
 }
 
+static void aces_inverse_undoes_narkowicz_2015(void)
+{
+	/* hand values of the fit (test_image.c): x -> y */
+	static const double hand[][2] = {
+		{0.05, 0.044283069913142535}, {0.18, 0.2668989203894968},
+		{0.5, 0.6163069544364508},    {1.0, 0.8037974683544302},
+		{2.0, 0.914855072463768},     {0.0, 0.0},
+	};
+	for (size_t i = 0; i < sizeof hand / sizeof hand[0]; i++)
+		CHECK_NEAR(cs_aces_inverse(hand[i][1]), hand[i][0], 1e-9);
+	/* a PNG level back to radiance: x = L 2^ev / 16, at ev = 1 */
+	struct cs_picture p;
+	solid(&p, 1, 1, 0, 0, 0);
+	p.srgb[0] = 200;
+	cs_picture_undo_display(&p, 1.0);
+	double y = ref_eotf(200);
+	double x = cs_aces_inverse(y);
+	CHECK_NEAR(p.lin[0], 16.0 / 2.0 * x, 1e-5 * x);
+	CHECK(p.hdr == 1);
+	cs_picture_free(&p);
+}
+
 static void series_patterns(void)
 {
 	char b[64];
@@ -346,6 +368,7 @@ int main(void)
 	RUN(verdict_limits);
 	RUN(area_resampling_undoes_an_enlargement);
 	RUN(masks_from_depth_horizon_and_an_estimate);
+	RUN(aces_inverse_undoes_narkowicz_2015);
 	RUN(series_patterns);
 	TEST_EXIT();
 }
