@@ -317,7 +317,7 @@ int main(int argc, char **argv)
 	};
 	struct cs_skycompare_opts o;
 	struct cs_skycompare_result r;
-	int series = 0, json = 0, opt;
+	int series = 0, json = 0, opt, have_split = 0, have_range = 0;
 
 	cli_init("skycompare");
 	cs_skycompare_defaults(&o);
@@ -325,10 +325,16 @@ int main(int argc, char **argv)
 		switch (opt) {
 		case 'o': o.side_path = optarg; break;
 		case OPT_OVERLAY: o.overlay_path = optarg; break;
-		case OPT_SPLIT: o.split = cli_double("--split", optarg, 0.0, 1.0); break;
+		case OPT_SPLIT:
+			o.split = cli_double("--split", optarg, 0.0, 1.0);
+			have_split = 1;
+			break;
 		case OPT_BLEND: o.blend = cli_double("--blend", optarg, 0.0, 1.0); break;
 		case OPT_DIFF: o.diff_path = optarg; break;
-		case OPT_DIFF_RANGE: o.diff_range = cli_double("--diff-range", optarg, 1.0, 255.0); break;
+		case OPT_DIFF_RANGE:
+			o.diff_range = cli_double("--diff-range", optarg, 1.0, 255.0);
+			have_range = 1;
+			break;
 		case OPT_THRESHOLD: o.rb_threshold = cli_double("--threshold", optarg, 0.05, 5.0); break;
 		case OPT_MASK: o.mask_path = optarg; break;
 		case OPT_HORIZON: o.horizon_row = (int)cli_long("--horizon", optarg, 0, 16384); break;
@@ -376,6 +382,13 @@ int main(int argc, char **argv)
 		cli_usage_error(argc - optind < 2 ? "give a render and a photo%s"
 						  : "unexpected argument '%s'",
 				argc - optind < 2 ? (series ? " pattern" : "") : argv[optind + 2]);
+	if ((have_split || o.blend >= 0.0) && !o.overlay_path)
+		cli_usage_error("--%s shapes the overlay: give --overlay FILE.png",
+				have_split ? "split" : "blend");
+	if (have_split && o.blend >= 0.0)
+		cli_usage_error("--split and --blend: the overlay is one or the other");
+	if (have_range && !o.diff_path)
+		cli_usage_error("--diff-range needs --diff FILE.png");
 	if (o.mask_path && o.horizon_row >= 0)
 		cli_usage_error("--mask and --horizon both give the photo's sky: choose one");
 	if (o.sky_all && (o.mask_path || o.horizon_row >= 0 || o.render_horizon_row >= 0))

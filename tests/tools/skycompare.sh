@@ -305,6 +305,10 @@ run "$SC" "$T/r.exr" "$T/r.png" --render-horizon 28; expect_rc 2; expect_err "--
 run "$SC" "$T/r.exr" "$T/r.png" --render-horizon 3 --sky-all; expect_rc 2; expect_err "contradict"
 run "$SC" --series "$T/a.png" "$T/b%d.png"; expect_rc 2; expect_err "needs exactly one index conversion"
 run "$SC" --first 3 "$T/r.png" "$T/r.png"; expect_rc 2; expect_err "need --series"
+run "$SC" --split 0.3 "$T/r.png" "$T/r.png"; expect_rc 2; expect_err "give --overlay"
+run "$SC" --overlay "$T/o.png" --split 0.3 --blend 0.5 "$T/r.png" "$T/r.png"; expect_rc 2
+expect_no_file "$T/o.png"
+run "$SC" --diff-range 9 "$T/r.png" "$T/r.png"; expect_rc 2; expect_err "needs --diff"
 end
 
 begin skycompare_help_matches_man_page
