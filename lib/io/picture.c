@@ -258,7 +258,10 @@ int cs_picture_read(const char *path, double exposure_ev, struct cs_picture *p)
 	if (f == NULL)
 		return cs_error(CS_EIO, "%s: cannot open: %s", path, strerror(errno));
 	size_t got = fread(magic, 1, sizeof magic, f);
+	int err = ferror(f) ? errno : 0;
 	fclose(f);
+	if (err)
+		return cs_error(CS_EIO, "%s: cannot read: %s", path, strerror(err));
 	if (got == 0)
 		return cs_error(CS_EDATA, "%s: empty file", path);
 	if (got == 8 && memcmp(magic, "\x89PNG\r\n\x1a\n", 8) == 0)
