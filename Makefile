@@ -42,7 +42,7 @@ B         := build
 SANFLAGS  :=
 endif
 # programs the tool tests run (scripts/deps installs them: gdal-bin, netpbm)
-TEST_TOOLS := gdal_translate gdalinfo gdallocationinfo gdalwarp pnmcat pnmpad \
+TEST_TOOLS := gdal_translate gdalinfo gdallocationinfo gdalwarp pamenlarge pnmcat pnmpad \
               pnmpsnr pnmtoplainpnm pnmtopng pngtopnm ppmtoppm
 PKG_CFLAGS = $(shell pkg-config --cflags $(PKGS))
 PKG_LIBS   = $(shell pkg-config --libs $(PKGS))
