@@ -11,7 +11,8 @@
 #   make bench        benchmarks (not part of check)
 #   make study        the accuracy study: error against the reference integrator
 #                     and time, per scene and setting (not part of check)
-#   make demo         bake the noise, make a synthetic Bern terrain, render into out/
+#   make demo         bake the noise, make a synthetic Bern terrain, render into out/,
+#                     compare two renders of the capture an hour apart (skycompare)
 #   make install PREFIX=/usr/local DESTDIR=
 #   make deps         install the Debian packages the project needs
 #   make clean
@@ -43,7 +44,7 @@ B         := build
 SANFLAGS  :=
 endif
 # programs the tool tests run (scripts/deps installs them: gdal-bin, netpbm, jq)
-TEST_TOOLS := gdal_translate gdalinfo gdallocationinfo gdalwarp pnmcat pnmpad \
+TEST_TOOLS := gdal_translate gdalinfo gdallocationinfo gdalwarp pamenlarge pnmcat pnmpad \
               pnmpsnr pnmtoplainpnm pnmtopng pngtopnm ppmtoppm jq
 PKG_CFLAGS = $(shell pkg-config --cflags $(PKGS))
 PKG_LIBS   = $(shell pkg-config --libs $(PKGS))
@@ -146,10 +147,23 @@ demo: have-deps
 		CLOUDRENDER=$(B)/bin/cloudrender WXINTERP=$(B)/bin/wxinterp scripts/weather-sheet \
 			$(CAPTURE) 2024-10-07 out/weather-sheet.png --noise out/noise.exr; \
 	else echo "demo: $(CAPTURE) is absent: no weather sheet"; fi
+	@if [ -f $(CAPTURE) ]; then \
+		for h in 14 15; do \
+			echo "$(B)/bin/wxinterp $(CAPTURE) --at 2024-10-13T$${h}:00Z | $(B)/bin/cloudrender --wx - --noise out/noise.exr -o out/sky-$${h}h.png -o out/sky-$${h}h.exr"; \
+			$(B)/bin/wxinterp $(CAPTURE) --at 2024-10-13T$${h}:00Z | \
+			$(B)/bin/cloudrender -q --wx - --noise out/noise.exr \
+				-o out/sky-$${h}h.png -o out/sky-$${h}h.exr || exit 1; \
+		done; \
+		echo "$(B)/bin/skycompare out/sky-14h.exr out/sky-15h.exr -o out/skycompare-side.png --overlay out/skycompare-overlay.png --diff out/skycompare-diff.png"; \
+		$(B)/bin/skycompare out/sky-14h.exr out/sky-15h.exr -o out/skycompare-side.png \
+			--overlay out/skycompare-overlay.png --diff out/skycompare-diff.png; \
+	else echo "demo: $(CAPTURE) is absent: no sky comparison"; fi
 	@echo "demo: wrote out/demo.png and out/demo.exr (the default scene), out/gurten.png (from the"
 	@echo "demo: Gurten over a SYNTHETIC Bern terrain), out/genus-sheet.png, out/noise.exr,"
 	@echo "demo: out/noise-preview.png, out/bern.exr and out/bern-hillshade.png, and"
-	@echo "demo: out/weather-sheet.png (a rainy overcast day of the real meteoblue capture)"
+	@echo "demo: out/weather-sheet.png (a rainy overcast day of the real meteoblue capture),"
+	@echo "demo: out/sky-14h.png and out/sky-15h.png (the capture's 2024-10-13 at 14:00 and"
+	@echo "demo: 15:00 UTC) and out/skycompare-side.png, -overlay.png, -diff.png (the two compared)"
 
 install: all
 	install -d $(DESTDIR)$(PREFIX)/bin $(DESTDIR)$(PREFIX)/share/man/man1 \

@@ -9,9 +9,11 @@
 
 #include <stddef.h>
 
-/* The threshold of R/B on linear (not gamma-encoded) RGB above which a
- * pixel is cloud: chosen once for cloudrender's linear output, halfway
- * between clear sky (0.5-0.6) and grey cloud (0.9-1). */
+/* The threshold of R/B on linear (not gamma-encoded) RGB at or above which
+ * a pixel is cloud: chosen once for cloudrender's linear output, halfway
+ * between clear sky (0.5-0.6) and grey cloud (0.9-1).  On sRGB-encoded
+ * values (a JPEG's bytes) the same split is a ratio of about
+ * 0.75^(1/2.4) = 0.89: decode to linear first (skycompare does). */
 #define CS_SKY_RB_THRESHOLD 0.75
 /* Imagers analyse the sky above this elevation (a zenith angle of 70 deg,
  * as Long et al. do): near the horizon haze whitens the clear sky and
@@ -29,5 +31,13 @@ struct cs_sky_class {
  * with B <= 0 (black) is not classified. */
 void cs_sky_classify(const float *px, size_t stride, size_t n, const unsigned char *use,
 		     double rb_threshold, struct cs_sky_class *out);
+
+/* The classes of cs_sky_classify_map(), one byte per pixel. */
+enum { CS_SKY_NONE = 0, CS_SKY_CLEAR = 1, CS_SKY_CLOUD = 2 };
+
+/* cs_sky_classify(), and each pixel's class in cls[i] (n bytes): NONE where
+ * it was not classified (not in use, or black), else CLEAR or CLOUD. */
+void cs_sky_classify_map(const float *px, size_t stride, size_t n, const unsigned char *use,
+			 double rb_threshold, unsigned char *cls, struct cs_sky_class *out);
 
 #endif
