@@ -284,7 +284,7 @@ static int check_opts(const struct cs_wxinterp_opts *o)
 		return cs_error(CS_EINVAL, "--alt: outside -500..9000 m");
 	for (int i = 0; i < o->nsets; i++)
 		CS_TRY(cs_wx_set_check(o->sets[i]));
-	return CS_OK;
+	return cs_outfile_check(o->output, o->no_clobber ? CS_OUT_NO_CLOBBER : 0);
 }
 
 static int run_times(struct run *r)
@@ -315,7 +315,7 @@ static int run_times(struct run *r)
 	if (!o->template_state)
 		CS_TRY(covered(r, t0, t1));
 	struct cs_outfile of;
-	CS_TRY(cs_outfile_open(&of, o->output));
+	CS_TRY(cs_outfile_open_flags(&of, o->output, o->no_clobber ? CS_OUT_NO_CLOBBER : 0));
 	int rc = CS_OK;
 	for (long k = 0; rc == CS_OK && k < (long)count; k++)
 		rc = one_state(r, t0 + (double)k * o->step_s, &of);

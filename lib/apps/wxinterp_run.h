@@ -37,6 +37,7 @@ struct cs_wxinterp_opts {
 	int template_state;                   /* the default state, no inputs */
 	int pretty;                           /* indented JSON (one state) */
 	const char *output;                   /* path or "-" (default) */
+	int no_clobber;                       /* never replace an existing file */
 	cs_note_fn note;
 	void *note_user;
 };
