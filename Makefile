@@ -40,9 +40,10 @@ else
 B         := build
 SANFLAGS  :=
 endif
-# programs the tool tests run (scripts/deps installs them: gdal-bin, netpbm)
+# programs the tool tests run (scripts/deps installs them: gdal-bin, netpbm,
+# openexr, man-db)
 TEST_TOOLS := gdal_translate gdalinfo gdallocationinfo gdalwarp pnmcat pnmpad \
-              pnmpsnr pnmtoplainpnm pnmtopng pngtopnm ppmtoppm
+              pnmpsnr pnmtoplainpnm pnmtopng pngtopnm ppmtoppm exrheader man
 PKG_CFLAGS = $(shell pkg-config --cflags $(PKGS))
 PKG_LIBS   = $(shell pkg-config --libs $(PKGS))
 ALL_CFLAGS = -std=c17 -D_POSIX_C_SOURCE=200809L -DCS_VERSION='"$(VERSION)"' \

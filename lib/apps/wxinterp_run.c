@@ -54,24 +54,20 @@ static void note(const struct cs_wxinterp_opts *o, int level, const char *fmt,
 	o->note(o->note_user, level, msg);
 }
 
-/* The site of a series: name from the option, the file, or the file name
- * without folder and extension. */
+/* The site of a series: name from the option, the provider's, or its
+ * coordinates ("46.950N 7.440E": a file's name says nothing of the place). */
 static void site_of(const struct cs_series *s, const char *path,
 		    const char *name, struct cs_wx_site *site)
 {
+	(void)path;
 	memset(site, 0, sizeof *site);
 	if (name == NULL && s->name[0] != '\0')
 		name = s->name;
-	if (name != NULL) {
+	if (name != NULL)
 		snprintf(site->name, sizeof site->name, "%s", name);
-	} else if (strcmp(path, "-") != 0) {
-		const char *b = strrchr(path, '/');
-		b = b ? b + 1 : path;
-		const char *dot = strrchr(b, '.');
-		int len = dot && dot != b ? (int)(dot - b) : (int)strlen(b);
-		snprintf(site->name, sizeof site->name, "%.*s",
-			 len < 63 ? len : 63, b);
-	}
+	else
+		snprintf(site->name, sizeof site->name, "%.3f%c %.3f%c", fabs(s->lat_deg),
+			 s->lat_deg < 0 ? 'S' : 'N', fabs(s->lon_deg), s->lon_deg < 0 ? 'W' : 'E');
 	site->lat_deg = s->lat_deg;
 	site->lon_deg = s->lon_deg;
 	site->alt_m = s->alt_m;
