@@ -62,6 +62,20 @@ _cloudscape()
 	_cloudscape_parse "$prog" || return 0
 	local key=${prog//[^A-Za-z0-9]/_} opts args
 	eval "opts=\$_cloudscape_opts_$key; args=\$_cloudscape_args_$key"
+	case ${prog##*/} in
+	genus-sheet | quality-study | radiation-study | weather-sheet)
+		# the scripts pass their other options to cloudrender
+		local cr=cloudrender dir
+		dir=$(dirname -- "$(type -P "$prog")" 2>/dev/null)
+		[[ -x $dir/cloudrender ]] && cr=$dir/cloudrender
+		if _cloudscape_parse "$cr"; then
+			local k2=${cr//[^A-Za-z0-9]/_}
+			eval "opts+=\" \$_cloudscape_opts_$k2\"; args+=\" \$_cloudscape_args_$k2\""
+		fi
+		opts=$(printf '%s\n' $opts | sort -u)
+		prog=$cr
+		;;
+	esac
 	if [[ $cur == --*=* ]]; then # --opt=value
 		prev=${cur%%=*}
 		cur=${cur#*=}

@@ -39,6 +39,9 @@ if have bash; then
 			"$BIN/$1" "$2" "$v" --help >/dev/null 2>&1 || bad "'$c' offers '$v', which $1 refuses"
 		done <"$T/values"
 	done
+	# the scripts pass cloudrender's options on
+	PATH="$TOP/scripts:$PATH" complete_words genus-sheet --qual >"$T/values"
+	grep -qx -- --quality "$T/values" || bad "genus-sheet does not complete cloudrender's --quality"
 	complete_words cloudrender --quality= >"$T/values"
 	grep -qx medium "$T/values" || bad "--quality= does not complete the value"
 	# a file where a file goes
