@@ -13,7 +13,11 @@
 #                     and time, per scene and setting (not part of check)
 #   make demo         bake the noise, make a synthetic Bern terrain, render into out/,
 #                     compare two renders of the capture an hour apart (skycompare)
-#   make install PREFIX=/usr/local DESTDIR=
+#   make install PREFIX=/usr/local DESTDIR=   programs, scripts, man pages,
+#                     bash completion (BASHCOMPDIR: bash-completion's
+#                     completionsdir under PREFIX, else
+#                     PREFIX/share/bash-completion/completions)
+#   make uninstall PREFIX=/usr/local DESTDIR=  removes what install put there
 #   make deps         install the Debian packages the project needs
 #   make clean
 
@@ -26,6 +30,12 @@ WERROR    ?= 1
 PROGRAMS  := $(filter-out cli,$(basename $(notdir $(wildcard tools/*.c))))
 # the real meteoblue capture the demo's weather sheet draws (not ours)
 CAPTURE   := ../shared/data/weather/meteoblue-basic-clouds-solar-1h.json
+# the scripts users run, installed with the programs (each has a man page)
+SCRIPTS   := genus-sheet quality-study radiation-study weather-sheet
+# bash-completion's own directory rebased on PREFIX (bash-completion looks
+# in PREFIX/share too), else the same path by hand
+BASHCOMPDIR ?= $(or $(shell pkg-config --define-variable=prefix=$(PREFIX) \
+		--variable=completionsdir bash-completion 2>/dev/null),$(PREFIX)/share/bash-completion/completions)
 PKGS      := OpenEXR libpng libcjson libcurl gdal
 
 CC        ?= cc
@@ -43,9 +53,10 @@ else
 B         := build
 SANFLAGS  :=
 endif
-# programs the tool tests run (scripts/deps installs them: gdal-bin, netpbm, jq)
+# programs the tool tests run (scripts/deps installs them: gdal-bin, netpbm, jq,
+# openexr, man-db)
 TEST_TOOLS := gdal_translate gdalinfo gdallocationinfo gdalwarp pamenlarge pnmcat pnmpad \
-              pnmpsnr pnmtoplainpnm pnmtopng pngtopnm ppmtoppm jq
+              pnmpsnr pnmtoplainpnm pnmtopng pngtopnm ppmtoppm jq exrheader man
 PKG_CFLAGS = $(shell pkg-config --cflags $(PKGS))
 PKG_LIBS   = $(shell pkg-config --libs $(PKGS))
 ALL_CFLAGS = -std=c17 -D_POSIX_C_SOURCE=200809L -DCS_VERSION='"$(VERSION)"' \
@@ -67,7 +78,7 @@ HELP_BINS := $(HELP_SRC:tests/helpers/%.c=$(B)/tests/helpers/%)
 BENCH_SRC := $(wildcard bench/*.c)
 BENCH_BINS := $(BENCH_SRC:bench/%.c=$(B)/bench/%)
 
-.PHONY: all check check-all check-run tests bench study demo install deps have-deps clean
+.PHONY: all check check-all check-run tests bench study demo install uninstall deps have-deps clean
 all: $(B)/libcloudscape.a $(BINS)
 
 $(B)/lib/%.o: lib/%.c
@@ -165,12 +176,23 @@ demo: have-deps
 	@echo "demo: out/sky-14h.png and out/sky-15h.png (the capture's 2024-10-13 at 14:00 and"
 	@echo "demo: 15:00 UTC) and out/skycompare-side.png, -overlay.png, -diff.png (the two compared)"
 
+MAN1 := $(PROGRAMS:%=man/%.1) $(SCRIPTS:%=man/%.1)
+MAN5 := $(wildcard man/*.5)
 install: all
 	install -d $(DESTDIR)$(PREFIX)/bin $(DESTDIR)$(PREFIX)/share/man/man1 \
-		$(DESTDIR)$(PREFIX)/share/man/man5
-	install -m 755 $(BINS) $(DESTDIR)$(PREFIX)/bin/
-	install -m 644 man/*.1 $(DESTDIR)$(PREFIX)/share/man/man1/
-	install -m 644 man/*.5 $(DESTDIR)$(PREFIX)/share/man/man5/
+		$(DESTDIR)$(PREFIX)/share/man/man5 $(DESTDIR)$(BASHCOMPDIR)
+	install -m 755 $(BINS) $(SCRIPTS:%=scripts/%) $(DESTDIR)$(PREFIX)/bin/
+	install -m 644 $(MAN1) $(DESTDIR)$(PREFIX)/share/man/man1/
+	install -m 644 $(MAN5) $(DESTDIR)$(PREFIX)/share/man/man5/
+	for p in $(PROGRAMS) $(SCRIPTS); do \
+		install -m 644 completion/cloudscape.bash $(DESTDIR)$(BASHCOMPDIR)/$$p || exit 1; \
+	done
+
+uninstall:
+	rm -f $(addprefix $(DESTDIR)$(PREFIX)/bin/,$(PROGRAMS) $(SCRIPTS)) \
+		$(addprefix $(DESTDIR)$(PREFIX)/share/man/man1/,$(notdir $(MAN1))) \
+		$(addprefix $(DESTDIR)$(PREFIX)/share/man/man5/,$(notdir $(MAN5))) \
+		$(addprefix $(DESTDIR)$(BASHCOMPDIR)/,$(PROGRAMS) $(SCRIPTS))
 
 clean:
 	rm -rf build build-san build-tsan out

@@ -18,13 +18,24 @@
 
 static void usage(void)
 {
-	printf("Usage: cloudrender [options] -o FILE.png|FILE.exr [-o FILE...]\n"
+	printf("Usage: cloudrender [options] -o FILE.png|.exr|.tif|.jpg [-o FILE...]\n"
 	       "Render the sky of a weather state: sun and sky for the date and place,\n"
 	       "volumetric clouds of every genus, flat ground, haze and rain.\n"
 	       "\n"
-	       "  -o, --output FILE      .png: 8-bit sRGB, tone mapped; .exr: linear half RGBA\n"
-	       "                         (A = 1 - cloud transmittance) + float Z (metres);\n"
+	       "  -o, --output FILE      the format by the extension: .png: 8-bit sRGB, tone\n"
+	       "                         mapped; .exr: linear half RGBA (A = 1 - cloud\n"
+	       "                         transmittance) + float Z (metres); .tif/.tiff:\n"
+	       "                         16-bit sRGB, tone mapped; .jpg/.jpeg: 8-bit sRGB;\n"
 	       "                         '-' = PNG on standard output; repeat for several\n"
+	       "                         (written all together or none of them)\n"
+	       "  -of, --output-format F the format of the -o outputs after it, whatever\n"
+	       "                         their names: PNG, EXR, GTiff (TIFF) or JPEG (JPG)\n"
+	       "      --png16            PNG with 16 bits a sample (sRGB, tone mapped)\n"
+	       "      --float            EXR: 32-bit float RGBA instead of half; TIFF: 32-bit\n"
+	       "                         float linear R, G, B, A, Z bands (as the EXR's)\n"
+	       "      --jpeg-quality N   JPEG quality, 1..100 (default 90)\n"
+	       "      --no-clobber       never replace an existing file (default: replace\n"
+	       "                         it, whole, once the run has succeeded)\n"
 	       "      --wx FILE          weather state, cloudwx JSON ('-' = standard input;\n"
 	       "                         default: built-in fair weather over Bern)\n"
 	       "      --noise FILE       noise volume from noisebake (default: baked in memory)\n"
@@ -219,19 +230,42 @@ static void parse_pair(const char *opt, const char *s, double *a, double *b,
 	*b = cli_double(opt, comma + 1, blo, bhi);
 }
 
+/* GDAL's single-dash -of FORMAT, which getopt would read as -o "f", made
+ * the long option --of (an option word only: not a file named after -o,
+ * nothing after "--"). */
+static void gdal_of(int argc, char **argv)
+{
+	static char long_of[] = "--of";
+	for (int i = 1; i < argc; i++) {
+		if (strcmp(argv[i], "--") == 0)
+			return;
+		if (strcmp(argv[i], "-o") == 0 || strcmp(argv[i], "--output") == 0)
+			i++;
+		else if (strcmp(argv[i], "-of") == 0)
+			argv[i] = long_of;
+	}
+}
+
 enum {
 	OPT_WX = 256, OPT_NOISE, OPT_NOISE_SIZE, OPT_TIME, OPT_VIEW, OPT_LIST_VIEWS,
 	OPT_CAMERA, OPT_LOOK, OPT_FOV, OPT_SIZE, OPT_QUALITY, OPT_STEPS,
 	OPT_LIGHT_STEPS, OPT_MS, OPT_NO_AMBIENT, OPT_NO_JITTER, OPT_SEED,
 	OPT_EXPOSURE, OPT_STATS, OPT_VERSION, OPT_TERRAIN, OPT_TERRAIN_COLOR,
 	OPT_PROJECTION, OPT_HAZE_STEPS, OPT_TERRAIN_CPT, OPT_INTEGRATOR, OPT_SPP, OPT_MAX_BOUNCES,
-	OPT_NO_HAZE, OPT_MARCH, OPT_LIGHT_MARCH, OPT_MAX_STEPS, OPT_MIN_T,
+	OPT_NO_HAZE, OPT_MARCH, OPT_LIGHT_MARCH, OPT_MAX_STEPS, OPT_MIN_T, OPT_OUTPUT_FORMAT,
+	OPT_PNG16, OPT_FLOAT, OPT_JPEG_QUALITY, OPT_NO_CLOBBER,
 };
 
 int main(int argc, char **argv)
 {
 	static const struct option longopts[] = {
 		{"output", required_argument, NULL, 'o'},
+		{"output-format", required_argument, NULL, OPT_OUTPUT_FORMAT},
+		{"of", required_argument, NULL, OPT_OUTPUT_FORMAT},
+		{"png16", no_argument, NULL, OPT_PNG16},
+		{"float", no_argument, NULL, OPT_FLOAT},
+		{"jpeg-quality", required_argument, NULL, OPT_JPEG_QUALITY},
+		{"no-clobber", no_argument, NULL, OPT_NO_CLOBBER},
 		{"wx", required_argument, NULL, OPT_WX},
 		{"noise", required_argument, NULL, OPT_NOISE},
 		{"noise-size", required_argument, NULL, OPT_NOISE_SIZE},
@@ -278,15 +312,34 @@ int main(int argc, char **argv)
 
 	cli_init("cloudrender");
 	cs_cloudrender_defaults(&o);
+	gdal_of(argc, argv);
+	enum cs_out_format of_next = CS_FMT_NONE; /* -of for the -o after it */
+	int of_unused = 0;
 	while ((opt = getopt_long(argc, argv, "o:t:qvh", longopts, NULL)) != -1) {
 		switch (opt) {
 		case 'o':
 			if (o.noutputs == CS_RENDER_MAX_OUTPUTS)
 				cli_usage_error("at most %d outputs", CS_RENDER_MAX_OUTPUTS);
-			if (cs_output_kind(optarg) == 0)
-				cli_usage_error("-o %s: the name must end in .png or .exr", optarg);
+			if (of_next == CS_FMT_NONE && cs_output_format(optarg) == CS_FMT_NONE)
+				cli_usage_error("-o %s: unknown format: the name must end in "
+						CS_OUT_EXTENSIONS " (or give -of FORMAT before it)",
+						optarg);
+			o.formats[o.noutputs] = of_next;
 			o.outputs[o.noutputs++] = optarg;
+			of_unused = 0;
 			break;
+		case OPT_OUTPUT_FORMAT:
+			if ((of_next = cs_output_format_named(optarg)) == CS_FMT_NONE)
+				cli_usage_error("-of: unknown format '%s': use " CS_OUT_FORMAT_NAMES,
+						optarg);
+			of_unused = 1;
+			break;
+		case OPT_PNG16: o.png16 = 1; break;
+		case OPT_FLOAT: o.use_float = 1; break;
+		case OPT_JPEG_QUALITY:
+			o.jpeg_quality = (int)cli_long("--jpeg-quality", optarg, 1, 100);
+			break;
+		case OPT_NO_CLOBBER: o.no_clobber = 1; break;
 		case OPT_WX: o.wx_path = optarg; break;
 		case OPT_NOISE: o.noise_path = optarg; break;
 		case OPT_TERRAIN: o.terrain_path = optarg; break;
@@ -407,6 +460,8 @@ int main(int argc, char **argv)
 	}
 	if (optind < argc)
 		cli_usage_error("unexpected argument '%s'", argv[optind]);
+	if (of_unused)
+		cli_usage_error("-of applies to the -o outputs after it: none follows");
 	if (o.terrain_color_path && !o.terrain_path)
 		cli_usage_error("--terrain-color needs --terrain");
 	if (o.terrain_cpt_path && !o.terrain_path)
@@ -414,7 +469,7 @@ int main(int argc, char **argv)
 	if (o.terrain_cpt_path && o.terrain_color_path)
 		cli_usage_error("--terrain-color and --terrain-cpt exclude each other");
 	if (o.noutputs == 0)
-		cli_usage_error("no output: give -o FILE.png and/or -o FILE.exr");
+		cli_usage_error("no output: give -o FILE.png (or .exr, .tif, .jpg)");
 	int to_stdout = 0;
 	for (int i = 0; i < o.noutputs; i++)
 		to_stdout += strcmp(o.outputs[i], "-") == 0;

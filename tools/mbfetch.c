@@ -28,6 +28,8 @@ static void usage(void)
 	       "the provider's JSON, whole or not at all.\n"
 	       "\n"
 	       "  -o, --output FILE        where to write ('-' = standard output, the default)\n"
+	       "      --no-clobber         never replace an existing file (default: replace\n"
+	       "                           it, whole, with a valid response only)\n"
 	       "      --provider NAME      meteoblue (default; needs an API key) or open-meteo\n"
 	       "      --site NAME          a built-in site (default Bern; see --list-sites)\n"
 	       "      --lat DEG, --lon DEG any place, WGS84 degrees (instead of --site)\n"
@@ -163,13 +165,14 @@ enum {
 	OPT_PROVIDER = 256, OPT_SITE, OPT_LAT, OPT_LON, OPT_ASL, OPT_DAYS, OPT_HISTORY,
 	OPT_KEY_FILE, OPT_BASE_URL, OPT_CONNECT_TIMEOUT, OPT_TIMEOUT, OPT_RETRIES,
 	OPT_RETRY_DELAY, OPT_RETRY_MAX_WAIT, OPT_MAX_BYTES, OPT_CACHE, OPT_CACHE_AGE,
-	OPT_DRY_RUN, OPT_CHECK, OPT_LIST_SITES, OPT_VERSION, OPT_RADIATION,
+	OPT_DRY_RUN, OPT_CHECK, OPT_LIST_SITES, OPT_NO_CLOBBER, OPT_VERSION, OPT_RADIATION,
 };
 
 int main(int argc, char **argv)
 {
 	static const struct option longopts[] = {
 		{"output", required_argument, NULL, 'o'},
+		{"no-clobber", no_argument, NULL, OPT_NO_CLOBBER},
 		{"provider", required_argument, NULL, OPT_PROVIDER},
 		{"site", required_argument, NULL, OPT_SITE},
 		{"lat", required_argument, NULL, OPT_LAT},
@@ -200,7 +203,7 @@ int main(int argc, char **argv)
 	struct cs_mbfetch_opts o;
 	const char *site = NULL;
 	double lat = NAN, lon = NAN, asl = NAN;
-	int check = 0, fetch_opts = 0, opt;
+	int check = 0, fetch_opts = 0, opt, output_given = 0;
 
 	cli_init("mbfetch");
 	cs_mbfetch_defaults(&o);
@@ -208,7 +211,12 @@ int main(int argc, char **argv)
 		fetch_opts += opt != 'q' && opt != 'v' && opt != OPT_CHECK &&
 			      opt != OPT_MAX_BYTES;
 		switch (opt) {
-		case 'o': o.output = optarg; break;
+		case 'o':
+			if (output_given++)
+				cli_usage_error("-o: one output only (given twice)");
+			o.output = optarg;
+			break;
+		case OPT_NO_CLOBBER: o.no_clobber = 1; break;
 		case OPT_PROVIDER:
 			if (strcasecmp(optarg, "meteoblue") == 0)
 				o.provider = CS_PROVIDER_METEOBLUE;

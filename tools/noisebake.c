@@ -26,6 +26,8 @@ static void usage(void)
 	       "G, B, A: Worley fBm detail) as an OpenEXR slice atlas.\n"
 	       "\n"
 	       "  -o, --output FILE      volume to write ('-' = standard output)\n"
+	       "      --no-clobber       never replace an existing file (default: replace it,\n"
+	       "                         whole, once the run has succeeded)\n"
 	       "  -s, --size N           width and height in voxels, 2..1024 (default 128)\n"
 	       "  -d, --depth D          depth in voxels, 1..1024 (default: the size)\n"
 	       "      --seed S           random seed, 0..2147483647 (default 0)\n"
@@ -99,13 +101,15 @@ static int named_as(const char *path, const char *ext)
 
 enum {
 	OPT_SEED = 256, OPT_FREQ, OPT_OCTAVES, OPT_WORLEY_OCTAVES, OPT_GAIN,
-	OPT_FLOAT, OPT_PREVIEW, OPT_SLICES, OPT_CHANNELS, OPT_INFO, OPT_JSON, OPT_VERSION,
+	OPT_FLOAT, OPT_PREVIEW, OPT_SLICES, OPT_CHANNELS, OPT_INFO, OPT_JSON, OPT_NO_CLOBBER,
+	OPT_VERSION,
 };
 
 int main(int argc, char **argv)
 {
 	static const struct option longopts[] = {
 		{"output", required_argument, NULL, 'o'},
+		{"no-clobber", no_argument, NULL, OPT_NO_CLOBBER},
 		{"size", required_argument, NULL, 's'},
 		{"depth", required_argument, NULL, 'd'},
 		{"seed", required_argument, NULL, OPT_SEED},
@@ -130,13 +134,18 @@ int main(int argc, char **argv)
 	const char *info_path = NULL;
 	int json = 0;
 	const char *slices_arg = NULL;
-	int opt;
+	int opt, output_given = 0;
 
 	cli_init("noisebake");
 	cs_noisebake_defaults(&o);
 	while ((opt = getopt_long(argc, argv, "o:s:d:t:qvh", longopts, NULL)) != -1) {
 		switch (opt) {
-		case 'o': o.output = optarg; break;
+		case 'o':
+			if (output_given++)
+				cli_usage_error("-o: one output only (given twice)");
+			o.output = optarg;
+			break;
+		case OPT_NO_CLOBBER: o.no_clobber = 1; break;
 		case 's': o.size = (int)cli_long("--size", optarg, 2, CS_VOLUME_MAX_DIM); break;
 		case 'd': o.depth = (int)cli_long("--depth", optarg, 1, CS_VOLUME_MAX_DIM); break;
 		case OPT_SEED: o.recipe.seed = (uint32_t)cli_long("--seed", optarg, 0, 2147483647L); break;

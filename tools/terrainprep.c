@@ -22,7 +22,10 @@ static void usage(void)
 	       "north-up heightfield with a JSON sidecar (FILE with .json).\n"
 	       "\n"
 	       "  -o, --output FILE        heightfield to write (.exr; .tif or .r16 choose\n"
-	       "                           the format unless --format says otherwise)\n"
+	       "                           the format unless --format says otherwise;\n"
+	       "                           another extension such as .png is refused)\n"
+	       "      --no-clobber         never replace an existing file (default: replace\n"
+	       "                           it, whole, once the run has succeeded)\n"
 	       "  -f, --format FMT         exr (32-bit float), r16 (16-bit raw, little-endian,\n"
 	       "                           min..max scaled to 0..65535) or tif (Float32 GeoTIFF)\n"
 	       "      --stdin-name NAME    file name '-' is opened under (e.g. N46E007.hgt:\n"
@@ -129,7 +132,7 @@ static void describe(const struct cs_terrainprep_opts *o, const struct cs_terrai
 enum {
 	OPT_STDIN_NAME = 256, OPT_S_SRS, OPT_T_SRS, OPT_CENTER, OPT_RADIUS, OPT_BOUNDS,
 	OPT_BOUNDS_SRS, OPT_RES, OPT_SIZE, OPT_SRC_NODATA, OPT_FILL, OPT_MAX_VOID, OPT_FLIP,
-	OPT_HILLSHADE, OPT_AZIMUTH, OPT_ALTITUDE, OPT_Z_FACTOR, OPT_SCALE, OPT_VERSION,
+	OPT_HILLSHADE, OPT_AZIMUTH, OPT_ALTITUDE, OPT_Z_FACTOR, OPT_SCALE, OPT_NO_CLOBBER, OPT_VERSION,
 	OPT_WATER_LEVEL, OPT_WATER_MASK, OPT_INFO, OPT_JSON,
 };
 
@@ -137,6 +140,7 @@ int main(int argc, char **argv)
 {
 	static const struct option longopts[] = {
 		{"output", required_argument, NULL, 'o'},
+		{"no-clobber", no_argument, NULL, OPT_NO_CLOBBER},
 		{"format", required_argument, NULL, 'f'},
 		{"stdin-name", required_argument, NULL, OPT_STDIN_NAME},
 		{"s-srs", required_argument, NULL, OPT_S_SRS},
@@ -171,13 +175,18 @@ int main(int argc, char **argv)
 	int have_radius = 0, json = 0;
 	const char *info_path = NULL;
 	double ll[2];
-	int opt;
+	int opt, output_given = 0;
 
 	cli_init("terrainprep");
 	cs_terrainprep_defaults(&o);
 	while ((opt = getopt_long(argc, argv, "o:f:r:qvh", longopts, NULL)) != -1) {
 		switch (opt) {
-		case 'o': o.output = optarg; break;
+		case 'o':
+			if (output_given++)
+				cli_usage_error("-o: one output only (given twice)");
+			o.output = optarg;
+			break;
+		case OPT_NO_CLOBBER: o.no_clobber = 1; break;
 		case 'f': o.format = format_of(optarg); break;
 		case OPT_STDIN_NAME: o.stdin_name = optarg; break;
 		case OPT_S_SRS: o.s_srs = optarg; break;

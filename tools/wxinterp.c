@@ -27,13 +27,16 @@ static void usage(void)
 	       "site are merged by time (a later file wins where files overlap).\n"
 	       "\n"
 	       "  -o, --output FILE      write to FILE, atomically (default '-': standard output)\n"
+	       "      --no-clobber       never replace an existing file (default: replace it,\n"
+	       "                         whole, once the run has succeeded)\n"
 	       "      --at TIME          one state at TIME: ISO 8601 with a zone, or 'now'\n"
 	       "      --from TIME        first state of a series (default: the first hour)\n"
 	       "      --to TIME          last state of a series (default: the last hour)\n"
 	       "      --step DURATION    series interval: N with s, m, h or d (default 1h)\n"
 	       "      --far FILE         provider file of a distant site (up to 4)\n"
 	       "      --far-name NAME    name of the site of the preceding --far\n"
-	       "      --site-name NAME   name of the site (default: the file's, else its name)\n"
+	       "      --site-name NAME   name of the site (default: the provider's, else the\n"
+	       "                         coordinates, e.g. '46.950N 7.440E')\n"
 	       "      --alt M            ground height of the site, m (default: the file's)\n"
 	       "      --max-gap DURATION missing values are interpolated between valid hours\n"
 	       "                         at most this far apart (default 3h)\n"
@@ -85,13 +88,14 @@ static double duration(const char *opt, const char *s)
 enum {
 	OPT_AT = 256, OPT_FROM, OPT_TO, OPT_STEP, OPT_FAR, OPT_FAR_NAME,
 	OPT_SITE_NAME, OPT_ALT, OPT_MAX_GAP, OPT_SET, OPT_TEMPLATE, OPT_PRETTY,
-	OPT_VERSION, OPT_SUMMARY, OPT_DAILY, OPT_JSON,
+	OPT_VERSION, OPT_SUMMARY, OPT_DAILY, OPT_JSON, OPT_NO_CLOBBER,
 };
 
 int main(int argc, char **argv)
 {
 	static const struct option longopts[] = {
 		{"output", required_argument, NULL, 'o'},
+		{"no-clobber", no_argument, NULL, OPT_NO_CLOBBER},
 		{"at", required_argument, NULL, OPT_AT},
 		{"from", required_argument, NULL, OPT_FROM},
 		{"to", required_argument, NULL, OPT_TO},
@@ -114,13 +118,18 @@ int main(int argc, char **argv)
 		{NULL, 0, NULL, 0},
 	};
 	struct cs_wxinterp_opts o;
-	int opt, have_step = 0, daily = 0;
+	int opt, have_step = 0, daily = 0, output_given = 0;
 
 	cli_init("wxinterp");
 	cs_wxinterp_defaults(&o);
 	while ((opt = getopt_long(argc, argv, "o:qvh", longopts, NULL)) != -1) {
 		switch (opt) {
-		case 'o': o.output = optarg; break;
+		case 'o':
+			if (output_given++)
+				cli_usage_error("-o: one output only (given twice)");
+			o.output = optarg;
+			break;
+		case OPT_NO_CLOBBER: o.no_clobber = 1; break;
 		case OPT_AT: o.at_utc = when("--at", optarg); o.have_at = 1; break;
 		case OPT_FROM: o.from_utc = when("--from", optarg); o.have_from = 1; break;
 		case OPT_TO: o.to_utc = when("--to", optarg); o.have_to = 1; break;

@@ -9,6 +9,8 @@
 #include "io/image.h"
 #include "io/cpt.h"
 #include "render/water.h"
+#include "io/raster.h"
+#include "core/fileio.h"
 #include "terrain/heightfield.h"
 #include "render/reference.h"
 #include "render/scene.h"
@@ -72,16 +74,35 @@ void cs_cloudrender_settings(const struct cs_cloudrender_opts *o,
 		s->light_march = o->light_march;
 }
 
-int cs_output_kind(const char *path)
+enum cs_out_format cs_output_format(const char *path)
 {
 	if (strcmp(path, "-") == 0)
-		return 'p';
+		return CS_FMT_PNG;
 	const char *dot = strrchr(path, '.');
-	if (dot && strcasecmp(dot, ".png") == 0)
-		return 'p';
-	if (dot && strcasecmp(dot, ".exr") == 0)
-		return 'e';
-	return 0;
+	if (dot == NULL || strchr(dot, '/'))
+		return CS_FMT_NONE;
+	return cs_output_format_named(dot + 1);
+}
+
+enum cs_out_format cs_output_format_named(const char *name)
+{
+	static const struct {
+		const char *name;
+		enum cs_out_format f;
+	} names[] = {
+		{"png", CS_FMT_PNG}, {"exr", CS_FMT_EXR}, {"gtiff", CS_FMT_TIFF},
+		{"tiff", CS_FMT_TIFF}, {"tif", CS_FMT_TIFF}, {"jpeg", CS_FMT_JPEG},
+		{"jpg", CS_FMT_JPEG},
+	};
+	for (size_t i = 0; i < sizeof names / sizeof names[0]; i++)
+		if (strcasecmp(name, names[i].name) == 0)
+			return names[i].f;
+	return CS_FMT_NONE;
+}
+
+enum cs_out_format cs_output_format_of(const struct cs_cloudrender_opts *o, int i)
+{
+	return o->formats[i] != CS_FMT_NONE ? o->formats[i] : cs_output_format(o->outputs[i]);
 }
 
 static double now_s(void)
@@ -91,39 +112,118 @@ static double now_s(void)
 	return (double)ts.tv_sec + ts.tv_nsec * 1e-9;
 }
 
+/* The display encodings of a frame, made once for all the outputs that
+ * need them. */
+struct display {
+	uint8_t *rgb8;
+	uint16_t *rgb16;
+};
+
+static int want_rgb8(struct display *d, const float *px, size_t n, double ev)
+{
+	if (d->rgb8 != NULL)
+		return CS_OK;
+	if ((d->rgb8 = malloc(n * 3)) == NULL)
+		return cs_error(CS_ENOMEM, "out of memory");
+	cs_tonemap_srgb8(px, 5, n, ev, d->rgb8);
+	return CS_OK;
+}
+
+static int want_rgb16(struct display *d, const float *px, size_t n, double ev)
+{
+	if (d->rgb16 != NULL)
+		return CS_OK;
+	if ((d->rgb16 = malloc(n * 3 * sizeof *d->rgb16)) == NULL)
+		return cs_error(CS_ENOMEM, "out of memory");
+	cs_tonemap_srgb16(px, 5, n, ev, d->rgb16);
+	return CS_OK;
+}
+
+/* One output, into its open temporary. */
+static int write_one(const struct cs_cloudrender_opts *o, struct cs_cloudrender_result *r,
+		     const float *px, int i, struct cs_outfile *of, struct display *d)
+{
+	const char *name = strcmp(o->outputs[i], "-") == 0 ? "standard output" : o->outputs[i];
+	size_t n = (size_t)o->width * o->height;
+	int w = o->width, h = o->height, rc;
+	switch (cs_output_format_of(o, i)) {
+	case CS_FMT_EXR: {
+		const struct cs_exr_channel ch[5] = {
+			{"R", o->use_float, px + 0, 5}, {"G", o->use_float, px + 1, 5},
+			{"B", o->use_float, px + 2, 5}, {"A", o->use_float, px + 3, 5},
+			{"Z", 1, px + 4, 5},
+		};
+		char when[32];
+		cs_time_format(r->wx.time_utc, when, sizeof when);
+		const struct cs_exr_attr attrs[] = {
+			{"cloudscapeTimeUTC", CS_EXR_STRING, {0, 0, 0}, when, 0},
+			{"cloudscapeQuality", CS_EXR_STRING, {0, 0, 0}, o->quality, 0},
+			{"cloudscapeUnits", CS_EXR_STRING, {0, 0, 0},
+			 "RGB: radiance in kcd/m^2, linear sRGB; A: 1 - cloud transmittance; Z: metres", 0},
+		};
+		return cs_exr_write_to(of, name, w, h, ch, 5, attrs, 3);
+	}
+	case CS_FMT_TIFF:
+		if (o->use_float) {
+			static const char *const bands[5] = {"R", "G", "B", "A", "Z"};
+			static const char *const opts[] = {"COMPRESS=DEFLATE", "PREDICTOR=3",
+							   "PHOTOMETRIC=RGB", "ALPHA=NO", NULL};
+			return cs_raster_write_to(of, name, "GTiff", w, h, 5, CS_SAMPLE_F32, px,
+						  opts, bands);
+		} else {
+			static const char *const opts[] = {"COMPRESS=DEFLATE", "PREDICTOR=2",
+							   "PHOTOMETRIC=RGB", NULL};
+			if ((rc = want_rgb16(d, px, n, r->exposure_ev)) != CS_OK)
+				return rc;
+			return cs_raster_write_to(of, name, "GTiff", w, h, 3, CS_SAMPLE_U16,
+						  d->rgb16, opts, NULL);
+		}
+	case CS_FMT_JPEG: {
+		char q[32];
+		snprintf(q, sizeof q, "QUALITY=%d", o->jpeg_quality > 0 ? o->jpeg_quality : 90);
+		const char *const opts[] = {q, NULL};
+		if ((rc = want_rgb8(d, px, n, r->exposure_ev)) != CS_OK)
+			return rc;
+		return cs_raster_write_to(of, name, "JPEG", w, h, 3, CS_SAMPLE_U8, d->rgb8, opts,
+					  NULL);
+	}
+	case CS_FMT_PNG:
+		if (o->png16) {
+			if ((rc = want_rgb16(d, px, n, r->exposure_ev)) != CS_OK)
+				return rc;
+			return cs_png16_write_to(of, name, w, h, 3, d->rgb16);
+		}
+		if ((rc = want_rgb8(d, px, n, r->exposure_ev)) != CS_OK)
+			return rc;
+		return cs_png_write_to(of, name, w, h, 3, d->rgb8);
+	case CS_FMT_NONE:
+		break;
+	}
+	return cs_error(CS_EINVAL, "output '%s': unknown format", o->outputs[i]);
+}
+
+/* Every output written to its temporary first, then all renamed: a run
+ * that fails leaves none of them. */
 static int write_outputs(const struct cs_cloudrender_opts *o,
 			 struct cs_cloudrender_result *r, const float *px)
 {
 	size_t n = (size_t)o->width * o->height;
-	uint8_t *rgb = NULL;
-	int rc = CS_OK;
 	r->exposure_ev = o->exposure_auto ? cs_auto_exposure_ev(px, 5, n) : o->exposure_ev;
+	struct cs_outset set;
+	cs_outset_init(&set, o->no_clobber ? CS_OUT_NO_CLOBBER : 0);
+	struct display d = {NULL, NULL};
+	int rc = CS_OK;
 	for (int i = 0; i < o->noutputs && rc == CS_OK; i++) {
-		if (cs_output_kind(o->outputs[i]) == 'e') {
-			const struct cs_exr_channel ch[5] = {
-				{"R", 0, px + 0, 5}, {"G", 0, px + 1, 5}, {"B", 0, px + 2, 5},
-				{"A", 0, px + 3, 5}, {"Z", 1, px + 4, 5},
-			};
-			char when[32];
-			cs_time_format(r->wx.time_utc, when, sizeof when);
-			const struct cs_exr_attr attrs[] = {
-				{"cloudscapeTimeUTC", CS_EXR_STRING, {0, 0, 0}, when, 0},
-				{"cloudscapeQuality", CS_EXR_STRING, {0, 0, 0}, o->quality, 0},
-				{"cloudscapeUnits", CS_EXR_STRING, {0, 0, 0},
-				 "RGB: radiance in kcd/m^2, linear sRGB; A: 1 - cloud transmittance; Z: metres", 0},
-			};
-			rc = cs_exr_write(o->outputs[i], o->width, o->height, ch, 5, attrs, 3);
-		} else {
-			if (rgb == NULL) {
-				rgb = malloc(n * 3);
-				if (rgb == NULL)
-					return cs_error(CS_ENOMEM, "out of memory");
-				cs_tonemap_srgb8(px, 5, n, r->exposure_ev, rgb);
-			}
-			rc = cs_png_write(o->outputs[i], o->width, o->height, 3, rgb);
-		}
+		struct cs_outfile *of;
+		rc = cs_outset_open(&set, o->outputs[i], &of);
+		if (rc == CS_OK)
+			rc = write_one(o, r, px, i, of, &d);
 	}
-	free(rgb);
+	if (rc == CS_OK)
+		rc = cs_outset_commit(&set);
+	cs_outset_abort(&set);
+	free(d.rgb8);
+	free(d.rgb16);
 	return rc;
 }
 
@@ -217,14 +317,20 @@ static int check_run(const struct cs_cloudrender_opts *o, struct cs_cloudrender_
 	if (o->noutputs < 1)
 		return cs_error(CS_EINVAL, "no output: give -o FILE.png or -o FILE.exr");
 	for (int i = 0; i < o->noutputs; i++)
-		if (cs_output_kind(o->outputs[i]) == 0)
-			return cs_error(CS_EINVAL, "output '%s': the name must end in .png or .exr",
-					o->outputs[i]);
+		if (cs_output_format_of(o, i) == CS_FMT_NONE)
+			return cs_error(CS_EINVAL, "output '%s': unknown format: the name must end "
+					"in " CS_OUT_EXTENSIONS " (or give -of)", o->outputs[i]);
+	if (o->jpeg_quality < 0 || o->jpeg_quality > 100)
+		return cs_error(CS_EINVAL, "JPEG quality %d is outside 1..100", o->jpeg_quality);
 	if (o->width < 1 || o->height < 1 || o->width > 16384 || o->height > 16384 ||
 	    (double)o->width * o->height > 1e8)
 		return cs_error(CS_EINVAL, "image size %dx%d is impossible (1..16384 a side, 10^8 pixels)",
 				o->width, o->height);
 	int rc = check_streams(o);
+	if (rc != CS_OK)
+		return rc;
+	/* every output's place checked now, not after a long render */
+	rc = cs_outset_check(o->outputs, o->noutputs, o->no_clobber ? CS_OUT_NO_CLOBBER : 0);
 	if (rc != CS_OK)
 		return rc;
 	cs_cloudrender_settings(o, &r->settings);

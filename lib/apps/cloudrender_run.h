@@ -8,6 +8,11 @@
 #define CS_RENDER_MAX_OUTPUTS 4
 
 struct cs_cloudrender_result;
+/* The formats of an output: chosen by the name's extension, or as GDAL's
+ * -of names them. */
+enum cs_out_format { CS_FMT_NONE, CS_FMT_PNG, CS_FMT_EXR, CS_FMT_TIFF, CS_FMT_JPEG };
+#define CS_OUT_EXTENSIONS ".png, .exr, .tif, .tiff, .jpg or .jpeg"
+#define CS_OUT_FORMAT_NAMES "PNG, EXR, GTiff (or TIFF) or JPEG (or JPG)"
 
 struct cs_cloudrender_opts {
 	const char *wx_path;      /* cloudwx JSON or "-", or NULL: built-in */
@@ -45,8 +50,14 @@ struct cs_cloudrender_opts {
 	double exposure_ev;
 	int exposure_auto;        /* choose exposure_ev from the image */
 	int threads;
-	const char *outputs[CS_RENDER_MAX_OUTPUTS]; /* .png or .exr ("-": PNG to stdout) */
+	const char *outputs[CS_RENDER_MAX_OUTPUTS]; /* files, "-" = standard output */
+	enum cs_out_format formats[CS_RENDER_MAX_OUTPUTS]; /* NONE: from the name */
 	int noutputs;
+	int png16;                /* PNG: 16 bits a sample instead of 8 */
+	int use_float;            /* EXR: float RGBA instead of half; TIFF: float
+				   * linear R G B A Z instead of 16-bit sRGB */
+	int jpeg_quality;         /* 1..100; 0: 90 */
+	int no_clobber;           /* never replace an existing file */
 	cs_progress_fn progress;
 	void *progress_user;
 	/* Called once the scene and camera are set, before the frame is
@@ -103,7 +114,15 @@ int cs_cloudrender_run(const struct cs_cloudrender_opts *o,
 		       struct cs_cloudrender_result *r);
 void cs_cloudrender_result_free(struct cs_cloudrender_result *r);
 
-/* The output type of a file name: 'p' (.png or "-"), 'e' (.exr) or 0. */
-int cs_output_kind(const char *path);
+/* The format a file name's extension means (.png, .exr, .tif, .tiff, .jpg,
+ * .jpeg; any case); "-" is PNG; CS_FMT_NONE for any other. */
+enum cs_out_format cs_output_format(const char *path);
+
+/* The format GDAL's -of name means: PNG, EXR, GTiff or TIFF or TIF, JPEG or
+ * JPG (any case); CS_FMT_NONE for any other. */
+enum cs_out_format cs_output_format_named(const char *name);
+
+/* The format output i is written in: as given, else from its name. */
+enum cs_out_format cs_output_format_of(const struct cs_cloudrender_opts *o, int i);
 
 #endif

@@ -241,36 +241,11 @@ static int fetch_loop(const struct cs_mbfetch_opts *o, struct cs_mbfetch_result 
 	}
 }
 
-/* Whether path can be created or replaced: its folder exists and is
- * writable, and it is no folder itself. */
-static int output_writable(const char *path)
-{
-	if (strcmp(path, "-") == 0)
-		return CS_OK;
-	struct stat st;
-	if (stat(path, &st) == 0) {
-		if (S_ISDIR(st.st_mode))
-			return cs_error(CS_EIO, "cannot write %s: Is a directory", path);
-		if (!S_ISREG(st.st_mode))
-			return access(path, W_OK) == 0 ? CS_OK
-			       : cs_error(CS_EIO, "cannot write %s: %s", path, strerror(errno));
-	}
-	char dir[4096];
-	const char *slash = strrchr(path, '/');
-	int n = slash ? snprintf(dir, sizeof dir, "%.*s", (int)(slash - path + 1), path)
-		      : snprintf(dir, sizeof dir, ".");
-	if (n < 0 || (size_t)n >= sizeof dir)
-		return cs_error(CS_EINVAL, "output file name too long");
-	if (access(dir, W_OK | X_OK) < 0)
-		return cs_error(CS_EIO, "cannot create %s: %s", path, strerror(errno));
-	return CS_OK;
-}
-
 /* Writes data to the output whole or not at all; the cache too if asked. */
 static int finish(const struct cs_mbfetch_opts *o, const char *data, size_t len,
 		  const char *cpath)
 {
-	int rc = cs_write_file(o->output, data, len);
+	int rc = cs_write_file_flags(o->output, data, len, o->no_clobber ? CS_OUT_NO_CLOBBER : 0);
 	if (rc == CS_OK && cpath) { /* cpath is NULL for what came from the cache */
 		if (mkdir(o->cache_dir, 0700) < 0 && errno != EEXIST)
 			say(o, NULL, CS_LOG_WARN, "cannot create the cache %s: %s",
@@ -308,7 +283,7 @@ int cs_mbfetch_run(const struct cs_mbfetch_opts *o, struct cs_mbfetch_result *re
 	/* no request (and no credit spent) for a destination that cannot be
 	 * written; the temporary itself is created only once there is
 	 * something to write, so an interrupted wait leaves nothing behind */
-	if ((rc = output_writable(o->output)) != CS_OK)
+	if ((rc = cs_outfile_check(o->output, o->no_clobber ? CS_OUT_NO_CLOBBER : 0)) != CS_OK)
 		return rc;
 	char cpath[4200];
 	int use_cache = o->cache_dir && cache_path(o, cpath, sizeof cpath) == 0;

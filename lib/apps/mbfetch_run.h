@@ -28,6 +28,7 @@ struct cs_mbfetch_opts {
 	const char *base_url;      /* NULL: the provider's https server */
 	const char *key_file;      /* NULL: $MBFETCH_APIKEY, then the default file */
 	const char *output;        /* path, or "-" for standard output */
+	int no_clobber;            /* never replace an existing file */
 	double connect_timeout_s;  /* per attempt */
 	double timeout_s;          /* whole transfer, per attempt */
 	int retries;               /* attempts after the first */

@@ -2,6 +2,7 @@
 
 #include "core/err.h"
 #include "io/image.h"
+#include "core/fileio.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -114,6 +115,15 @@ int cs_noisebake_run(const struct cs_noisebake_opts *o, struct cs_noisebake_resu
 		return cs_error(CS_EINVAL, "preview channels '%s' must be letters of RGBA",
 				o->channels);
 
+	const char *paths[2];
+	int npaths = 0, flags = o->no_clobber ? CS_OUT_NO_CLOBBER : 0;
+	if (o->output)
+		paths[npaths++] = o->output;
+	if (o->preview)
+		paths[npaths++] = o->preview;
+	if ((rc = cs_outset_check(paths, npaths, flags)) != CS_OK)
+		return rc;
+
 	struct cs_volume v;
 	rc = cs_volume_new(&v, o->size, depth);
 	if (rc != CS_OK)
@@ -123,17 +133,29 @@ int cs_noisebake_run(const struct cs_noisebake_opts *o, struct cs_noisebake_resu
 	rc = cs_volume_bake(&v, o->threads, o->progress, o->progress_user);
 	r->bake_seconds = now_s() - t0;
 	r->nx = v.nx, r->ny = v.ny, r->nz = v.nz;
-	if (rc == CS_OK && o->output)
-		rc = cs_volume_write_exr(&v, o->output, o->use_float);
+	struct cs_outset set;
+	struct cs_outfile *of;
+	cs_outset_init(&set, flags);
+	if (rc == CS_OK && o->output && (rc = cs_outset_open(&set, o->output, &of)) == CS_OK)
+		rc = cs_volume_write_exr_to(&v, of, strcmp(o->output, "-") == 0 ? "standard output"
+										 : o->output,
+					    o->use_float);
 	if (rc == CS_OK && o->preview) {
 		uint8_t *pix = NULL;
 		int w = 0, h = 0;
 		rc = cs_volume_contact_sheet(&v, slices, nslices, o->channels,
 					     &pix, &w, &h);
 		if (rc == CS_OK)
-			rc = cs_png_write(o->preview, w, h, 1, pix);
+			rc = cs_outset_open(&set, o->preview, &of);
+		if (rc == CS_OK)
+			rc = cs_png_write_to(of, strcmp(o->preview, "-") == 0 ? "standard output"
+									      : o->preview,
+					     w, h, 1, pix);
 		free(pix);
 	}
+	if (rc == CS_OK)
+		rc = cs_outset_commit(&set);
+	cs_outset_abort(&set);
 	cs_volume_free(&v);
 	return rc;
 }

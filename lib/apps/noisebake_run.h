@@ -15,6 +15,7 @@ struct cs_noisebake_opts {
 	int threads;                     /* <= 0: all processors */
 	const char *output;              /* EXR path or "-", or NULL */
 	const char *preview;             /* PNG path or "-", or NULL */
+	int no_clobber;                  /* never replace an existing file */
 	int slices[CS_PREVIEW_MAX_SLICES];
 	int nslices;                     /* 0: four evenly spaced slices */
 	char channels[5];                /* preview rows, from "RGBA" */
@@ -31,7 +32,8 @@ struct cs_noisebake_result {
 /* Defaults: 128^3, default recipe, half, all threads, preview RGBA. */
 void cs_noisebake_defaults(struct cs_noisebake_opts *o);
 
-/* Bakes the volume and writes the requested outputs.  Option mistakes
+/* Bakes the volume and writes the requested outputs, all together or none
+ * (their places are checked before the bake).  Option mistakes
  * return CS_EINVAL; the system's CS_EIO or CS_ENOMEM. */
 int cs_noisebake_run(const struct cs_noisebake_opts *o, struct cs_noisebake_result *r);
 

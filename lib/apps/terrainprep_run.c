@@ -9,12 +9,14 @@
 #include "core/geo.h"
 #include "core/info.h"
 #include "io/image.h"
+#include "core/fileio.h"
 
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <strings.h>
+#include <sys/stat.h>
 
 #ifndef CS_VERSION
 #define CS_VERSION "unknown"
@@ -100,10 +102,14 @@ static int handle_voids(const struct cs_terrainprep_opts *o, struct cs_terrain *
 	return rc;
 }
 
+/* The data file, its sidecar and the hillshade are written to temporaries
+ * first and renamed together at the end: a failure leaves none of them. */
 static int write_outputs(const struct cs_terrainprep_opts *o, struct cs_reproject *rp,
 			 const struct cs_terrainprep_result *res)
 {
 	const struct cs_terrain *t = &res->terrain;
+	struct cs_outset set;
+	cs_outset_init(&set, o->no_clobber ? CS_OUT_NO_CLOBBER : 0);
 	int rc = CS_OK;
 	if (o->output) {
 		char policy[64], generator[96];
@@ -127,17 +133,29 @@ static int write_outputs(const struct cs_terrainprep_opts *o, struct cs_reprojec
 			rc = cs_reproject_geotiff(rp, t, res->voids > 0 && o->fill == CS_FILL_NONE,
 						  &m.bytes, &m.nbytes);
 		if (rc == CS_OK)
-			rc = cs_terrain_write_as(o->output, t, &m);
+			rc = cs_terrain_write_into(&set, o->output, t, &m);
 	}
 	if (rc == CS_OK && o->hillshade) {
 		unsigned char *px = malloc((size_t)t->width * t->height);
+		struct cs_outfile *of;
 		if (px == NULL)
-			return cs_error(CS_ENOMEM, "out of memory");
-		struct cs_hillshade s = {o->azimuth_deg, o->altitude_deg, o->z_factor, o->scale};
-		cs_dem_hillshade(t->h, t->width, t->height, t->pixel_x_m, t->pixel_y_m, &s, px);
-		rc = cs_png_write(o->hillshade, t->width, t->height, 1, px);
+			rc = cs_error(CS_ENOMEM, "out of memory");
+		if (rc == CS_OK)
+			rc = cs_outset_open(&set, o->hillshade, &of);
+		if (rc == CS_OK) {
+			struct cs_hillshade s = {o->azimuth_deg, o->altitude_deg, o->z_factor,
+						 o->scale};
+			cs_dem_hillshade(t->h, t->width, t->height, t->pixel_x_m, t->pixel_y_m,
+					 &s, px);
+			rc = cs_png_write_to(of, strcmp(o->hillshade, "-") == 0 ? "standard output"
+									       : o->hillshade,
+					     t->width, t->height, 1, px);
+		}
 		free(px);
 	}
+	if (rc == CS_OK)
+		rc = cs_outset_commit(&set);
+	cs_outset_abort(&set);
 	return rc;
 }
 
@@ -260,6 +278,48 @@ int cs_terrainprep_info(const char *path, int json, char **text)
 	return cs_info_finish(&in, text);
 }
 
+/* Whether name ends in ext (any case). */
+static int ends_in(const char *name, const char *ext)
+{
+	size_t n = strlen(name), e = strlen(ext);
+	return n > e && strcasecmp(name + n - e, ext) == 0;
+}
+
+/* The names of the outputs: a format the name does not say is refused
+ * (a .png heightfield would be an EXR under a PNG's name), and every
+ * output's place is checked before the long work. */
+static int check_outputs(const struct cs_terrainprep_opts *o)
+{
+	if (o->output && o->format == CS_TERRAINPREP_FORMAT_AUTO) {
+		const char *slash = strrchr(o->output, '/');
+		const char *dot = strrchr(slash ? slash : o->output, '.');
+		enum cs_terrain_format f;
+		if (dot && dot[1] != '\0' && cs_terrainprep_format(dot + 1, &f) != CS_OK)
+			return cs_error(CS_EINVAL, "-o %s: a heightfield is EXR, GeoTIFF or 16-bit "
+					"raw: name it .exr, .tif, .tiff, .r16 or .raw (or give "
+					"--format)", o->output);
+	}
+	if (o->hillshade && strcmp(o->hillshade, "-") != 0 && !ends_in(o->hillshade, ".png")) {
+		struct stat st;
+		if (stat(o->hillshade, &st) < 0 || S_ISREG(st.st_mode))
+			return cs_error(CS_EINVAL, "--hillshade %s: the hillshade is a PNG: name "
+					"it .png (or '-')", o->hillshade);
+	}
+	const char *paths[3];
+	char sidecar[4096];
+	int n = 0;
+	if (o->output) {
+		int rc = cs_terrain_sidecar_path(o->output, sidecar, sizeof sidecar);
+		if (rc != CS_OK)
+			return rc;
+		paths[n++] = sidecar; /* the first written (as before) */
+		paths[n++] = o->output;
+	}
+	if (o->hillshade)
+		paths[n++] = o->hillshade;
+	return cs_outset_check(paths, n, o->no_clobber ? CS_OUT_NO_CLOBBER : 0);
+}
+
 /* ---- the run ---------------------------------------------------------- */
 
 static int check_opts(const struct cs_terrainprep_opts *o, enum cs_terrain_format format)
@@ -308,7 +368,7 @@ static int check_opts(const struct cs_terrainprep_opts *o, enum cs_terrain_forma
 		return cs_error(CS_EINVAL, "--water-level: not a number");
 	if (o->resampling && !cs_reproject_resampling_known(o->resampling))
 		return cs_error(CS_EINVAL, "-r: unknown resampling '%s'", o->resampling);
-	return CS_OK;
+	return check_outputs(o);
 }
 
 static void reproject_opts(const struct cs_terrainprep_opts *o, struct cs_reproject_opts *w)

@@ -10,7 +10,7 @@
 #define CS_TERRAINPREP_MAX_INPUTS 4096
 #define CS_TERRAINPREP_MAX_SAMPLES CS_REPROJECT_MAX_SAMPLES
 /* format: chosen from the output's extension (.exr, .r16/.raw, .tif/.tiff;
- * EXR for any other) */
+ * EXR for a name without one; any other extension is an error) */
 #define CS_TERRAINPREP_FORMAT_AUTO (-1)
 
 enum cs_fill { CS_FILL_NEAREST, CS_FILL_NONE, CS_FILL_VALUE };
@@ -41,6 +41,7 @@ struct cs_terrainprep_opts {
 	double max_void_fraction; /* more voids than this is an error */
 	int r16_south_up;
 	const char *hillshade;    /* PNG path, or NULL */
+	int no_clobber;           /* never replace an existing file */
 	double azimuth_deg, altitude_deg, z_factor, scale;
 	int have_water_level;
 	double water_level_m;     /* samples at or below this height are water */

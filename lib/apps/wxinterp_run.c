@@ -56,24 +56,20 @@ static void note(const struct cs_wxinterp_opts *o, int level, const char *fmt,
 	o->note(o->note_user, level, msg);
 }
 
-/* The site of a series: name from the option, the file, or the file name
- * without folder and extension. */
+/* The site of a series: name from the option, the provider's, or its
+ * coordinates ("46.950N 7.440E": a file's name says nothing of the place). */
 static void site_of(const struct cs_series *s, const char *path,
 		    const char *name, struct cs_wx_site *site)
 {
+	(void)path;
 	memset(site, 0, sizeof *site);
 	if (name == NULL && s->name[0] != '\0')
 		name = s->name;
-	if (name != NULL) {
+	if (name != NULL)
 		snprintf(site->name, sizeof site->name, "%s", name);
-	} else if (strcmp(path, "-") != 0) {
-		const char *b = strrchr(path, '/');
-		b = b ? b + 1 : path;
-		const char *dot = strrchr(b, '.');
-		int len = dot && dot != b ? (int)(dot - b) : (int)strlen(b);
-		snprintf(site->name, sizeof site->name, "%.*s",
-			 len < 63 ? len : 63, b);
-	}
+	else
+		snprintf(site->name, sizeof site->name, "%.3f%c %.3f%c", fabs(s->lat_deg),
+			 s->lat_deg < 0 ? 'S' : 'N', fabs(s->lon_deg), s->lon_deg < 0 ? 'W' : 'E');
 	site->lat_deg = s->lat_deg;
 	site->lon_deg = s->lon_deg;
 	site->alt_m = s->alt_m;
@@ -297,7 +293,7 @@ static int check_opts(const struct cs_wxinterp_opts *o)
 		return cs_error(CS_EINVAL, "--alt: outside -500..9000 m");
 	for (int i = 0; i < o->nsets; i++)
 		CS_TRY(cs_wx_set_check(o->sets[i]));
-	return CS_OK;
+	return cs_outfile_check(o->output, o->no_clobber ? CS_OUT_NO_CLOBBER : 0);
 }
 
 /* --summary: the state and observation at each time, as a table. */
@@ -359,7 +355,7 @@ static int run_times(struct run *r)
 	if (o->summary)
 		return summary(r, t0, (long)count);
 	struct cs_outfile of;
-	CS_TRY(cs_outfile_open(&of, o->output));
+	CS_TRY(cs_outfile_open_flags(&of, o->output, o->no_clobber ? CS_OUT_NO_CLOBBER : 0));
 	int rc = CS_OK;
 	for (long k = 0; rc == CS_OK && k < (long)count; k++)
 		rc = one_state(r, t0 + (double)k * o->step_s, &of);

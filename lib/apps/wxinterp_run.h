@@ -40,6 +40,7 @@ struct cs_wxinterp_opts {
 						 instead of states; 2: per UTC day */
 	int summary_json;                     /* the summary as JSON Lines */
 	const char *output;                   /* path or "-" (default) */
+	int no_clobber;                       /* never replace an existing file */
 	cs_note_fn note;
 	void *note_user;
 };

@@ -26,10 +26,63 @@ int cs_write_all(int fd, const void *buf, size_t n)
 	return 0;
 }
 
+/* The message of an existing destination under CS_OUT_NO_CLOBBER. */
+static int exists_error(const char *dst)
+{
+	return cs_error(CS_EIO, "%s exists: not overwritten (--no-clobber)", dst);
+}
+
+/* dst's directory ("." for a bare name), into dir. */
+static int dir_of(const char *dst, char *dir, size_t size)
+{
+	const char *slash = strrchr(dst, '/');
+	int n = slash ? snprintf(dir, size, "%.*s", (int)(slash - dst + 1), dst)
+		      : snprintf(dir, size, ".");
+	if (n < 0 || (size_t)n >= size)
+		return cs_error(CS_EINVAL, "output file name too long");
+	return CS_OK;
+}
+
+int cs_outfile_check(const char *dst, int flags)
+{
+	if (dst == NULL || dst[0] == '\0')
+		return cs_error(CS_EINVAL, "empty output file name");
+	if (strcmp(dst, "-") == 0)
+		return CS_OK;
+	struct stat st;
+	if (stat(dst, &st) == 0) {
+		if (S_ISDIR(st.st_mode))
+			return cs_error(CS_EIO, "cannot write %s: Is a directory", dst);
+		if (!S_ISREG(st.st_mode))
+			return access(dst, W_OK) == 0
+				       ? CS_OK
+				       : cs_error(CS_EIO, "cannot write %s: %s", dst, strerror(errno));
+	}
+	if ((flags & CS_OUT_NO_CLOBBER) && lstat(dst, &st) == 0)
+		return exists_error(dst);
+	char dir[4096];
+	int rc = dir_of(dst, dir, sizeof dir);
+	if (rc != CS_OK)
+		return rc;
+	if (stat(dir, &st) < 0)
+		return cs_error(CS_EIO, "cannot create %s: %s", dst, strerror(errno));
+	if (!S_ISDIR(st.st_mode))
+		return cs_error(CS_EIO, "cannot create %s: %s is not a directory", dst, dir);
+	if (access(dir, W_OK | X_OK) < 0)
+		return cs_error(CS_EIO, "cannot create %s: %s", dst, strerror(errno));
+	return CS_OK;
+}
+
 int cs_outfile_open(struct cs_outfile *of, const char *dst)
+{
+	return cs_outfile_open_flags(of, dst, 0);
+}
+
+int cs_outfile_open_flags(struct cs_outfile *of, const char *dst, int flags)
 {
 	memset(of, 0, sizeof *of);
 	of->fd = -1;
+	of->no_clobber = (flags & CS_OUT_NO_CLOBBER) != 0;
 	if (dst == NULL || dst[0] == '\0')
 		return cs_error(CS_EINVAL, "empty output file name");
 	of->to_stdout = strcmp(dst, "-") == 0;
@@ -41,6 +94,8 @@ int cs_outfile_open(struct cs_outfile *of, const char *dst)
 			return cs_error(CS_EIO, "cannot write %s: Is a directory", dst);
 		of->to_stream = 1;
 	}
+	if (!of->to_stdout && !of->to_stream && of->no_clobber && lstat(dst, &st) == 0)
+		return exists_error(dst);
 	if (strlen(dst) >= sizeof of->dst_path)
 		return cs_error(CS_EINVAL, "output file name too long");
 	strcpy(of->dst_path, dst);
@@ -86,8 +141,13 @@ int cs_outfile_write(struct cs_outfile *of, const void *buf, size_t n)
 
 int cs_write_file(const char *path, const void *buf, size_t n)
 {
+	return cs_write_file_flags(path, buf, n, 0);
+}
+
+int cs_write_file_flags(const char *path, const void *buf, size_t n, int flags)
+{
 	struct cs_outfile of;
-	int rc = cs_outfile_open(&of, path);
+	int rc = cs_outfile_open_flags(&of, path, flags);
 	if (rc == CS_OK)
 		rc = cs_outfile_write(&of, buf, n);
 	if (rc == CS_OK)
@@ -126,13 +186,14 @@ static int copy_out(struct cs_outfile *of)
 	return rc;
 }
 
-int cs_outfile_commit(struct cs_outfile *of)
+/* The first half of a commit: the data on disk (or copied out to a
+ * stream) and the temporary closed. */
+static int finish(struct cs_outfile *of)
 {
 	if (of->fd < 0)
 		return cs_error(CS_EINVAL, "output is not open");
 	int rc = CS_OK;
-	int streamed = of->to_stdout || of->to_stream;
-	if (streamed) {
+	if (of->to_stdout || of->to_stream) {
 		rc = copy_out(of);
 	} else if (fsync(of->fd) < 0 && errno != EINVAL && errno != EROFS) {
 		rc = cs_error(CS_EIO, "cannot write %s: %s", of->dst_path,
@@ -142,13 +203,51 @@ int cs_outfile_commit(struct cs_outfile *of)
 		rc = cs_error(CS_EIO, "cannot write %s: %s", of->dst_path,
 			      strerror(errno));
 	of->fd = -1;
-	if (rc == CS_OK && !streamed && rename(of->tmp_path, of->dst_path) < 0)
+	return rc;
+}
+
+/* The second half: the finished temporary renamed over the destination
+ * (under CS_OUT_NO_CLOBBER linked, which fails if something appeared there
+ * meanwhile), or removed after a stream's copy. */
+static int place(struct cs_outfile *of)
+{
+	int rc = CS_OK;
+	if (of->to_stdout || of->to_stream) {
+		/* copied out by finish() */
+	} else if (of->no_clobber) {
+		if (link(of->tmp_path, of->dst_path) < 0) {
+			int e = errno;
+			struct stat st;
+			if (e == EEXIST)
+				rc = exists_error(of->dst_path);
+			else if (lstat(of->dst_path, &st) == 0) /* no hard links here */
+				rc = exists_error(of->dst_path);
+			else if (rename(of->tmp_path, of->dst_path) < 0)
+				rc = cs_error(CS_EIO, "cannot rename temporary to %s: %s",
+					      of->dst_path, strerror(errno));
+			else
+				of->tmp_path[0] = '\0';
+		}
+	} else if (rename(of->tmp_path, of->dst_path) < 0) {
 		rc = cs_error(CS_EIO, "cannot rename temporary to %s: %s",
 			      of->dst_path, strerror(errno));
-	if (rc != CS_OK || streamed)
+	} else {
+		of->tmp_path[0] = '\0';
+	}
+	if (of->tmp_path[0] != '\0')
 		unlink(of->tmp_path);
 	of->tmp_path[0] = '\0';
 	return rc;
+}
+
+int cs_outfile_commit(struct cs_outfile *of)
+{
+	int rc = finish(of);
+	if (rc != CS_OK) {
+		cs_outfile_abort(of);
+		return rc;
+	}
+	return place(of);
 }
 
 void cs_outfile_abort(struct cs_outfile *of)
@@ -159,6 +258,105 @@ void cs_outfile_abort(struct cs_outfile *of)
 	if (of->tmp_path[0] != '\0')
 		unlink(of->tmp_path);
 	of->tmp_path[0] = '\0';
+}
+
+/* ---- sets of outputs -------------------------------------------------- */
+
+/* Whether a and b name one file: the same existing file, or the same name
+ * in the same directory. */
+static int same_file(const char *a, const char *b)
+{
+	if (strcmp(a, b) == 0)
+		return 1;
+	if (strcmp(a, "-") == 0 || strcmp(b, "-") == 0)
+		return 0;
+	struct stat sa, sb;
+	if (stat(a, &sa) == 0 && stat(b, &sb) == 0)
+		return sa.st_dev == sb.st_dev && sa.st_ino == sb.st_ino;
+	const char *ba = strrchr(a, '/'), *bb = strrchr(b, '/');
+	ba = ba ? ba + 1 : a;
+	bb = bb ? bb + 1 : b;
+	if (strcmp(ba, bb) != 0)
+		return 0;
+	char da[4096], db[4096];
+	if (dir_of(a, da, sizeof da) != CS_OK || dir_of(b, db, sizeof db) != CS_OK)
+		return 0;
+	return stat(da, &sa) == 0 && stat(db, &sb) == 0 && sa.st_dev == sb.st_dev &&
+	       sa.st_ino == sb.st_ino;
+}
+
+int cs_outset_check(const char *const *paths, int n, int flags)
+{
+	if (n > CS_OUTSET_MAX)
+		return cs_error(CS_EINVAL, "at most %d outputs", CS_OUTSET_MAX);
+	for (int i = 0; i < n; i++)
+		for (int j = 0; j < i; j++)
+			if (same_file(paths[i], paths[j]))
+				return cs_error(CS_EINVAL, "%s is named twice as an output%s",
+						strcmp(paths[i], "-") == 0 ? "'-' (standard output)"
+									   : paths[i],
+						strcmp(paths[i], paths[j]) == 0 ? "" : " (as the same file)");
+	for (int i = 0; i < n; i++) {
+		int rc = cs_outfile_check(paths[i], flags);
+		if (rc != CS_OK)
+			return rc;
+	}
+	return CS_OK;
+}
+
+void cs_outset_init(struct cs_outset *s, int flags)
+{
+	memset(s, 0, sizeof *s);
+	s->flags = flags;
+	for (int i = 0; i < CS_OUTSET_MAX; i++)
+		s->of[i].fd = -1;
+}
+
+int cs_outset_open(struct cs_outset *s, const char *dst, struct cs_outfile **of)
+{
+	if (s->n == CS_OUTSET_MAX)
+		return cs_error(CS_EINVAL, "at most %d outputs", CS_OUTSET_MAX);
+	int rc = cs_outfile_open_flags(&s->of[s->n], dst, s->flags);
+	if (rc != CS_OK)
+		return rc;
+	*of = &s->of[s->n++];
+	return CS_OK;
+}
+
+int cs_outset_commit(struct cs_outset *s)
+{
+	int rc = CS_OK;
+	/* streams first: once a file is renamed it cannot be taken back,
+	 * while standard output is the likelier to fail (a closed pipe) */
+	for (int pass = 0; pass < 2 && rc == CS_OK; pass++)
+		for (int i = 0; i < s->n && rc == CS_OK; i++) {
+			struct cs_outfile *of = &s->of[i];
+			int streamed = of->to_stdout || of->to_stream;
+			if (streamed == (pass == 0))
+				rc = finish(of);
+		}
+	int placed = 0;
+	while (rc == CS_OK && placed < s->n)
+		if ((rc = place(&s->of[placed])) == CS_OK)
+			placed++;
+	if (rc != CS_OK) {
+		/* the outputs this set created are taken back; the ones that
+		 * replaced a file cannot be */
+		for (int i = 0; i < placed; i++) {
+			struct cs_outfile *of = &s->of[i];
+			if (of->no_clobber && !of->to_stdout && !of->to_stream)
+				unlink(of->dst_path);
+		}
+	}
+	cs_outset_abort(s);
+	return rc;
+}
+
+void cs_outset_abort(struct cs_outset *s)
+{
+	for (int i = 0; i < s->n; i++)
+		cs_outfile_abort(&s->of[i]);
+	s->n = 0;
 }
 
 int cs_read_all(const char *path, size_t max_bytes, unsigned char **data,

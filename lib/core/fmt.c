@@ -30,3 +30,22 @@ struct cs_num cs_num(double v)
 	cs_fmt_double(n.s, sizeof n.s, v);
 	return n;
 }
+
+struct cs_num cs_num_round(double v, int decimals)
+{
+	if (!isfinite(v) || fabs(v) >= 1e15) /* no fraction left to round */
+		return cs_num(v);
+	if (decimals < 0)
+		decimals = 0;
+	if (decimals > 9)
+		decimals = 9;
+	/* through the decimal text, not v * 10^d: 1.005 is 1.00499999999999989
+	 * and must round as the value it is, and the scaled product can
+	 * round up across the half */
+	char buf[64];
+	snprintf(buf, sizeof buf, "%.*f", decimals, v);
+	double r = strtod(buf, NULL);
+	if (r == 0.0)
+		r = 0.0; /* no "-0" */
+	return cs_num(r);
+}

@@ -17,4 +17,12 @@ struct cs_num {
 };
 struct cs_num cs_num(double v);
 
+/* v rounded to the given decimals (0..9), to the nearest as printf's %.*f
+ * rounds the exact binary value, as the
+ * shortest text that reads back to that rounded value: 1271.8967441392303
+ * with 0 gives "1272", 4.4399999999999995 with 2 gives "4.44", 0.0134
+ * with 3 gives "0.013"; never "-0".  Reading the text and rounding again
+ * gives the same text. */
+struct cs_num cs_num_round(double v, int decimals);
+
 #endif

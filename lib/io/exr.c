@@ -229,6 +229,36 @@ static int verify(const struct cs_outfile *of, const char *name, int width,
 	return rc;
 }
 
+int cs_exr_write_to(struct cs_outfile *of, const char *name, int width, int height,
+		    const struct cs_exr_channel *ch, int nch,
+		    const struct cs_exr_attr *attrs, int nattrs)
+{
+	if (width < 1 || height < 1 || nch < 1 || nch > 16)
+		return cs_error(CS_EINVAL, "cannot write a %dx%d image of %d channels",
+				width, height, nch);
+	/* OpenEXR 3.1's ZIP encoder can store a 16-scanline chunk that does not
+	 * compress as garbage (seen with smooth float heights), so every file
+	 * is read back and compared; if it is wrong, it is written again with
+	 * ZIPS (one scanline a chunk), which does not have the fault. */
+	static const exr_compression_t tries[2] = {EXR_COMPRESSION_ZIP, EXR_COMPRESSION_ZIPS};
+	int rc = CS_OK;
+	for (int k = 0; k < 2; k++) {
+		if (ftruncate(of->fd, 0) < 0)
+			return cs_error(CS_EIO, "%s: cannot write: %s", name, strerror(errno));
+		rc = write_once(of, name, width, height, ch, nch, attrs, nattrs, tries[k]);
+		if (rc != CS_OK)
+			return rc;
+		rc = verify(of, name, width, height, ch, nch);
+		if (rc == CS_OK)
+			return CS_OK;
+		if (rc != CS_EDATA)
+			return rc;
+		rc = cs_error(CS_EIO, "%s: the OpenEXR library wrote data that does not read back",
+			      name);
+	}
+	return rc;
+}
+
 int cs_exr_write(const char *path, int width, int height,
 		 const struct cs_exr_channel *ch, int nch,
 		 const struct cs_exr_attr *attrs, int nattrs)
@@ -241,27 +271,9 @@ int cs_exr_write(const char *path, int width, int height,
 	int rc = cs_outfile_open(&of, path);
 	if (rc != CS_OK)
 		return rc;
-	/* OpenEXR 3.1's ZIP encoder can store a 16-scanline chunk that does not
-	 * compress as garbage (seen with smooth float heights), so every file
-	 * is read back and compared; if it is wrong, it is written again with
-	 * ZIPS (one scanline a chunk), which does not have the fault. */
-	static const exr_compression_t tries[2] = {EXR_COMPRESSION_ZIP, EXR_COMPRESSION_ZIPS};
-	for (int k = 0; k < 2; k++) {
-		if (ftruncate(of.fd, 0) < 0) {
-			rc = cs_error(CS_EIO, "%s: cannot write: %s", name, strerror(errno));
-			break;
-		}
-		rc = write_once(&of, name, width, height, ch, nch, attrs, nattrs, tries[k]);
-		if (rc != CS_OK)
-			break;
-		rc = verify(&of, name, width, height, ch, nch);
-		if (rc == CS_OK)
-			return cs_outfile_commit(&of);
-		if (rc != CS_EDATA)
-			break;
-		rc = cs_error(CS_EIO, "%s: the OpenEXR library wrote data that does not read back",
-			      name);
-	}
+	rc = cs_exr_write_to(&of, name, width, height, ch, nch, attrs, nattrs);
+	if (rc == CS_OK)
+		return cs_outfile_commit(&of);
 	cs_outfile_abort(&of);
 	return rc;
 }

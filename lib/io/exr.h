@@ -35,6 +35,14 @@ int cs_exr_write(const char *path, int width, int height,
 		 const struct cs_exr_channel *ch, int nch,
 		 const struct cs_exr_attr *attrs, int nattrs);
 
+struct cs_outfile;
+
+/* cs_exr_write() into an open output (core/fileio.h), not committed; name
+ * labels messages. */
+int cs_exr_write_to(struct cs_outfile *of, const char *name, int width, int height,
+		    const struct cs_exr_channel *ch, int nch,
+		    const struct cs_exr_attr *attrs, int nattrs);
+
 /* A memory source for exr_start_read(). */
 struct cs_exr_mem {
 	const unsigned char *data;

@@ -12,8 +12,8 @@
 #include <string.h>
 #include <unistd.h>
 
-int cs_png_write(const char *path, int width, int height, int channels,
-		 const uint8_t *pixels)
+int cs_png_write_to(struct cs_outfile *of, const char *name, int width,
+		    int height, int channels, const uint8_t *pixels)
 {
 	static const png_uint_32 formats[5] = {0, PNG_FORMAT_GRAY, 0,
 					       PNG_FORMAT_RGB, PNG_FORMAT_RGBA};
@@ -21,17 +21,11 @@ int cs_png_write(const char *path, int width, int height, int channels,
 	    channels == 2)
 		return cs_error(CS_EINVAL, "cannot write a %dx%d PNG with %d channels",
 				width, height, channels);
-	struct cs_outfile of;
-	int rc = cs_outfile_open(&of, path);
-	if (rc != CS_OK)
-		return rc;
-	const char *name = strcmp(path, "-") == 0 ? "standard output" : path;
-	int fd = dup(of.fd);
+	int fd = dup(of->fd);
 	FILE *fp = fd >= 0 ? fdopen(fd, "wb") : NULL;
 	if (fp == NULL) {
 		if (fd >= 0)
 			close(fd);
-		cs_outfile_abort(&of);
 		return cs_error(CS_EIO, "%s: cannot open stream", name);
 	}
 	png_image img;
@@ -44,13 +38,105 @@ int cs_png_write(const char *path, int width, int height, int channels,
 					  width * channels, NULL);
 	int closed = fclose(fp) == 0;
 	if (!ok || !closed) {
-		rc = cs_error(CS_EIO, "%s: cannot write PNG: %s", name,
-			      ok ? "write failed" : img.message);
+		int rc = cs_error(CS_EIO, "%s: cannot write PNG: %s", name,
+				  ok ? "write failed" : img.message);
 		png_image_free(&img);
+		return rc;
+	}
+	return CS_OK;
+}
+
+int cs_png_write(const char *path, int width, int height, int channels,
+		 const uint8_t *pixels)
+{
+	struct cs_outfile of;
+	int rc = cs_outfile_open(&of, path);
+	if (rc != CS_OK)
+		return rc;
+	const char *name = strcmp(path, "-") == 0 ? "standard output" : path;
+	rc = cs_png_write_to(&of, name, width, height, channels, pixels);
+	if (rc != CS_OK) {
 		cs_outfile_abort(&of);
 		return rc;
 	}
 	return cs_outfile_commit(&of);
+}
+
+/* libpng's error callback: the message kept, then back to the setjmp. */
+static void png16_error(png_structp png, png_const_charp msg)
+{
+	char *buf = png_get_error_ptr(png);
+	snprintf(buf, 200, "%s", msg);
+	png_longjmp(png, 1);
+}
+
+static void png16_warning(png_structp png, png_const_charp msg)
+{
+	(void)png;
+	(void)msg;
+}
+
+/* The body of cs_png16_write_to(), on a stream; 0 or a message in why. */
+static int png16_stream(FILE *fp, int width, int height, int channels,
+			const uint16_t *pixels, char why[200])
+{
+	static const int types[5] = {0, PNG_COLOR_TYPE_GRAY, 0, PNG_COLOR_TYPE_RGB,
+				     PNG_COLOR_TYPE_RGB_ALPHA};
+	png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, why,
+						  png16_error, png16_warning);
+	png_infop info = png ? png_create_info_struct(png) : NULL;
+	size_t rowlen = (size_t)width * channels * 2;
+	unsigned char *volatile row = malloc(rowlen);
+	if (png == NULL || info == NULL || row == NULL) {
+		snprintf(why, 200, "out of memory");
+		png_destroy_write_struct(&png, &info);
+		free(row);
+		return -1;
+	}
+	if (setjmp(png_jmpbuf(png))) {
+		png_destroy_write_struct(&png, &info);
+		free(row);
+		return -1;
+	}
+	png_init_io(png, fp);
+	png_set_IHDR(png, info, (png_uint_32)width, (png_uint_32)height, 16, types[channels],
+		     PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
+	png_set_sRGB_gAMA_and_cHRM(png, info, PNG_sRGB_INTENT_PERCEPTUAL);
+	png_write_info(png, info);
+	for (int y = 0; y < height; y++) {
+		const uint16_t *src = pixels + (size_t)y * width * channels;
+		for (size_t i = 0; i < (size_t)width * channels; i++) { /* big-endian */
+			row[2 * i] = (unsigned char)(src[i] >> 8);
+			row[2 * i + 1] = (unsigned char)(src[i] & 0xff);
+		}
+		png_write_row(png, row);
+	}
+	png_write_end(png, NULL);
+	png_destroy_write_struct(&png, &info);
+	free(row);
+	return 0;
+}
+
+int cs_png16_write_to(struct cs_outfile *of, const char *name, int width,
+		      int height, int channels, const uint16_t *pixels)
+{
+	if (width < 1 || height < 1 || channels < 1 || channels > 4 || channels == 2)
+		return cs_error(CS_EINVAL, "cannot write a %dx%d PNG with %d channels",
+				width, height, channels);
+	int fd = dup(of->fd);
+	FILE *fp = fd >= 0 ? fdopen(fd, "wb") : NULL;
+	if (fp == NULL) {
+		if (fd >= 0)
+			close(fd);
+		return cs_error(CS_EIO, "%s: cannot open stream", name);
+	}
+	char why[200] = "";
+	int bad = png16_stream(fp, width, height, channels, pixels, why);
+	int closed = fclose(fp) == 0;
+	if (bad || !closed)
+		return cs_error(CS_EIO, "%s: cannot write PNG: %s", name,
+				bad ? why : "write failed");
+	return CS_OK;
 }
 
 int cs_png_read_rgb8(const char *path, uint8_t **rgb, int *width, int *height)
@@ -115,5 +201,17 @@ void cs_tonemap_srgb8(const float *px, size_t stride, size_t n,
 			double x = px[i * stride + c] * k;
 			x = isfinite(x) && x > 0.0 ? x : 0.0;
 			rgb[i * 3 + c] = (uint8_t)lrint(255.0 * cs_srgb_oetf(cs_tonemap_aces(x)));
+		}
+}
+
+void cs_tonemap_srgb16(const float *px, size_t stride, size_t n,
+		       double exposure_ev, uint16_t *rgb)
+{
+	double k = pow(2.0, exposure_ev) / 16.0;
+	for (size_t i = 0; i < n; i++)
+		for (int c = 0; c < 3; c++) {
+			double x = px[i * stride + c] * k;
+			x = isfinite(x) && x > 0.0 ? x : 0.0;
+			rgb[i * 3 + c] = (uint16_t)lrint(65535.0 * cs_srgb_oetf(cs_tonemap_aces(x)));
 		}
 }

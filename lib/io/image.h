@@ -12,6 +12,18 @@
 int cs_png_write(const char *path, int width, int height, int channels,
 		 const uint8_t *pixels);
 
+struct cs_outfile;
+
+/* cs_png_write() into an open output (core/fileio.h), not committed; name
+ * labels messages. */
+int cs_png_write_to(struct cs_outfile *of, const char *name, int width,
+		    int height, int channels, const uint8_t *pixels);
+
+/* A 16-bit PNG of 1 (grey), 3 (RGB) or 4 (RGBA) channels whose samples are
+ * sRGB-encoded (an sRGB chunk, as the 8-bit ones), into an open output. */
+int cs_png16_write_to(struct cs_outfile *of, const char *name, int width,
+		      int height, int channels, const uint16_t *pixels);
+
 /* Reads a PNG as 8-bit sRGB RGB (any PNG: grey, palette and alpha are
  * converted); *rgb is malloc'ed for the caller. */
 int cs_png_read_rgb8(const char *path, uint8_t **rgb, int *width, int *height);
@@ -35,5 +47,9 @@ double cs_srgb_oetf(double v);
  * first; rgb receives 3 bytes per pixel. */
 void cs_tonemap_srgb8(const float *px, size_t stride, size_t n,
 		      double exposure_ev, uint8_t *rgb);
+
+/* cs_tonemap_srgb8() to 16 bits: the same curve, 0..65535. */
+void cs_tonemap_srgb16(const float *px, size_t stride, size_t n,
+		       double exposure_ev, uint16_t *rgb);
 
 #endif

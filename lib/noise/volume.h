@@ -78,6 +78,13 @@ CS_HD void cs_volume_sample4(const struct cs_volume *v, double u, double vv,
 int cs_volume_write_exr(const struct cs_volume *v, const char *path,
 			int use_float);
 
+struct cs_outfile;
+
+/* cs_volume_write_exr() into an open output (core/fileio.h), not
+ * committed; name labels messages. */
+int cs_volume_write_exr_to(const struct cs_volume *v, struct cs_outfile *of,
+			   const char *name, int use_float);
+
 /* Reads and validates a volume written by cs_volume_write_exr() ("-" =
  * stdin).  On error v is left empty and the message says what is wrong. */
 int cs_volume_read_exr(const char *path, struct cs_volume *v);

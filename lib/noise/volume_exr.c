@@ -37,6 +37,21 @@ static void format_periods(const struct cs_volume *v, char *buf, size_t size)
 int cs_volume_write_exr(const struct cs_volume *v, const char *path,
 			int use_float)
 {
+	struct cs_outfile of;
+	int rc = cs_outfile_open(&of, path);
+	if (rc != CS_OK)
+		return rc;
+	rc = cs_volume_write_exr_to(v, &of, strcmp(path, "-") == 0 ? "standard output" : path,
+				    use_float);
+	if (rc == CS_OK)
+		return cs_outfile_commit(&of);
+	cs_outfile_abort(&of);
+	return rc;
+}
+
+int cs_volume_write_exr_to(const struct cs_volume *v, struct cs_outfile *of,
+			   const char *name, int use_float)
+{
 	if (v->data == NULL || v->nx != v->ny)
 		return cs_error(CS_EINVAL, "volume is empty or not square");
 	if ((long)v->nx * v->nz > 0x7fffffffL)
@@ -55,8 +70,8 @@ int cs_volume_write_exr(const struct cs_volume *v, const char *path,
 	static const char *const names[4] = {"R", "G", "B", "A"};
 	for (int c = 0; c < 4; c++)
 		ch[c] = (struct cs_exr_channel){names[c], use_float, v->data + c, 4};
-	return cs_exr_write(path, v->nx, v->nx * v->nz, ch, 4, attrs,
-			    (int)(sizeof attrs / sizeof attrs[0]));
+	return cs_exr_write_to(of, name, v->nx, v->nx * v->nz, ch, 4, attrs,
+			       (int)(sizeof attrs / sizeof attrs[0]));
 }
 
 #define EXR_TRY(call, what) CS_EXR_CHECK(call, CS_EDATA, name, what, done)

@@ -171,7 +171,7 @@ static char *sidecar_json(const char *path, const struct cs_terrain *t,
 	return text;
 }
 
-static int write_r16(const char *path, const struct cs_terrain *t,
+static int write_r16(struct cs_outfile *of, const struct cs_terrain *t,
 		     const struct cs_terrain_meta *m, double scale)
 {
 	size_t n = (size_t)t->width * t->height;
@@ -189,26 +189,26 @@ static int write_r16(const char *path, const struct cs_terrain *t,
 			buf[i + 1] = (uint8_t)(v >> 8);
 		}
 	}
-	int rc = cs_write_file(path, buf, n * 2);
+	int rc = cs_outfile_write(of, buf, n * 2);
 	free(buf);
 	return rc;
 }
 
-static int write_data(const char *path, const struct cs_terrain *t,
+static int write_data(struct cs_outfile *of, const char *path, const struct cs_terrain *t,
 		      const struct cs_terrain_meta *m, double scale)
 {
 	if (m->format == CS_TERRAIN_R16)
-		return write_r16(path, t, m, scale);
+		return write_r16(of, t, m, scale);
 	if (m->format == CS_TERRAIN_TIF)
-		return cs_write_file(path, m->bytes, m->nbytes);
+		return cs_outfile_write(of, m->bytes, m->nbytes);
 	const struct cs_exr_channel ch[2] = {{"Y", 1, t->h, 1}, {"W", 0, t->water, 1}};
 	const struct cs_exr_attr attr = {"cloudscapeTerrain", CS_EXR_INT,
 					 {CS_TERRAIN_FORMAT, 0, 0}, NULL, 0};
-	return cs_exr_write(path, t->width, t->height, ch, t->water ? 2 : 1, &attr, 1);
+	return cs_exr_write_to(of, path, t->width, t->height, ch, t->water ? 2 : 1, &attr, 1);
 }
 
-int cs_terrain_write_as(const char *path, const struct cs_terrain *t,
-			const struct cs_terrain_meta *m)
+int cs_terrain_write_into(struct cs_outset *set, const char *path,
+			  const struct cs_terrain *t, const struct cs_terrain_meta *m)
 {
 	char json_path[4096];
 	if (strcmp(path, "-") == 0)
@@ -235,22 +235,29 @@ int cs_terrain_write_as(const char *path, const struct cs_terrain *t,
 	char *text = sidecar_json(path, t, m, scale, t->min_m);
 	if (text == NULL)
 		return cs_error(CS_ENOMEM, "out of memory");
-	struct cs_outfile side;
-	rc = cs_outfile_open(&side, json_path);
+	struct cs_outfile *side, *data;
+	rc = cs_outset_open(set, json_path, &side);
 	if (rc == CS_OK)
-		rc = cs_outfile_write(&side, text, strlen(text));
+		rc = cs_outfile_write(side, text, strlen(text));
 	if (rc == CS_OK)
-		rc = cs_outfile_write(&side, "\n", 1);
+		rc = cs_outfile_write(side, "\n", 1);
 	free(text);
 	if (rc == CS_OK)
-		rc = write_data(path, t, m, scale);
-	if (rc != CS_OK) {
-		cs_outfile_abort(&side);
-		return rc;
-	}
-	rc = cs_outfile_commit(&side);
-	if (rc != CS_OK)
-		unlink(path); /* no data file without its sidecar */
+		rc = cs_outset_open(set, path, &data);
+	if (rc == CS_OK)
+		rc = write_data(data, path, t, m, scale);
+	return rc;
+}
+
+int cs_terrain_write_as(const char *path, const struct cs_terrain *t,
+			const struct cs_terrain_meta *m)
+{
+	struct cs_outset set;
+	cs_outset_init(&set, 0);
+	int rc = cs_terrain_write_into(&set, path, t, m);
+	if (rc == CS_OK)
+		rc = cs_outset_commit(&set); /* no data file without its sidecar */
+	cs_outset_abort(&set);
 	return rc;
 }
 

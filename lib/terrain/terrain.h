@@ -91,6 +91,14 @@ long cs_terrain_water_count(const struct cs_terrain *t);
 int cs_terrain_write_as(const char *path, const struct cs_terrain *t,
 			const struct cs_terrain_meta *m);
 
+struct cs_outset;
+
+/* cs_terrain_write_as() into a set of outputs (core/fileio.h): the data
+ * file and its sidecar are written to temporaries of set, which its
+ * cs_outset_commit() places with the run's other outputs. */
+int cs_terrain_write_into(struct cs_outset *set, const char *path,
+			  const struct cs_terrain *t, const struct cs_terrain_meta *m);
+
 void cs_terrain_free(struct cs_terrain *t);
 
 /* Bilinear height at fractional sample coordinates (col, row), clamped to

@@ -442,6 +442,18 @@ int cs_wx_read(const char *path, struct cs_wx *wx)
 
 /* ---- writing ------------------------------------------------------------ */
 
+/* The precision each quantity is written with: what it means, not the
+ * arithmetic's 17 digits (see cloudwx(5)).  A state read back and written
+ * again gives the same bytes. */
+#define DEG(v) cs_num_round((v), 6).s   /* degrees of lat/lon: 0.11 m */
+#define M(v) cs_num_round((v), 0).s     /* heights and distances: 1 m */
+#define FRAC(v) cs_num_round((v), 3).s  /* fractions 0..1: 0.1 % */
+#define MM_H(v) cs_num_round((v), 3).s  /* mm/h: drizzle stays above 0 */
+#define M_S(v) cs_num_round((v), 2).s   /* wind, m/s */
+#define AZ(v) cs_num_round((v), 1).s    /* directions, degrees */
+#define TEMP(v) cs_num_round((v), 2).s  /* degrees Celsius, as providers give */
+#define W_M2(v) cs_num_round((v), 2).s  /* irradiance, W/m^2, as providers give */
+
 static void put_site(FILE *f, const struct cs_wx_site *s)
 {
 	fputs("\"site\":{\"name\":\"", f);
@@ -453,17 +465,18 @@ static void put_site(FILE *f, const struct cs_wx_site *s)
 		else
 			fputc(*c, f);
 	fprintf(f, "\",\"lat_deg\":%s,\"lon_deg\":%s,\"alt_m\":%s}",
-		cs_num(s->lat_deg).s, cs_num(s->lon_deg).s, cs_num(s->alt_m).s);
+		DEG(s->lat_deg), DEG(s->lon_deg), M(s->alt_m));
 }
 
 static void put_layers(FILE *f, int n, const struct cs_wx_layer *l)
 {
 	fputs(",\"layers\":[", f);
+	/* a layer is at least 10 m thick, and rounding both ends to 1 m
+	 * keeps it so (rounding is monotonic and 10 is even) */
 	for (int i = 0; i < n; i++)
 		fprintf(f, "%s{\"genus\":\"%s\",\"coverage\":%s,\"base_m\":%s,"
 			"\"top_m\":%s}", i ? "," : "", cs_genus_name(l[i].genus),
-			cs_num(l[i].coverage).s, cs_num(l[i].base_m).s,
-			cs_num(l[i].top_m).s);
+			FRAC(l[i].coverage), M(l[i].base_m), M(l[i].top_m));
 	fputc(']', f);
 }
 
@@ -475,12 +488,11 @@ static void put_observed(FILE *f, const struct cs_wx_observed *ob)
 	fputs(",\"observed\":{", f);
 	if (ob->has_radiation)
 		fprintf(f, "\"ghi_w_m2\":%s,\"dni_w_m2\":%s,\"dhi_w_m2\":%s",
-			cs_num(ob->ghi_w_m2).s, cs_num(ob->dni_w_m2).s,
-			cs_num(ob->dhi_w_m2).s);
+			W_M2(ob->ghi_w_m2), W_M2(ob->dni_w_m2), W_M2(ob->dhi_w_m2));
 	if (ob->has_cloud_cover)
 		fprintf(f, "%s\"total_cloud_cover\":%s",
 			ob->has_radiation ? "," : "",
-			cs_num(ob->total_cloud_cover).s);
+			FRAC(ob->total_cloud_cover));
 	fputc('}', f);
 }
 
@@ -503,21 +515,19 @@ int cs_wx_to_json(const struct cs_wx *wx, char **json)
 	put_layers(f, wx->nlayers, wx->layers);
 	fprintf(f, ",\"precipitation_mm_h\":%s,\"convective_mm_h\":%s,"
 		"\"wind\":{\"speed_m_s\":%s,\"from_deg\":%s},\"visibility_m\":%s,"
-		"\"fog_probability\":%s", cs_num(wx->precipitation_mm_h).s,
-		cs_num(wx->convective_mm_h).s, cs_num(wx->wind_speed_m_s).s,
-		cs_num(wx->wind_from_deg).s, cs_num(wx->visibility_m).s,
-		cs_num(wx->fog_probability).s);
-	fprintf(f, ",\"snow_fraction\":%s", cs_num(wx->snow_fraction).s);
+		"\"fog_probability\":%s", MM_H(wx->precipitation_mm_h),
+		MM_H(wx->convective_mm_h), M_S(wx->wind_speed_m_s),
+		AZ(wx->wind_from_deg), M(wx->visibility_m), FRAC(wx->fog_probability));
+	fprintf(f, ",\"snow_fraction\":%s", FRAC(wx->snow_fraction));
 	if (!isnan(wx->temperature_c))
-		fprintf(f, ",\"temperature_c\":%s", cs_num(wx->temperature_c).s);
+		fprintf(f, ",\"temperature_c\":%s", TEMP(wx->temperature_c));
 	put_observed(f, &wx->observed);
 	for (int i = 0; i < wx->nfar; i++) {
 		fputs(i ? ",{" : ",\"far\":[{", f);
 		put_site(f, &wx->far[i].site);
 		put_layers(f, wx->far[i].nlayers, wx->far[i].layers);
 		fprintf(f, ",\"precipitation_mm_h\":%s,\"visibility_m\":%s}%s",
-			cs_num(wx->far[i].precipitation_mm_h).s,
-			cs_num(wx->far[i].visibility_m).s,
+			MM_H(wx->far[i].precipitation_mm_h), M(wx->far[i].visibility_m),
 			i == wx->nfar - 1 ? "]" : "");
 	}
 	fputc('}', f);

@@ -122,7 +122,7 @@ check_bad 2 "--time: '2021-06-14 15:00' is not an ISO 8601 UTC time" --time "202
 check_bad 2 "below the ground" --camera 46.95,7.44,100 $FAST
 check_bad 2 "--fov: 0 is out of range" --fov 0 -q
 check_bad 2 "--look: expected two comma-separated numbers" --look 90 -q
-run "$CR" -o "$T/x.tiff" -q; expect_rc 2; expect_err "must end in .png or .exr"
+run "$CR" -o "$T/x.bmp" -q; expect_rc 2; expect_err "must end in .png, .exr, .tif, .tiff, .jpg or .jpeg"
 run "$CR" -q; expect_rc 2; expect_err "no output"
 run "$CR" --bogus; expect_rc 2; expect_err "Try 'cloudrender --help'"
 end
