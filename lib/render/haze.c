@@ -65,3 +65,13 @@ CS_HD double cs_fog_depth(const struct cs_scene *sc, double h0, double dz, doubl
 	}
 	return sc->fog_beta_per_m * len;
 }
+
+CS_HD double cs_fog_sun_transmittance(const struct cs_scene *sc, double alt_m)
+{
+	if (!(sc->fog_beta_per_m > 0.0) || !(alt_m < sc->fog_top_m))
+		return 1.0;
+	double mu = sc->sun_dir.z;
+	if (!(mu > 0.0))
+		return 0.0;
+	return exp(-sc->fog_beta_per_m * (sc->fog_top_m - alt_m) / mu);
+}

@@ -63,9 +63,18 @@ CS_HD static void haze_step(const struct ray_ctx *c, struct path *P, double t, d
 	double dh = th - P->tau_h, df = tf - P->tau_f;
 	double wf = dh + df > 0.0 ? df / (dh + df) : 0.0;
 	double tr = exp(-(th + tf));
+	/* the sun's beam inside the fog where most of the stretch's fog light
+	 * comes from: its middle, or one mean free path into it when it is
+	 * longer than two */
+	double fog_sun = 1.0;
+	if (wf > 0.0) {
+		double half = 0.5 * (t - P->t_haze), mfp = 1.0 / c->sc->fog_beta_per_m;
+		double tc = P->t_haze + (half < mfp ? half : mfp);
+		fog_sun = cs_fog_sun_transmittance(c->sc, c->h0 + c->dz * tc);
+	}
 	for (int k = 0; k < 3; k++) {
 		double hz = c->hsun[k] * tsun + c->hdome[k];
-		double hf = c->fsun[k] * tsun + c->fdome[k];
+		double hf = c->fsun[k] * tsun * fog_sun + c->fdome[k];
 		P->H[k] += P->T * (1.0 - wf) * hz * (P->th - tr);
 		/* what the clear sky's radiance holds of this stretch */
 		P->Hw[k] += (1.0 - wf) * c->hclear[k] * (P->th - tr);
@@ -441,12 +450,19 @@ CS_HD void cs_render_ray(const struct cs_scene *sc, const struct cs_render_setti
 		cs_haze_light(sc, d, c.hclear, c.hsun);
 		c.tsun = sc->deck.on ? sc->deck.direct_below : 1.0;
 		/* fog droplets are grey and their light diffuse: the radiance
-		 * of the light from above, the sun's beam and the dome */
+		 * of the light from above, the sun's beam and the dome, in a
+		 * fog's nearly isotropic field averaged with what comes back up
+		 * from the ground (its albedo of it): (1 + albedo) / 2 of the
+		 * light from above (the reference integrator showed the fog
+		 * 1.9 times too bright with the light from above alone) */
 		double sun_h = (sc->effects & CS_FX_KEY) && sc->sun_dir.z > 0.0 ? sc->sun_dir.z : 0.0;
 		const double *dm = sc->deck.on ? sc->deck.sky_below : sc->ambient_up;
+		double wet = sc->ground_wet > 0.0 ? sc->ground_wet : 1.0;
 		for (int k = 0; k < 3; k++) {
+			double iso = 0.5 * (1.0 + sc->ground_albedo[k] * wet);
 			c.hdome[k] = sc->deck.on ? dm[k] : c.hclear[k] - c.hsun[k];
-			c.fsun[k] = sc->sun_illuminance[k] * sun_h / CS_PI, c.fdome[k] = dm[k];
+			c.fsun[k] = iso * sc->sun_illuminance[k] * sun_h / CS_PI;
+			c.fdome[k] = iso * dm[k];
 		}
 		if ((sc->effects & CS_FX_SHAFTS) && s->haze_steps > 0)
 			c.shaft_dt = CS_SHAFTS_RANGE_M / s->haze_steps;

@@ -36,6 +36,11 @@ CS_HD double cs_haze_depth(const struct cs_scene *sc, double h0, double dz,
 CS_HD double cs_fog_depth(const struct cs_scene *sc, double h0, double dz,
 			  double t);
 
+/* The sun's beam through the fog from above down to altitude alt_m (flat
+ * Earth): 1 above the fog, exp(-beta (top - alt) / sin(elevation)) in it
+ * (haze.c). */
+CS_HD double cs_fog_sun_transmittance(const struct cs_scene *sc, double alt_m);
+
 /* Radiance leaving the ground at p toward the eye, which looks along d
  * (ground.c): flat ground or, when on_terrain, the heightfield with its
  * normal, colour (drape, palette or land cover), horizon occlusion and
