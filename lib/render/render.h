@@ -140,7 +140,12 @@ struct cs_deck {
 						   plane at a layer's top, klux */
 	double dif_top[CS_SCENE_MAX_LAYERS][3]; /* diffuse irradiance there, klux */
 	double tau_in[CS_SCENE_MAX_LAYERS];     /* in-cloud column optical depth */
+	/* the share of the clouds' phase function that takes light arriving
+	 * from below (travelling up) into a direction of travel whose vertical
+	 * component is -1 + 2 k / (CS_DECK_SHARES - 1) (k = 0..32) */
+	double below_share[33];
 };
+#define CS_DECK_SHARES 33
 
 struct cs_scene {
 	double earth_radius_m;
