@@ -301,11 +301,21 @@ static int sky_imager(const struct cs_camera *cam, const struct cs_scene *sc, co
 /* The ground irradiance at the camera and over 10 km around the site
  * (5 x 5 points): a forecast's radiation is a mean over its grid cell, and
  * under broken cloud one point is either in a shadow or not. */
-static void measure_irradiance(const struct cs_scene *sc, const struct cs_render_settings *s,
-			       cs_v3 pos, struct cs_cloudrender_result *r)
+/* The ground irradiance by the integrator the run renders with (the
+ * reference: 16 x spp paths a point). */
+static void measure_irradiance(const struct cs_cloudrender_opts *o, const struct cs_scene *sc,
+			       const struct cs_render_settings *s, cs_v3 pos,
+			       struct cs_cloudrender_result *r)
 {
 	struct cs_render_stats st = {0};
 	r->area_size_m = 10000.0;
+	if (o->reference) {
+		struct cs_reference_settings rs = {o->spp, s->seed, o->max_bounces};
+		int paths = o->spp < 65536 ? 16 * o->spp : 1048576;
+		cs_reference_irradiance_at(sc, &rs, pos, paths, &r->irr_camera, &st);
+		cs_reference_irradiance_area(sc, &rs, r->area_size_m, 5, paths, &r->irr_area, &st);
+		return;
+	}
 	cs_irradiance_at(sc, s, pos, &r->irr_camera, &st);
 	cs_irradiance_area(sc, s, r->area_size_m, 5, &r->irr_area, &st);
 }
@@ -538,7 +548,7 @@ static int render_and_write(const struct cs_cloudrender_opts *o, struct cs_cloud
 		return rc;
 	if (o->irradiance) {
 		t0 = now_s();
-		measure_irradiance(sc, &r->settings, cam->pos, r);
+		measure_irradiance(o, sc, &r->settings, cam->pos, r);
 		r->t_irradiance_s = now_s() - t0;
 	}
 	t0 = now_s();

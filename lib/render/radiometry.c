@@ -62,7 +62,14 @@ void cs_irradiance_at(const struct cs_scene *sc, const struct cs_render_settings
 			cs_render_ray(sc, s, p, d, 0.5, st, &r);
 			sum += cs_luminance(r.rgb[0], r.rgb[1], r.rgb[2]);
 		}
-	double dhi_klux = CS_PI * sum / (N_THETA * N_PHI);
+	cs_irradiance_from_klux(sc, p, dni_klux, CS_PI * sum / (N_THETA * N_PHI), out);
+}
+
+void cs_irradiance_from_klux(const struct cs_scene *sc, cs_v3 p, double dni_klux,
+			     double dhi_klux, struct cs_irradiance *out)
+{
+	cs_v3 up = v3_norm(v3(p.x, p.y, p.z + sc->earth_radius_m));
+	double mu0 = v3_dot(sc->sun_dir, up);
 	double el = asin(mu0 < -1.0 ? -1.0 : mu0 > 1.0 ? 1.0 : mu0) * 180.0 / CS_PI;
 	/* the share of clear sky: the beam's area mean through the clouds,
 	 * taken vertically (a low sun would count thin cloud as overcast) */
@@ -73,6 +80,14 @@ void cs_irradiance_at(const struct cs_scene *sc, const struct cs_render_settings
 	out->ghi_w_m2 = out->dni_w_m2 * (mu0 > 0.0 ? mu0 : 0.0) + out->dhi_w_m2;
 }
 
+cs_v3 cs_irradiance_area_point(const struct cs_scene *sc, double size_m, int n, int i, int j)
+{
+	double x = ((i + 0.5) / n - 0.5) * size_m, y = ((j + 0.5) / n - 0.5) * size_m;
+	/* 2 m above the flat ground at (x, y), on the sphere */
+	double R = sc->earth_radius_m, h = sc->ground_alt_m + 2.0;
+	return v3(x, y, sqrt((R + h) * (R + h) - x * x - y * y) - R);
+}
+
 void cs_irradiance_area(const struct cs_scene *sc, const struct cs_render_settings *s,
 			double size_m, int n, struct cs_irradiance *out,
 			struct cs_render_stats *st)
@@ -80,12 +95,8 @@ void cs_irradiance_area(const struct cs_scene *sc, const struct cs_render_settin
 	struct cs_irradiance sum = {0.0, 0.0, 0.0};
 	for (int j = 0; j < n; j++)
 		for (int i = 0; i < n; i++) {
-			double x = ((i + 0.5) / n - 0.5) * size_m, y = ((j + 0.5) / n - 0.5) * size_m;
-			/* 2 m above the flat ground at (x, y), on the sphere */
-			double R = sc->earth_radius_m, h = sc->ground_alt_m + 2.0;
-			double z = sqrt((R + h) * (R + h) - x * x - y * y) - R;
 			struct cs_irradiance one;
-			cs_irradiance_at(sc, s, v3(x, y, z), &one, st);
+			cs_irradiance_at(sc, s, cs_irradiance_area_point(sc, size_m, n, i, j), &one, st);
 			sum.ghi_w_m2 += one.ghi_w_m2;
 			sum.dni_w_m2 += one.dni_w_m2;
 			sum.dhi_w_m2 += one.dhi_w_m2;

@@ -268,9 +268,12 @@ CS_HD static void add_key_light(const struct cs_scene *sc, cs_v3 p, double f,
 		L[k] += thr[k] * f * T * sc->sun_illuminance[k];
 }
 
-CS_HD void cs_reference_path(const struct cs_scene *sc, const struct cs_reference_settings *s,
-			     cs_v3 o, cs_v3 d, uint64_t key, struct cs_render_stats *st,
-			     double L[3], int *hit_cloud, double *depth_m)
+/* One path; see_disk: whether a path that leaves at once sees the sun's
+ * and Moon's discs and the stars (an eye does; an irradiance estimate, which
+ * has the beam from next-event estimation, does not). */
+CS_HD static void trace(const struct cs_scene *sc, const struct cs_reference_settings *s,
+			cs_v3 o, cs_v3 d, uint64_t key, int see_disk, struct cs_render_stats *st,
+			double L[3], int *hit_cloud, double *depth_m)
 {
 	struct rng r = {key};
 	double thr[3] = {1.0, 1.0, 1.0};
@@ -320,7 +323,7 @@ CS_HD void cs_reference_path(const struct cs_scene *sc, const struct cs_referenc
 			double bg[3] = {0.0, 0.0, 0.0}, disk[3], stars[3];
 			if (sc->effects & CS_FX_SKY) {
 				cs_scene_sky(sc, d, bg);
-				if (bounce == 0) {
+				if (bounce == 0 && see_disk) {
 					cs_scene_disk(sc, d, disk);
 					cs_scene_stars(sc, d, stars);
 					for (int k = 0; k < 3; k++)
@@ -350,6 +353,59 @@ CS_HD void cs_reference_path(const struct cs_scene *sc, const struct cs_referenc
 	}
 }
 
+/* The key of a path: pixel, sample and seed hashed into the counter. */
+static uint64_t path_key(int i, int j, int k, uint32_t seed)
+{
+	uint64_t a = cs_hash3i(i, j, k, seed), b = cs_hash3i(k, i, j, seed ^ 0x5bd1e995u);
+	return a << 32 | b;
+}
+
+CS_HD void cs_reference_path(const struct cs_scene *sc, const struct cs_reference_settings *s,
+			     cs_v3 o, cs_v3 d, uint64_t key, struct cs_render_stats *st,
+			     double L[3], int *hit_cloud, double *depth_m)
+{
+	trace(sc, s, o, d, key, 1, st, L, hit_cloud, depth_m);
+}
+
+void cs_reference_irradiance_at(const struct cs_scene *sc, const struct cs_reference_settings *s,
+				cs_v3 p, int paths, struct cs_irradiance *out,
+				struct cs_render_stats *st)
+{
+	cs_v3 up = v3_norm(v3(p.x, p.y, p.z + sc->earth_radius_m));
+	struct rng r = {(uint64_t)cs_hash3i((int32_t)p.x, (int32_t)p.y, paths, s->seed) << 32 | 0x2545f491u};
+	double beam = 0.0, dif = 0.0;
+	int sun = (sc->effects & CS_FX_KEY) && v3_dot(sc->sun_dir, up) > 0.0;
+	for (int k = 0; k < paths; k++) {
+		if (sun)
+			beam += transmittance(sc, p, sc->sun_dir, &r, st);
+		double L[3], depth;
+		int hit;
+		cs_v3 d = sample_cosine(up, &r);
+		trace(sc, s, p, d, path_key(k, 0x69727261, (int)(p.x + p.y), s->seed), 0, st, L, &hit,
+		      &depth);
+		dif += cs_luminance(L[0], L[1], L[2]);
+	}
+	double e_sun = cs_luminance(sc->sun_illuminance[0], sc->sun_illuminance[1], sc->sun_illuminance[2]);
+	cs_irradiance_from_klux(sc, p, sun ? e_sun * beam / paths : 0.0, CS_PI * dif / paths, out);
+}
+
+void cs_reference_irradiance_area(const struct cs_scene *sc, const struct cs_reference_settings *s,
+				  double size_m, int n, int paths, struct cs_irradiance *out,
+				  struct cs_render_stats *st)
+{
+	struct cs_irradiance sum = {0.0, 0.0, 0.0};
+	for (int j = 0; j < n; j++)
+		for (int i = 0; i < n; i++) {
+			struct cs_irradiance one;
+			cs_reference_irradiance_at(sc, s, cs_irradiance_area_point(sc, size_m, n, i, j),
+						   paths, &one, st);
+			sum.ghi_w_m2 += one.ghi_w_m2 / (n * n);
+			sum.dni_w_m2 += one.dni_w_m2 / (n * n);
+			sum.dhi_w_m2 += one.dhi_w_m2 / (n * n);
+		}
+	*out = sum;
+}
+
 int cs_reference_check(const struct cs_reference_settings *s)
 {
 	if (s->spp < 1 || s->spp > 1000000)
@@ -357,13 +413,6 @@ int cs_reference_check(const struct cs_reference_settings *s)
 	if (s->max_bounces < 0)
 		return cs_error(CS_EINVAL, "max bounces must be >= 0, not %d", s->max_bounces);
 	return CS_OK;
-}
-
-/* The key of a path: pixel, sample and seed hashed into the counter. */
-static uint64_t path_key(int i, int j, int k, uint32_t seed)
-{
-	uint64_t a = cs_hash3i(i, j, k, seed), b = cs_hash3i(k, i, j, seed ^ 0x5bd1e995u);
-	return a << 32 | b;
 }
 
 enum { ROWS_PER_TASK = 2 };

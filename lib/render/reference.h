@@ -29,6 +29,18 @@ CS_HD void cs_reference_path(const struct cs_scene *sc, const struct cs_referenc
 			     cs_v3 o, cs_v3 d, uint64_t key, struct cs_render_stats *st,
 			     double L[3], int *hit_cloud, double *depth_m);
 
+/* The ground irradiance at p (a horizontal plane) from the reference's
+ * light transport: the beam's transmittance by ratio tracking and the
+ * diffuse light from paths cosine-distributed over the sky, paths of each,
+ * in W/m^2 by the same efficacies as cs_irradiance_at; and its mean over
+ * cs_irradiance_area's n x n points. */
+void cs_reference_irradiance_at(const struct cs_scene *sc, const struct cs_reference_settings *s,
+				cs_v3 p, int paths, struct cs_irradiance *out,
+				struct cs_render_stats *st);
+void cs_reference_irradiance_area(const struct cs_scene *sc, const struct cs_reference_settings *s,
+				  double size_m, int n, int paths, struct cs_irradiance *out,
+				  struct cs_render_stats *st);
+
 /* Renders spp paths through each pixel's centre into out (5 floats per
  * pixel as cs_render_image: R, G, B, alpha = the share of paths that met a
  * cloud first, Z) and, if var is not NULL, the variance of each pixel's

@@ -260,6 +260,12 @@ void cs_irradiance_at(const struct cs_scene *sc, const struct cs_render_settings
 void cs_irradiance_area(const struct cs_scene *sc, const struct cs_render_settings *s,
 			double size_m, int n, struct cs_irradiance *out,
 			struct cs_render_stats *st);
+/* The point (i, j) of cs_irradiance_area's n x n grid. */
+cs_v3 cs_irradiance_area_point(const struct cs_scene *sc, double size_m, int n, int i, int j);
+/* W/m^2 at p from the beam (on a plane facing the sun) and the diffuse
+ * light (on a horizontal plane) in klux, by the efficacies below. */
+void cs_irradiance_from_klux(const struct cs_scene *sc, cs_v3 p, double dni_klux,
+			     double dhi_klux, struct cs_irradiance *out);
 /* Luminous efficacy of daylight, lm/W (Littlefair 1988): of the sun's beam
  * at a sun elevation, and of diffuse light at a share of clear sky 0..1. */
 double cs_beam_efficacy_lm_w(double elevation_deg);

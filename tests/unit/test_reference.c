@@ -248,6 +248,27 @@ static void cloud_phase_has_the_droplets_asymmetry(void)
 	CHECK(sc.albedo > 0.9999);
 }
 
+/* The reference's ground irradiance under an isotropic slab of optical
+ * depth 1 at a zenith sun of 1 klux: the beam exp(-1) (Beer-Lambert) and
+ * the diffuse light the adding-doubling table's diffuse transmittance,
+ * 0.2907918 klux, back from W/m^2 through the efficacies (95 lm/W beam at
+ * 90 deg, 144 lm/W diffuse under a clear deck model). */
+static void irradiance_under_a_slab(void)
+{
+	struct cs_scene sc;
+	slab(&sc, 1.0, 0.0, 0, 1.0, 1.0);
+	struct cs_reference_settings s = {1, 5, 0};
+	struct cs_irradiance e;
+	struct cs_render_stats st = {0};
+	cs_reference_irradiance_at(&sc, &s, v3(0, 0, 600.0), 40000, &e, &st);
+	double beam = e.dni_w_m2 * cs_beam_efficacy_lm_w(90.0) / 1000.0;
+	double dif = e.dhi_w_m2 * cs_diffuse_efficacy_lm_w(1.0) / 1000.0;
+	printf("  beam %.4f (exp(-1) %.4f), diffuse %.4f (adding-doubling 0.2908)\n", beam,
+	       exp(-1.0), dif);
+	CHECK_NEAR(beam, exp(-1.0), 0.01);
+	CHECK_NEAR(dif, 0.2907918, 0.01);
+}
+
 int main(void)
 {
 	RUN(slab_matches_adding_doubling);
@@ -256,5 +277,6 @@ int main(void)
 	RUN(same_image_for_any_thread_count);
 	RUN(every_preset_sees_a_small_cloud_around_the_eye);
 	RUN(cloud_phase_has_the_droplets_asymmetry);
+	RUN(irradiance_under_a_slab);
 	TEST_EXIT();
 }
