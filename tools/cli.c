@@ -189,3 +189,10 @@ int cli_info_print(struct cs_info *in)
 	}
 	return EXIT_OK;
 }
+
+const char *cli_one_output(int *given, const char *arg)
+{
+	if ((*given)++)
+		cli_usage_error("-o: one output only (given twice)");
+	return arg;
+}

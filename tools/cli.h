@@ -25,6 +25,9 @@ _Noreturn void cli_usage_error(const char *fmt, ...)
 /* Parses a whole decimal integer in [lo, hi] for option opt, or exits with
  * a usage error that names the option. */
 long cli_long(const char *opt, const char *s, long lo, long hi);
+/* The argument of a program's single -o: a usage error the second time
+ * (*given counts them). */
+const char *cli_one_output(int *given, const char *arg);
 
 /* Parses a whole number in [lo, hi] (finite), or exits with a usage error. */
 double cli_double(const char *opt, const char *s, double lo, double hi);

@@ -212,9 +212,7 @@ int main(int argc, char **argv)
 			      opt != OPT_MAX_BYTES;
 		switch (opt) {
 		case 'o':
-			if (output_given++)
-				cli_usage_error("-o: one output only (given twice)");
-			o.output = optarg;
+			o.output = cli_one_output(&output_given, optarg);
 			break;
 		case OPT_NO_CLOBBER: o.no_clobber = 1; break;
 		case OPT_PROVIDER:

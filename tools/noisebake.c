@@ -141,9 +141,7 @@ int main(int argc, char **argv)
 	while ((opt = getopt_long(argc, argv, "o:s:d:t:qvh", longopts, NULL)) != -1) {
 		switch (opt) {
 		case 'o':
-			if (output_given++)
-				cli_usage_error("-o: one output only (given twice)");
-			o.output = optarg;
+			o.output = cli_one_output(&output_given, optarg);
 			break;
 		case OPT_NO_CLOBBER: o.no_clobber = 1; break;
 		case 's': o.size = (int)cli_long("--size", optarg, 2, CS_VOLUME_MAX_DIM); break;

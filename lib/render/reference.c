@@ -143,11 +143,15 @@ CS_HD static void media_at(const struct cs_scene *sc, cs_v3 p, double sig[3])
 		sig[M_RAIN] = sc->rain_extinction_per_m * cs_rain_shaft(sc, p.x, p.y);
 }
 
-/* Delta tracking along o + t d up to tmax: 1 and the distance and medium
- * of the first real collision, or 0 when the ray gets through. */
-CS_HD static int free_flight(const struct cs_scene *sc, cs_v3 o, cs_v3 d, double tmax,
-			     struct rng *r, struct cs_render_stats *st, double *t_hit,
-			     enum medium *m)
+/* Tracking along o + t d up to tmax against the majorant: tentative
+ * collisions at exponential distances, the media's extinction at each.
+ * Delta tracking (T == NULL): returns 1 and the distance and medium of the
+ * first real collision (chosen with probability sigma / majorant), 0 when
+ * the ray gets through.  Ratio tracking (T != NULL): multiplies *T by
+ * 1 - sigma / majorant at each, with Russian roulette once it is faint
+ * (0 is returned when it ends the ray). */
+CS_HD static int track(const struct cs_scene *sc, cs_v3 o, cs_v3 d, double tmax,
+		       struct rng *r, uint64_t *evals, double *T, double *t_hit, enum medium *m)
 {
 	struct seg sg[MAX_SEG];
 	int ns = media_segments(sc, o, d, tmax, sg);
@@ -159,9 +163,21 @@ CS_HD static int free_flight(const struct cs_scene *sc, cs_v3 o, cs_v3 d, double
 				break;
 			double sig[3];
 			media_at(sc, v3_mad(o, d, t), sig);
-			st->density_samples++;
+			(*evals)++;
+			double total = sig[0] + sig[1] + sig[2];
+			if (T != NULL) {
+				*T *= 1.0 - total / sg[i].maj;
+				if (*T < 0.05) { /* Russian roulette on a faint shadow ray */
+					if (rnd(r) < 0.5) {
+						*T = 0.0;
+						return 0;
+					}
+					*T *= 2.0;
+				}
+				continue;
+			}
 			double u = rnd(r) * sg[i].maj;
-			if (u < sig[0] + sig[1] + sig[2]) {
+			if (u < total) {
 				*t_hit = t;
 				*m = u < sig[M_CLOUD] ? M_CLOUD : u < sig[M_CLOUD] + sig[M_FOG] ? M_FOG : M_RAIN;
 				return 1;
@@ -171,35 +187,24 @@ CS_HD static int free_flight(const struct cs_scene *sc, cs_v3 o, cs_v3 d, double
 	return 0;
 }
 
+CS_HD static int free_flight(const struct cs_scene *sc, cs_v3 o, cs_v3 d, double tmax,
+			     struct rng *r, struct cs_render_stats *st, double *t_hit,
+			     enum medium *m)
+{
+	return track(sc, o, d, tmax, r, &st->density_samples, NULL, t_hit, m);
+}
+
 /* The transmittance from p along unit dir to the sky, by ratio tracking
  * (0 when the ground or the terrain is in the way). */
 CS_HD static double transmittance(const struct cs_scene *sc, cs_v3 p, cs_v3 dir,
 				  struct rng *r, struct cs_render_stats *st)
 {
 	int on_terrain;
-	double tg = cs_find_ground(sc, p, dir, &on_terrain, st);
+	double tg = cs_find_ground(sc, p, dir, &on_terrain, st), T = 1.0, t;
+	enum medium m;
 	if (isfinite(tg))
 		return 0.0;
-	struct seg sg[MAX_SEG];
-	int ns = media_segments(sc, p, dir, 1e7, sg);
-	double T = 1.0;
-	for (int i = 0; i < ns; i++) {
-		double t = sg[i].t0;
-		for (;;) {
-			t -= log(1.0 - rnd(r)) / sg[i].maj;
-			if (!(t < sg[i].t1))
-				break;
-			double sig[3];
-			media_at(sc, v3_mad(p, dir, t), sig);
-			st->light_samples++;
-			T *= 1.0 - (sig[0] + sig[1] + sig[2]) / sg[i].maj;
-			if (T < 0.05) { /* Russian roulette on a faint shadow ray */
-				if (rnd(r) < 0.5)
-					return 0.0;
-				T *= 2.0;
-			}
-		}
-	}
+	track(sc, p, dir, 1e7, r, &st->light_samples, &T, &t, &m);
 	return T;
 }
 
