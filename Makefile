@@ -56,7 +56,7 @@ endif
 # programs the tool tests run (scripts/deps installs them: gdal-bin, netpbm, jq,
 # openexr, man-db)
 TEST_TOOLS := gdal_translate gdalinfo gdallocationinfo gdalwarp pamenlarge pnmcat pnmpad \
-              pnmpsnr pnmtoplainpnm pnmtopng pngtopnm ppmtoppm jq exrheader man
+              pamsumm pnmpsnr pnmtoplainpnm pnmtopng pngtopnm ppmtoppm jq exrheader man
 PKG_CFLAGS = $(shell pkg-config --cflags $(PKGS))
 PKG_LIBS   = $(shell pkg-config --libs $(PKGS))
 ALL_CFLAGS = -std=c17 -D_POSIX_C_SOURCE=200809L -DCS_VERSION='"$(VERSION)"' \
