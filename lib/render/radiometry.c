@@ -14,6 +14,7 @@
 
 #include "core/color.h"
 #include "core/err.h"
+#include "terrain/heightfield.h"
 
 #include <math.h>
 
@@ -83,8 +84,12 @@ void cs_irradiance_from_klux(const struct cs_scene *sc, cs_v3 p, double dni_klux
 cs_v3 cs_irradiance_area_point(const struct cs_scene *sc, double size_m, int n, int i, int j)
 {
 	double x = ((i + 0.5) / n - 0.5) * size_m, y = ((j + 0.5) / n - 0.5) * size_m;
-	/* 2 m above the flat ground at (x, y), on the sphere */
-	double R = sc->earth_radius_m, h = sc->ground_alt_m + 2.0;
+	/* 2 m above the ground at (x, y): the terrain where it is, else the
+	 * flat ground, on the sphere */
+	double R = sc->earth_radius_m, h = sc->ground_alt_m, th;
+	if (sc->terrain && cs_hfield_height(sc->terrain, x, y, &th))
+		h = th;
+	h += 2.0;
 	return v3(x, y, sqrt((R + h) * (R + h) - x * x - y * y) - R);
 }
 

@@ -255,8 +255,9 @@ struct cs_irradiance {
  * hemisphere and the light march toward the sun. */
 void cs_irradiance_at(const struct cs_scene *sc, const struct cs_render_settings *s,
 		      cs_v3 p, struct cs_irradiance *out, struct cs_render_stats *st);
-/* The mean over n x n points 2 m above the ground on a square of side
- * size_m centred at the scene origin (a forecast's grid cell). */
+/* The mean over n x n points 2 m above the ground (the terrain where the
+ * scene has it) on a square of side size_m centred at the scene origin (a
+ * forecast's grid cell). */
 void cs_irradiance_area(const struct cs_scene *sc, const struct cs_render_settings *s,
 			double size_m, int n, struct cs_irradiance *out,
 			struct cs_render_stats *st);
