@@ -1,5 +1,6 @@
 # cloudrender as a user runs it.
 . "$TOP/tests/tools/lib.sh"
+plan 16
 CR="$BIN/cloudrender"
 NB="$BIN/noisebake"
 FAST="--size 48x27 --quality low --noise-size 16 -q"
