@@ -9,6 +9,8 @@
 #   make WERROR=0     warnings stay warnings (the default, WERROR=1, for CI
 #                     and developers, makes them errors)
 #   make bench        benchmarks (not part of check)
+#   make mutate       the suite's mutation score (scripts/mutate, nice -n 19;
+#                     not part of check: it rebuilds and runs it per mutant)
 #   make demo         bake the noise, make a synthetic Bern terrain, render into out/
 #   make install PREFIX=/usr/local DESTDIR=
 #   make deps         install the Debian packages the project needs
@@ -60,7 +62,7 @@ HELP_SRC  := $(wildcard tests/helpers/*.c)
 HELP_BINS := $(HELP_SRC:tests/helpers/%.c=$(B)/tests/helpers/%)
 
 .SECONDARY:
-.PHONY: all check check-all check-run tests bench demo install deps have-deps clean
+.PHONY: all check check-all check-run tests bench mutate demo install deps have-deps clean
 all: $(B)/libcloudscape.a $(BINS)
 
 $(B)/lib/%.o: lib/%.c
@@ -114,6 +116,9 @@ deps:
 bench: have-deps
 	@$(MAKE) --no-print-directory all
 	@scripts/bench $(B)
+
+mutate: have-deps
+	nice -n 19 scripts/mutate
 
 demo: have-deps
 	@$(MAKE) --no-print-directory all
