@@ -74,6 +74,16 @@ run "$CR" --view gurten -o "$T/g.png" $FAST; expect_rc 0
 run "$CR" --view bantiger -o "$T/b.png" $FAST; expect_rc 0
 cmp -s "$T/g.png" "$T/b.png" && bad "two views gave the same image"
 run "$CR" --camera 46.95,7.44,3000 --look 90,-10 --fov 40 -o "$T/c.png" $FAST; expect_rc 0
+# the centre ray of that camera under a clear sky meets the ground (a sphere
+# of radius R + 540 m) where geometry says: R = 6371 km, 2460 m up, 10 deg down
+printf '{"schema":"cloudwx/1","time_utc":"2021-06-14T15:00:00Z","site":{"lat_deg":46.95,"lon_deg":7.44,"alt_m":540},"layers":[]}\n' >"$T/clear0.json"
+run "$CR" --wx "$T/clear0.json" --camera 46.95,7.44,3000 --look 90,-10 --fov 40 --size 33x19 \
+	--quality low --noise-size 16 -q -o "$T/c.exr"
+expect_rc 0
+z=$("$HELPERS/exrpixel" "$T/c.exr" 16 9 Z | sed -n 2p)
+awk -v z="$z" 'BEGIN { R = 6371000; o = R + 3000; g = R + 540; s = sin(10 * 3.14159265358979 / 180)
+	t = o * s - sqrt(o * o * s * s - (o * o - g * g)); exit !(z != "" && (z - t < 0 ? t - z : z - t) < 0.01 * t) }' ||
+	bad "the ground along the explicit camera's centre ray is at $z m"
 run "$CR" --time 2021-06-14T21:30Z -o "$T/n.png" --stats $FAST; expect_rc 0
 grep -q '"effects":\["sky"' "$T/err" || bad "night still has the sun"
 end
@@ -93,6 +103,13 @@ end
 begin cloudrender_reads_a_baked_noise_volume
 run "$NB" -s 16 -o "$T/n.exr" -q; expect_rc 0
 run "$CR" --noise "$T/n.exr" -o "$T/n.png" $FAST; expect_rc 0
+# the volume is the clouds' shape: the same file draws the same sky, another
+# seed another one
+run "$CR" --noise "$T/n.exr" -o "$T/n2.png" $FAST; expect_rc 0
+cmp -s "$T/n.png" "$T/n2.png" || bad "the same noise file drew two skies"
+run "$NB" -s 16 --seed 5 -o "$T/n5.exr" -q; expect_rc 0
+run "$CR" --noise "$T/n5.exr" -o "$T/n5.png" $FAST; expect_rc 0
+cmp -s "$T/n.png" "$T/n5.png" && bad "another noise seed drew the same sky"
 end
 
 begin cloudrender_bad_input_is_a_clear_error_and_leaves_nothing

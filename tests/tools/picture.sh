@@ -2,7 +2,7 @@
 # whose answer geometry gives, the far site's weather where it is, and the
 # direction of what options and weather change.
 . "$TOP/tests/tools/lib.sh"
-plan 4
+plan 5
 CR="$BIN/cloudrender"
 PX="$HELPERS/exrpixel"
 Q="--quality low --noise-size 16 -q"
@@ -92,4 +92,29 @@ c() { awk -v g="$(mean "$T/g$1.exr" G)" -v k="$(mean "$T/k$1.exr" G)" 'BEGIN { d
 c60=$(c 60000); c20=$(c 20000); c8=$(c 8000)
 gt "$c60" "$c20" && gt "$c20" "$c8" || bad "contrast at V = 60, 20, 8 km: $c60, $c20, $c8 (should fall)"
 gt "$c8" 0.001 || bad "no contrast left at V = 8 km: $c8"
+end
+
+# What the options must change, in the direction they must: from under an
+# overcast stratocumulus (every pixel cloud), fewer multiple-scattering
+# octaves and no sky light make the cloud darker; two stops of exposure
+# make the PNG brighter; looking down shows the ground (finite depth), up
+# only sky.
+begin picture_options_push_the_picture_the_right_way
+wx "$T/sc.json" '{"genus":"stratocumulus","coverage":1,"base_m":1200,"top_m":1800}'
+V="--wx $T/sc.json --camera 46.95,7.44,542 --look 0,60 --fov 40 --size 17x9 $Q"
+run "$CR" $V -o "$T/base.exr" -o "$T/base.png"; expect_rc 0
+run "$CR" $V --ms-octaves 1 -o "$T/ms1.exr"; expect_rc 0
+run "$CR" $V --no-ambient -o "$T/noamb.exr"; expect_rc 0
+run "$CR" $V --exposure 2 -o "$T/ev2.png"; expect_rc 0
+b=$(mean "$T/base.exr" G)
+gt "$(mean "$T/base.exr" A)" 0.9 || bad "the overcast view is not all cloud"
+gt "$b" "$(mean "$T/ms1.exr" G)" || bad "one octave is not darker than the default ($b)"
+gt "$b" "$(mean "$T/noamb.exr" G)" || bad "no sky light is not darker than the default ($b)"
+pngmean() { pngtopnm "$1" | pnmtoplainpnm | awk 'NR > 3 { for (i = 1; i <= NF; i++) { s += $i; n++ } } END { print s / n }'; }
+gt "$(pngmean "$T/ev2.png")" "$(pngmean "$T/base.png")" || bad "--exposure 2 is not brighter"
+wx "$T/clear.json" ""
+run "$CR" --wx "$T/clear.json" --look 160,30 --fov 40 --size 17x9 $Q -o "$T/upz.exr"; expect_rc 0
+run "$CR" --wx "$T/clear.json" --look 160,-30 --fov 40 --size 17x9 $Q -o "$T/downz.exr"; expect_rc 0
+gt "$(mean "$T/upz.exr" Z)" 9e9 || bad "looking 30 deg up met something"
+gt 1e5 "$(mean "$T/downz.exr" Z)" || bad "looking 30 deg down from 2 m did not meet the ground nearby"
 end

@@ -78,6 +78,10 @@ if have_dem withnodata.asc ; then
 	expect_rc 0; [ "$(v "$T/w0.tif")" = 0 ] || bad "bare value did not fill 0"
 	run "$TP" "$w" --s-srs EPSG:32611 --fill none -o "$T/w-none.exr"
 	expect_rc 0
+	# the void stays a void (NaN) in the EXR, the rest is the data's 0
+	[ "$("$HELPERS/exrpixel" "$T/w-none.exr" 0 0 Y | sed -n 2p)" = nan ] ||
+		bad "--fill none: the void reads back as $("$HELPERS/exrpixel" "$T/w-none.exr" 0 0 Y 2>&1 | tail -n 1)"
+	[ "$("$HELPERS/exrpixel" "$T/w-none.exr" 1 1 Y | sed -n 2p)" = 0 ] || bad "--fill none changed a sample"
 	run "$TP" "$w" --s-srs EPSG:32611 --max-void-fraction 0.2 -o "$T/w-many.exr"
 	expect_rc 1; expect_err "25.0% of the output samples are voids"
 	expect_err "more than --max-void-fraction 0.2"; expect_no_file "$T/w-many.exr"
