@@ -14,6 +14,9 @@
  *    (48 steps growing with the clearance) covers about 110 m there and
  *    misses the step 480 m away (lit 0.91 where the geometry says dark),
  *    a known gap reported, not asserted as right.
+ *  - a colour drape is the ground's albedo, its 8-bit sRGB decoded with
+ *    the IEC 61966-2-1 transfer function (c / 12.92 up to 0.04045, else
+ *    ((c + 0.055) / 1.055)^2.4).
  * Measured through cs_ground_light, as ratios to the same ground on a flat
  * plain (the albedo and the light cancel). */
 #include "core/err.h"
@@ -122,7 +125,40 @@ static void shadow_of_a_step_ends_where_the_geometry_says(void)
 	cs_hfield_free(&f);
 }
 
+static double iec_decode(double c)
+{
+	return c <= 0.04045 ? c / 12.92 : pow((c + 0.055) / 1.055, 2.4);
+}
+
+static void colour_drape_is_the_albedo_in_linear_light(void)
+{
+	for (int i = 0; i < W * W; i++)
+		z[i] = 500.0f;
+	struct cs_hfield f;
+	CHECK(field(&f) == CS_OK);
+	static const int vals[] = {0, 8, 10, 64, 128, 200, 255};
+	for (size_t k = 0; k < sizeof vals / sizeof vals[0]; k++) {
+		static uint8_t drape[4 * 4 * 3];
+		for (int i = 0; i < 4 * 4 * 3; i += 3) /* R, G, B: v, v/2, 255 - v */
+			drape[i] = (uint8_t)vals[k], drape[i + 1] = (uint8_t)(vals[k] / 2),
+			drape[i + 2] = (uint8_t)(255 - vals[k]);
+		scene(&f, CS_FX_SKY, 30.0);
+		sc.terrain_color = drape, sc.terrain_color_w = 4, sc.terrain_color_h = 4;
+		struct cs_render_settings s;
+		cs_render_quality("low", &s);
+		struct cs_render_stats st = {0};
+		double rgb[3];
+		cs_ground_light(&sc, &s, v3(100.0, -200.0, 500.0), 1, &st, rgb);
+		/* the sky light is 5 (ambient_up), nothing occludes a plain */
+		CHECK_NEAR(rgb[0], 5.0 * iec_decode(vals[k] / 255.0), 1e-9);
+		CHECK_NEAR(rgb[1], 5.0 * iec_decode((vals[k] / 2) / 255.0), 1e-9);
+		CHECK_NEAR(rgb[2], 5.0 * iec_decode((255 - vals[k]) / 255.0), 1e-9);
+	}
+	cs_hfield_free(&f);
+}
+
 static const struct t_case t_cases[] = {
+	CASE(colour_drape_is_the_albedo_in_linear_light),
 	CASE(ambient_occlusion_of_a_plain_and_of_a_pit),
 	CASE(shadow_of_a_step_ends_where_the_geometry_says),
 };
