@@ -11,6 +11,8 @@
 #   make bench        benchmarks (not part of check)
 #   make study        the accuracy study: error against the reference integrator
 #                     and time, per scene and setting (not part of check)
+#   make mutate       the suite's mutation score (scripts/mutate, nice -n 19;
+#                     not part of check: it rebuilds and runs it per mutant)
 #   make demo         bake the noise, make a synthetic Bern terrain, render into out/,
 #                     compare two renders of the capture an hour apart (skycompare)
 #   make install PREFIX=/usr/local DESTDIR=   programs, scripts, man pages,
@@ -78,7 +80,7 @@ HELP_BINS := $(HELP_SRC:tests/helpers/%.c=$(B)/tests/helpers/%)
 BENCH_SRC := $(wildcard bench/*.c)
 BENCH_BINS := $(BENCH_SRC:bench/%.c=$(B)/bench/%)
 
-.PHONY: all check check-all check-run tests bench study demo install uninstall deps have-deps clean
+.PHONY: all check check-all check-run tests bench study mutate demo install uninstall deps have-deps clean
 all: $(B)/libcloudscape.a $(BINS)
 
 $(B)/lib/%.o: lib/%.c
@@ -142,6 +144,9 @@ study: have-deps all $(BENCH_BINS)
 bench: have-deps
 	@$(MAKE) --no-print-directory all
 	@scripts/bench $(B)
+
+mutate: have-deps
+	nice -n 19 scripts/mutate
 
 demo: have-deps
 	@$(MAKE) --no-print-directory all

@@ -5,13 +5,16 @@
 #include "core/err.h"
 #include "core/fileio.h"
 
+#include <arpa/inet.h>
 #include <errno.h>
+#include <netinet/in.h>
 #include <math.h>
 #include <stdarg.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <strings.h>
 #include <sys/stat.h>
 #include <time.h>
 #include <unistd.h>
@@ -179,12 +182,39 @@ static char *redact_body(const char *body, size_t *len, const char *secret)
 	return out;
 }
 
-static int is_loopback(const char *url)
+int cs_mbfetch_is_loopback(const char *url)
 {
 	const char *h = strstr(url, "://");
 	h = h ? h + 3 : url;
-	return strncmp(h, "127.", 4) == 0 || strncmp(h, "localhost", 9) == 0 ||
-	       strncmp(h, "[::1]", 5) == 0;
+	size_t n = strcspn(h, "/?#");
+	const char *at = memchr(h, '@', n); /* user:password@host */
+	if (at != NULL) {
+		n -= (size_t)(at + 1 - h);
+		h = at + 1;
+	}
+	char host[256];
+	if (h[0] == '[') { /* [IPv6]:port */
+		const char *close = memchr(h, ']', n);
+		if (close == NULL || (size_t)(close - h - 1) >= sizeof host)
+			return 0;
+		memcpy(host, h + 1, (size_t)(close - h - 1));
+		host[close - h - 1] = '\0';
+		struct in6_addr a6;
+		return inet_pton(AF_INET6, host, &a6) == 1 && IN6_IS_ADDR_LOOPBACK(&a6);
+	}
+	const char *colon = memchr(h, ':', n);
+	if (colon != NULL)
+		n = (size_t)(colon - h);
+	if (n == 0 || n >= sizeof host)
+		return 0;
+	memcpy(host, h, n);
+	host[n] = '\0';
+	if (n > 1 && host[n - 1] == '.') /* the root: "localhost." */
+		host[n - 1] = '\0';
+	if (strcasecmp(host, "localhost") == 0)
+		return 1;
+	struct in_addr a4; /* 127.0.0.0/8, dotted quad only */
+	return inet_pton(AF_INET, host, &a4) == 1 && (ntohl(a4.s_addr) >> 24) == 127;
 }
 
 /* Attempts until a body to validate arrives or it is time to give up. */
@@ -277,7 +307,7 @@ int cs_mbfetch_run(const struct cs_mbfetch_opts *o, struct cs_mbfetch_result *re
 	cs_redact(res->url, sizeof res->url, secret);
 	if (o->dry_run)
 		return CS_OK;
-	if (need_key && strncmp(url, "http:", 5) == 0 && !is_loopback(url))
+	if (need_key && strncmp(url, "http:", 5) == 0 && !cs_mbfetch_is_loopback(url))
 		say(o, secret, CS_LOG_WARN, "sending the API key unencrypted over http");
 
 	/* no request (and no credit spent) for a destination that cannot be

@@ -66,6 +66,11 @@ int cs_mbfetch_check_opts(const struct cs_mbfetch_opts *o);
  * existing output is replaced only by a valid response. */
 int cs_mbfetch_run(const struct cs_mbfetch_opts *o, struct cs_mbfetch_result *r);
 
+/* Whether URL's host is this machine: exactly localhost (any case, with or
+ * without the root dot), an IPv4 address in 127.0.0.0/8 or [::1].  Over
+ * http to any other host the API key travels unencrypted (a warning). */
+int cs_mbfetch_is_loopback(const char *url);
+
 /* The request URL of the options (cs_request_url); key NULL leaves the
  * apikey parameter out. */
 int cs_mbfetch_url(const struct cs_mbfetch_opts *o, const char *key, char *url,

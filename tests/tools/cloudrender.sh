@@ -1,5 +1,6 @@
 # cloudrender as a user runs it.
 . "$TOP/tests/tools/lib.sh"
+plan 16
 CR="$BIN/cloudrender"
 NB="$BIN/noisebake"
 FAST="--size 48x27 --quality low --noise-size 16 -q"
@@ -19,10 +20,11 @@ end
 begin cloudrender_exr_holds_rgba_and_depth
 run "$CR" -o "$T/d.exr" $FAST
 expect_rc 0
-# the channel list is in the header: A B G R Z, in that (sorted) order
-for c in A B G R Z; do
-	grep -qa "$(printf '%s\0' "$c")" "$T/d.exr" || bad "no channel $c"
-done
+# each channel read back (a PNG or a missing channel fails the reader)
+"$HELPERS/exrpixel" "$T/d.exr" 0 0 A B G R Z >"$T/px" 2>&1 || bad "channels not read back: $(cat "$T/px")"
+[ "$(sed -n 1p "$T/px")" = 48x27 ] || bad "EXR size $(sed -n 1p "$T/px"), expected 48x27"
+[ "$(sed -n 2p "$T/px" | wc -w)" -eq 5 ] || bad "not five values: $(sed -n 2p "$T/px")"
+"$HELPERS/exrpixel" "$T/d.exr" 0 0 Q >/dev/null 2>&1 && bad "a channel Q read back from an EXR without one"
 grep -qa 'cloudscapeTimeUTC' "$T/d.exr" || bad "no time attribute"
 end
 
@@ -72,6 +74,16 @@ run "$CR" --view gurten -o "$T/g.png" $FAST; expect_rc 0
 run "$CR" --view bantiger -o "$T/b.png" $FAST; expect_rc 0
 cmp -s "$T/g.png" "$T/b.png" && bad "two views gave the same image"
 run "$CR" --camera 46.95,7.44,3000 --look 90,-10 --fov 40 -o "$T/c.png" $FAST; expect_rc 0
+# the centre ray of that camera under a clear sky meets the ground (a sphere
+# of radius R + 540 m) where geometry says: R = 6371 km, 2460 m up, 10 deg down
+printf '{"schema":"cloudwx/1","time_utc":"2021-06-14T15:00:00Z","site":{"lat_deg":46.95,"lon_deg":7.44,"alt_m":540},"layers":[]}\n' >"$T/clear0.json"
+run "$CR" --wx "$T/clear0.json" --camera 46.95,7.44,3000 --look 90,-10 --fov 40 --size 33x19 \
+	--quality low --noise-size 16 -q -o "$T/c.exr"
+expect_rc 0
+z=$("$HELPERS/exrpixel" "$T/c.exr" 16 9 Z | sed -n 2p)
+awk -v z="$z" 'BEGIN { R = 6371000; o = R + 3000; g = R + 540; s = sin(10 * 3.14159265358979 / 180)
+	t = o * s - sqrt(o * o * s * s - (o * o - g * g)); exit !(z != "" && (z - t < 0 ? t - z : z - t) < 0.01 * t) }' ||
+	bad "the ground along the explicit camera's centre ray is at $z m"
 run "$CR" --time 2021-06-14T21:30Z -o "$T/n.png" --stats $FAST; expect_rc 0
 grep -q '"effects":\["sky"' "$T/err" || bad "night still has the sun"
 end
@@ -91,6 +103,13 @@ end
 begin cloudrender_reads_a_baked_noise_volume
 run "$NB" -s 16 -o "$T/n.exr" -q; expect_rc 0
 run "$CR" --noise "$T/n.exr" -o "$T/n.png" $FAST; expect_rc 0
+# the volume is the clouds' shape: the same file draws the same sky, another
+# seed another one
+run "$CR" --noise "$T/n.exr" -o "$T/n2.png" $FAST; expect_rc 0
+cmp -s "$T/n.png" "$T/n2.png" || bad "the same noise file drew two skies"
+run "$NB" -s 16 --seed 5 -o "$T/n5.exr" -q; expect_rc 0
+run "$CR" --noise "$T/n5.exr" -o "$T/n5.png" $FAST; expect_rc 0
+cmp -s "$T/n.png" "$T/n5.png" && bad "another noise seed drew the same sky"
 end
 
 begin cloudrender_bad_input_is_a_clear_error_and_leaves_nothing
@@ -151,8 +170,8 @@ if "$TOP/scripts/make-bern-dem" -r 400 "$T/dem.tif" >/dev/null 2>&1 &&
 	expect_rc 0
 	grep -q '"terrain"' "$T/err" || bad "no terrain effect"
 	grep -q '"terrain_cells":0,' "$T/err" && bad "no terrain cell was visited"
-	run "$CR" --terrain "$T/bern.exr" --view gurten -o "$T/flat.png" $FAST
 	run "$CR" --view gurten -o "$T/flat.png" $FAST
+	expect_rc 0
 	cmp -s "$T/g.png" "$T/flat.png" && bad "the terrain changed nothing"
 	# inside the Gurten (858 m) at 700 m
 	run "$CR" --terrain "$T/bern.exr" --camera 46.91722,7.44361,700 -o "$T/in.png" $FAST

@@ -2,6 +2,7 @@
 # every option, man pages without warnings, the scripts' --help and man
 # pages, make install and make uninstall.
 . "$TOP/tests/tools/lib.sh"
+plan 4
 PROGS="cloudrender mbfetch noisebake terrainprep wxinterp"
 SCRIPTS="genus-sheet quality-study radiation-study weather-sheet"
 COMP="$TOP/completion/cloudscape.bash"

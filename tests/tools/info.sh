@@ -1,6 +1,7 @@
 # terrainprep --info and noisebake --info: one style (labelled lines, or
 # --json), figures checked against GDAL's gdalinfo on the same grid.
 . "$TOP/tests/tools/lib.sh"
+plan 3
 TP="$BIN/terrainprep"
 NB="$BIN/noisebake"
 DEM="${DATA:-}/dem"

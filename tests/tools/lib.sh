@@ -2,6 +2,14 @@
 # BIN is the folder of the built programs, TOP the source tree, HELPERS the
 # built test helpers (tests/helpers/*.c), DATA the shared real-data folder
 # (may be absent: tests that need it skip with a message).
+#
+# The plan: a script says how many cases it runs in ONE place, a line
+#     plan N
+# right after sourcing this file.  Each case prints exactly one line (end,
+# skip or fail_case).  tests/run fails a script that prints no plan or a
+# number of case lines other than N (it ended early, or a case was added
+# without raising N).  Skips are only for the shared data folder ($DATA)
+# being absent; a missing program or a helper that does not start is a FAIL.
 : "${BIN:?BIN must name the folder of the built programs}"
 BIN=$(cd "$BIN" && pwd)
 T=$(mktemp -d "${TMPDIR:-/tmp}/cs-tool-test.XXXXXX")
@@ -25,5 +33,9 @@ expect_only_files() { # dir count
 	n=$(ls -A "$1" | wc -l)
 	[ "$n" -eq "$2" ] || bad "$1 holds $n entries, expected $2: $(ls -A "$1" | tr '\n' ' ')"
 }
+# plan N: the number of cases this script runs (once, at its top)
+plan() { echo "plan $1"; }
+# fail_case NAME WHY: the case could not run here and that is an error
+fail_case() { echo "FAIL $1: $2"; }
 # skip NAME WHY: the case cannot run here (e.g. the shared data is absent)
 skip() { echo "skip $1: $2"; }

@@ -1,6 +1,7 @@
 # mbfetch as a user runs it, against the scripted local server
 # (tests/helpers/httpd.c) on 127.0.0.1: never the real providers.
 . "$TOP/tests/tools/lib.sh"
+plan 33
 MB="$BIN/mbfetch"
 KEY=tEsTkEy0123456789abcdef
 export MBFETCH_APIKEY="$KEY" HOME="$T/home" no_proxy='*' NO_PROXY='*'
@@ -131,8 +132,9 @@ expect_no_key() { # FILE...: none holds the key
 expect_no_err() { ! grep -qF -- "$1" "$T/err" || bad "stderr holds '$1'"; }
 
 if [ ! -s "$T/port" ]; then
-	skip mbfetch_local_server "the test server did not start: $(cat "$T/httpd.err")"
-	exit 0
+	# the project's own server: not starting is a failure, not a skip
+	fail_case mbfetch_local_server "the test server did not start: $(cat "$T/httpd.err")"
+	exit 1
 fi
 
 begin mbfetch_meteoblue_success_writes_validated_json
@@ -423,6 +425,17 @@ expect_err "mbfetch: $T/bad.json: data_1h.midclouds[0]: 130 is outside 0..100"
 expect_err "mbfetch: $T/bad.json: invalid: 2 problems"
 run "$MB" --check - <"$T/mb6.json"; expect_rc 0; expect_out "-: ok: meteoblue"
 run "$MB" --check "$T/none.json"; expect_rc 1; expect_err "No such file"
+end
+
+begin mbfetch_warns_of_an_unencrypted_key_unless_the_host_is_this_machine
+fresh
+run "$MB" $FAST --base-url "$BASE/mbok" --site gurten --days 2 --history-days 1 -o "$T/o/out.json"
+expect_rc 0; expect_no_err "unencrypted"
+# a name that merely begins with localhost is somebody else's host
+run "$MB" --retries 0 --connect-timeout 1 --timeout 2 \
+	--base-url "http://localhost.example.invalid/x" --site gurten -o "$T/o/out2.json"
+expect_err "sending the API key unencrypted over http"
+[ "$rc" -ne 0 ] || bad "a fetch from an invalid host succeeded"
 end
 
 begin mbfetch_check_accepts_the_real_meteoblue_capture

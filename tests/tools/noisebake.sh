@@ -1,5 +1,6 @@
 # noisebake as a user runs it.
 . "$TOP/tests/tools/lib.sh"
+plan 9
 NB="$BIN/noisebake"
 
 begin noisebake_writes_volume_and_preview

@@ -3,6 +3,7 @@
 # exrheader) with its pixel values checked; all-or-nothing multi-output
 # runs; --no-clobber; the same output twice.
 . "$TOP/tests/tools/lib.sh"
+plan 7
 CR="$BIN/cloudrender"
 NB="$BIN/noisebake"
 TP="$BIN/terrainprep"

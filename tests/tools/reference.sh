@@ -1,6 +1,7 @@
 # cloudrender's reference integrator and the accuracy study's knobs, as a
 # user runs them.
 . "$TOP/tests/tools/lib.sh"
+plan 4
 CR="$BIN/cloudrender"
 SMALL="--size 24x14 --noise-size 16 -q"
 rse() { grep -o '"median":[0-9.]*' "$T/err" | head -1 | cut -d: -f2; }

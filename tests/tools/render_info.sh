@@ -1,6 +1,7 @@
 # cloudrender -v (what it renders, the time of each phase), the progress
 # bar's elapsed time and ETA on a terminal, and the default view.
 . "$TOP/tests/tools/lib.sh"
+plan 4
 CR="$BIN/cloudrender"
 WX="$BIN/wxinterp"
 FAST="--quality low --noise-size 32 --size 64x36"

@@ -2,6 +2,7 @@
 # computed here in awk (IEC 61966-2-1's sRGB decoding written again), never
 # from skycompare itself.
 . "$TOP/tests/tools/lib.sh"
+plan 12
 SC="$BIN/skycompare"
 CR="$BIN/cloudrender"
 WX="$BIN/wxinterp"

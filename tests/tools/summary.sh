@@ -2,6 +2,7 @@
 # (Montevideo, 2024-10-06..14 UTC): its figures against the provider's own
 # numbers, read from the file with jq.
 . "$TOP/tests/tools/lib.sh"
+plan 3
 WX="$BIN/wxinterp"
 MB="${DATA:-}/weather/meteoblue-basic-clouds-solar-1h.json"
 

@@ -1,10 +1,17 @@
 # terrainprep as a user runs it, on GDAL's own test DEMs (DATA/dem; the
-# cases that need them skip when that folder is absent).
+# cases that need them skip when that folder is absent; gdal-bin, which
+# make deps installs, missing is a failure).
 . "$TOP/tests/tools/lib.sh"
+plan 13
 TP="$BIN/terrainprep"
 DEM="${DATA:-}/dem"
 have_dem() { [ -r "$DEM/$1" ]; }
-have_gdal() { command -v gdal_translate >/dev/null 2>&1 && command -v gdalinfo >/dev/null 2>&1; }
+# need_gdal: the case fails (never skips) when a gdal-bin program is missing
+need_gdal() {
+	for g in gdal_translate gdalinfo gdallocationinfo gdalwarp; do
+		command -v $g >/dev/null 2>&1 || bad "$g is missing (make deps installs gdal-bin)"
+	done
+}
 # json_num FILE KEY: the first number after "KEY": in a sidecar
 json_num() { sed -n "s/.*\"$2\":[[:space:]]*\(-\{0,1\}[0-9.e+-]*\).*/\1/p" "$1" | head -n 1; }
 # near A B TOL: |A - B| <= TOL
@@ -51,7 +58,8 @@ else
 fi
 
 begin terrainprep_fill_modes
-if have_dem withnodata.asc && have_gdal; then
+if have_dem withnodata.asc ; then
+	need_gdal
 	w="$DEM/withnodata.asc"
 	# the upper-left sample is the void (-999); the others are 0
 	for mode in nearest value=123.5 none; do
@@ -70,6 +78,10 @@ if have_dem withnodata.asc && have_gdal; then
 	expect_rc 0; [ "$(v "$T/w0.tif")" = 0 ] || bad "bare value did not fill 0"
 	run "$TP" "$w" --s-srs EPSG:32611 --fill none -o "$T/w-none.exr"
 	expect_rc 0
+	# the void stays a void (NaN) in the EXR, the rest is the data's 0
+	[ "$("$HELPERS/exrpixel" "$T/w-none.exr" 0 0 Y | sed -n 2p)" = nan ] ||
+		bad "--fill none: the void reads back as $("$HELPERS/exrpixel" "$T/w-none.exr" 0 0 Y 2>&1 | tail -n 1)"
+	[ "$("$HELPERS/exrpixel" "$T/w-none.exr" 1 1 Y | sed -n 2p)" = 0 ] || bad "--fill none changed a sample"
 	run "$TP" "$w" --s-srs EPSG:32611 --max-void-fraction 0.2 -o "$T/w-many.exr"
 	expect_rc 1; expect_err "25.0% of the output samples are voids"
 	expect_err "more than --max-void-fraction 0.2"; expect_no_file "$T/w-many.exr"
@@ -80,11 +92,12 @@ if have_dem withnodata.asc && have_gdal; then
 	rm -f "$T"/w*
 	end
 else
-	skip terrainprep_fill_modes "$DEM/withnodata.asc or gdal-bin is absent"
+	skip terrainprep_fill_modes "$DEM/withnodata.asc is absent"
 fi
 
 begin terrainprep_reads_standard_input
-if have_dem n43.dt0 && have_gdal; then
+if have_dem n43.dt0 ; then
+	need_gdal
 	run "$TP" - -o "$T/si.exr" --res 1000 -v <"$DEM/n43.dt0"
 	expect_rc 0; expect_err "83x113 samples"
 	grep -q '"file":	"stdin (standard input)"' "$T/si.json" || bad "source not named"
@@ -98,11 +111,12 @@ if have_dem n43.dt0 && have_gdal; then
 	rm -f "$T"/si.* "$T"/srtm.* "$T/N43W080.hgt"
 	end
 else
-	skip terrainprep_reads_standard_input "$DEM/n43.dt0 or gdal-bin is absent"
+	skip terrainprep_reads_standard_input "$DEM/n43.dt0 is absent"
 fi
 
 begin terrainprep_mosaics_tiles
-if have_dem n43.dt0 && have_gdal; then
+if have_dem n43.dt0 ; then
+	need_gdal
 	# the west and east halves (sharing a column): the grid and heights
 	# gdalwarp gives for the two (84x114, 75..456.45: the union of the
 	# halves' suggested extents is one pixel wider than the whole tile's)
@@ -116,11 +130,12 @@ if have_dem n43.dt0 && have_gdal; then
 	rm -f "$T"/west.tif "$T"/east.tif "$T"/m.*
 	end
 else
-	skip terrainprep_mosaics_tiles "$DEM/n43.dt0 or gdal-bin is absent"
+	skip terrainprep_mosaics_tiles "$DEM/n43.dt0 is absent"
 fi
 
 begin terrainprep_formats_crops_and_sizes
-if have_dem n43.dt0 && have_gdal; then
+if have_dem n43.dt0 ; then
+	need_gdal
 	n="$DEM/n43.dt0"
 	run "$TP" "$n" --size unity -o "$T/u.r16"
 	expect_rc 0
@@ -156,7 +171,7 @@ if have_dem n43.dt0 && have_gdal; then
 	rm -f "$T"/*
 	end
 else
-	skip terrainprep_formats_crops_and_sizes "$DEM/n43.dt0 or gdal-bin is absent"
+	skip terrainprep_formats_crops_and_sizes "$DEM/n43.dt0 is absent"
 fi
 
 begin terrainprep_hillshade_png
@@ -177,14 +192,21 @@ run "$TP" "$T/text.dem" -o "$T/o.exr"
 expect_rc 1; expect_err "terrainprep: \`$T/text.dem' not recognized as a supported file format"
 run "$TP" "$T/nope.tif" -o "$T/o.exr"
 expect_rc 1; expect_err "terrainprep: $T/nope.tif: No such file or directory"
+expect_no_file "$T/o.exr"; expect_no_file "$T/o.json"
+rm -f "$T"/*
+end
+
+begin terrainprep_reports_a_truncated_dem
 if have_dem n43.dt0; then
 	head -c 20000 "$DEM/n43.dt0" >"$T/trunc.dt0"
 	run "$TP" "$T/trunc.dt0" -o "$T/o.exr"
 	expect_rc 1; expect_err "terrainprep: warp: Failed to seek to, or read profile"
+	expect_no_file "$T/o.exr"; expect_no_file "$T/o.json"
+	rm -f "$T"/*
+	end
+else
+	skip terrainprep_reports_a_truncated_dem "$DEM/n43.dt0 is absent"
 fi
-expect_no_file "$T/o.exr"; expect_no_file "$T/o.json"
-rm -f "$T"/*
-end
 
 begin terrainprep_unwritable_output_leaves_nothing
 if have_dem nodata_float.asc; then
@@ -247,7 +269,8 @@ run "$TP" --version; expect_rc 0; expect_out "terrainprep (cloudscape)"
 end
 
 begin make_bern_dem_is_synthetic_with_true_summits
-if have_gdal && command -v gdallocationinfo >/dev/null 2>&1; then
+{
+	need_gdal
 	run "$TOP/scripts/make-bern-dem" -r 100 "$T/bern-synthetic.tif"
 	expect_rc 0; expect_file "$T/bern-synthetic.tif"
 	gdalinfo "$T/bern-synthetic.tif" >"$T/info"
@@ -265,6 +288,4 @@ if have_gdal && command -v gdallocationinfo >/dev/null 2>&1; then
 	expect_rc 0; expect_err "200x200 samples of 100x100 m, EPSG:2056"
 	run "$TOP/scripts/make-bern-dem" -r 7 "$T/x.tif"; expect_rc 2
 	end
-else
-	skip make_bern_dem_is_synthetic_with_true_summits "gdal-bin is absent"
-fi
+}

@@ -3,6 +3,7 @@
 # heightfield; cloudrender shows water where the mask says, and a GMT
 # palette colours the land.
 . "$TOP/tests/tools/lib.sh"
+plan 4
 TP="$BIN/terrainprep"
 CR="$BIN/cloudrender"
 WX="$BIN/wxinterp"

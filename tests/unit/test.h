@@ -1,11 +1,38 @@
 /* test.h - a minimal test harness.  Each test binary runs its cases and
  * prints one line per case: "ok NAME", "FAIL NAME: why" or "skip NAME: why".
- * tests/run counts the lines.  The binary exits 1 if any case failed. */
+ * The binary exits 1 if any case failed.
+ *
+ * The plan: the cases are listed in ONE place, a table before main(), and
+ * their number follows from it:
+ *
+ *     static const struct t_case t_cases[] = {
+ *             CASE(first_case),
+ *             CASE(second_case),
+ *     };
+ *     int main(void)
+ *     {
+ *             (setup)
+ *             T_RUN_TABLE(t_cases);   prints "plan N", then runs each case
+ *             (teardown)
+ *             TEST_EXIT();
+ *     }
+ *
+ * tests/run fails a binary that prints no "plan N" line, prints a number of
+ * case lines other than N (it ended early, or ran something the table does
+ * not list), or exits nonzero without a FAIL line.
+ *
+ * A case that failed a CHECK and then calls SKIP is counted as failed.  SKIP
+ * is only for cases that cannot run here because the shared data folder is
+ * absent: t_data_path() finds it ($DATA, which tests/run sets to an absolute
+ * path, else ../shared/data from the working directory), so running a binary
+ * from another directory works.  t_top_path() finds files of the source
+ * tree ($TOP, which tests/run sets, else the working directory). */
 #ifndef CS_TEST_H
 #define CS_TEST_H
 
 #include <math.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 static int t_failed_cases, t_case_failed, t_case_skipped;
@@ -47,23 +74,56 @@ static char t_skip_why[256];
 		return;                                                       \
 	} while (0)
 
-#define RUN(fn)                                                               \
-	do {                                                                  \
-		t_case_failed = t_case_skipped = 0;                           \
-		fflush(stdout);                                               \
-		fn();                                                         \
-		if (t_case_skipped)                                           \
-			printf("skip %s: %s\n", #fn, t_skip_why);             \
-		else if (t_case_failed) {                                     \
-			printf("FAIL %s\n", #fn);                             \
-			t_failed_cases++;                                     \
-		} else                                                        \
-			printf("ok %s\n", #fn);                               \
-		fflush(stdout);                                               \
-	} while (0)
-
 #define TEST_EXIT() return t_failed_cases ? 1 : 0
 
+/* One case of a binary's table (see the top of this file). */
+struct t_case {
+	const char *name;
+	void (*fn)(void);
+};
+#define CASE(fn) { #fn, fn }
+
+static inline void t_run_case(const struct t_case *c)
+{
+	t_case_failed = t_case_skipped = 0;
+	t_skip_why[0] = '\0';
+	fflush(stdout);
+	c->fn();
+	if (t_case_failed) {
+		printf("FAIL %s%s%s\n", c->name,
+		       t_case_skipped ? ": failed, then skipped: " : "",
+		       t_case_skipped ? t_skip_why : "");
+		t_failed_cases++;
+	} else if (t_case_skipped)
+		printf("skip %s: %s\n", c->name, t_skip_why);
+	else
+		printf("ok %s\n", c->name);
+	fflush(stdout);
+}
+
+static inline void t_run_table(const struct t_case *cases, size_t n)
+{
+	printf("plan %zu\n", n);
+	for (size_t i = 0; i < n; i++)
+		t_run_case(&cases[i]);
+}
+/* RUN(fn): one case outside a table (the old way).  It prints no plan, and
+ * tests/run fails a binary without one: list the case in the table instead. */
+#define RUN(fn)                                                               \
+	do {                                                                  \
+		static const struct t_case c_ = CASE(fn);                     \
+		t_run_case(&c_);                                              \
+	} while (0)
+#define T_RUN_TABLE(cases) t_run_table(cases, sizeof(cases) / sizeof((cases)[0]))
+
+/* PATH inside the shared real-data folder: $DATA when set (tests/run sets
+ * it, absolute), else ../shared/data from the working directory. */
+static inline const char *t_data_path(char *buf, size_t size, const char *path)
+{
+	const char *d = getenv("DATA");
+	snprintf(buf, size, "%s/%s", d && d[0] ? d : "../shared/data", path);
+	return buf;
+}
 /* A deterministic uniform double in [lo, hi) for test inputs. */
 static inline double t_uniform(unsigned *state, double lo, double hi)
 {
@@ -73,6 +133,15 @@ static inline double t_uniform(unsigned *state, double lo, double hi)
 	x *= 0x7feb352du;
 	x ^= x >> 15;
 	return lo + (hi - lo) * ((x >> 8) / 16777216.0);
+}
+
+/* PATH inside the source tree: $TOP when set (tests/run sets it), else the
+ * working directory. */
+static inline const char *t_top_path(char *buf, size_t size, const char *path)
+{
+	const char *d = getenv("TOP");
+	snprintf(buf, size, "%s/%s", d && d[0] ? d : ".", path);
+	return buf;
 }
 
 #endif

@@ -222,18 +222,23 @@ static void every_genus_has_a_name_and_a_preset(void)
 	}
 }
 
+/* The cases, in the order they run: their number is the plan. */
+static const struct t_case t_cases[] = {
+	CASE(wind_moves_clouds_consistently_in_time),
+	CASE(wind_offset_is_reduced_by_a_true_period),
+	CASE(sheets_have_their_isccp_optical_depth),
+	CASE(coverage_zero_is_no_cloud_anywhere),
+	CASE(covered_fraction_follows_coverage),
+	CASE(density_is_zero_outside_the_layer_and_finite_inside),
+	CASE(near_and_far_weather_blend_along_the_line),
+	CASE(every_genus_has_a_name_and_a_preset),
+};
+
 int main(void)
 {
 	if (cs_volume_new(&noise, 32, 32) != 0 || cs_volume_bake(&noise, 0, NULL, NULL) != 0)
 		return 1;
-	RUN(wind_moves_clouds_consistently_in_time);
-	RUN(wind_offset_is_reduced_by_a_true_period);
-	RUN(sheets_have_their_isccp_optical_depth);
-	RUN(coverage_zero_is_no_cloud_anywhere);
-	RUN(covered_fraction_follows_coverage);
-	RUN(density_is_zero_outside_the_layer_and_finite_inside);
-	RUN(near_and_far_weather_blend_along_the_line);
-	RUN(every_genus_has_a_name_and_a_preset);
+	T_RUN_TABLE(t_cases);
 	cs_volume_free(&noise);
 	TEST_EXIT();
 }

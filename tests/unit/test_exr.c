@@ -26,8 +26,7 @@ static int read_back(int w, int h, const char *channel, float **px)
 static void float_heights_round_trip_exactly_despite_the_zip_fault(void)
 {
 	char fixture[512];
-	snprintf(fixture, sizeof fixture, "%.*s/../fixtures/zip-fallback-heights.txt",
-		 (int)(strrchr(__FILE__, '/') - __FILE__), __FILE__);
+	t_top_path(fixture, sizeof fixture, "tests/fixtures/zip-fallback-heights.txt");
 	FILE *fp = fopen(fixture, "r");
 	CHECK(fp != NULL);
 	if (fp == NULL)
@@ -98,12 +97,17 @@ static void mixed_channels_round_trip(void)
 	CHECK_STR_CONTAINS(cs_errmsg(), "no channel B");
 }
 
+/* The cases, in the order they run: their number is the plan. */
+static const struct t_case t_cases[] = {
+	CASE(float_heights_round_trip_exactly_despite_the_zip_fault),
+	CASE(mixed_channels_round_trip),
+};
+
 int main(void)
 {
 	snprintf(path, sizeof path, "%s/cs-test-exr-%d.exr",
 		 getenv("TMPDIR") ? getenv("TMPDIR") : "/tmp", (int)getpid());
-	RUN(float_heights_round_trip_exactly_despite_the_zip_fault);
-	RUN(mixed_channels_round_trip);
+	T_RUN_TABLE(t_cases);
 	unlink(path);
 	TEST_EXIT();
 }

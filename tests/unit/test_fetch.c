@@ -260,18 +260,23 @@ static void sites_are_found_by_name_in_any_case(void)
 	CHECK(n >= 5);
 }
 
+/* The cases, in the order they run: their number is the plan. */
+static const struct t_case t_cases[] = {
+	CASE(query_add_percent_encodes_values),
+	CASE(redact_replaces_plain_and_encoded_secret),
+	CASE(excerpt_reduces_html_and_escapes_controls),
+	CASE(excerpt_of_a_long_body_shows_no_part_of_the_secret),
+	CASE(judge_maps_statuses_and_bodies_to_outcomes),
+	CASE(judge_classifies_failed_transfers),
+	CASE(url_holds_what_cloudscape_needs),
+	CASE(run_rejects_bad_options_before_any_request),
+	CASE(key_comes_from_file_env_or_nowhere),
+	CASE(validate_says_what_a_body_is_instead),
+	CASE(sites_are_found_by_name_in_any_case),
+};
+
 int main(void)
 {
-	RUN(query_add_percent_encodes_values);
-	RUN(redact_replaces_plain_and_encoded_secret);
-	RUN(excerpt_reduces_html_and_escapes_controls);
-	RUN(excerpt_of_a_long_body_shows_no_part_of_the_secret);
-	RUN(judge_maps_statuses_and_bodies_to_outcomes);
-	RUN(judge_classifies_failed_transfers);
-	RUN(url_holds_what_cloudscape_needs);
-	RUN(run_rejects_bad_options_before_any_request);
-	RUN(key_comes_from_file_env_or_nowhere);
-	RUN(validate_says_what_a_body_is_instead);
-	RUN(sites_are_found_by_name_in_any_case);
+	T_RUN_TABLE(t_cases);
 	TEST_EXIT();
 }

@@ -73,10 +73,15 @@ static void write_file_replaces_the_file_whole(void)
 	unlink(path);
 }
 
+/* The cases, in the order they run: their number is the plan. */
+static const struct t_case t_cases[] = {
+	CASE(write_all_delivers_every_byte_through_a_pipe),
+	CASE(write_all_fails_on_a_closed_descriptor),
+	CASE(write_file_replaces_the_file_whole),
+};
+
 int main(void)
 {
-	RUN(write_all_delivers_every_byte_through_a_pipe);
-	RUN(write_all_fails_on_a_closed_descriptor);
-	RUN(write_file_replaces_the_file_whole);
+	T_RUN_TABLE(t_cases);
 	TEST_EXIT();
 }

@@ -53,9 +53,14 @@ static void fmt_double_reads_back_exactly(void)
 	}
 }
 
+/* The cases, in the order they run: their number is the plan. */
+static const struct t_case t_cases[] = {
+	CASE(fmt_double_prints_known_doubles_as_their_shortest_text),
+	CASE(fmt_double_reads_back_exactly),
+};
+
 int main(void)
 {
-	RUN(fmt_double_prints_known_doubles_as_their_shortest_text);
-	RUN(fmt_double_reads_back_exactly);
+	T_RUN_TABLE(t_cases);
 	TEST_EXIT();
 }

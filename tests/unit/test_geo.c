@@ -48,10 +48,15 @@ static void great_circle_is_zero_for_one_place_and_half_round_for_antipodes(void
 	CHECK_NEAR(cs_great_circle_m(10, 20, 11, 20), 111194.92664455873, 1e-6);
 }
 
+/* The cases, in the order they run: their number is the plan. */
+static const struct t_case t_cases[] = {
+	CASE(great_circle_nashville_to_los_angeles_is_rosetta_codes_value),
+	CASE(great_circle_agrees_with_the_atan2_formula),
+	CASE(great_circle_is_zero_for_one_place_and_half_round_for_antipodes),
+};
+
 int main(void)
 {
-	RUN(great_circle_nashville_to_los_angeles_is_rosetta_codes_value);
-	RUN(great_circle_agrees_with_the_atan2_formula);
-	RUN(great_circle_is_zero_for_one_place_and_half_round_for_antipodes);
+	T_RUN_TABLE(t_cases);
 	TEST_EXIT();
 }

@@ -57,10 +57,15 @@ static void half_rounds_to_nearest_even(void)
 	CHECK(worst <= 0x1p-11 * 1.0000001);
 }
 
+/* The cases, in the order they run: their number is the plan. */
+static const struct t_case t_cases[] = {
+	CASE(half_known_encodings),
+	CASE(half_round_trips_all_values),
+	CASE(half_rounds_to_nearest_even),
+};
+
 int main(void)
 {
-	RUN(half_known_encodings);
-	RUN(half_round_trips_all_values);
-	RUN(half_rounds_to_nearest_even);
+	T_RUN_TABLE(t_cases);
 	TEST_EXIT();
 }

@@ -59,12 +59,17 @@ static void hash3i_seed_changes_every_output(void)
 	CHECK(same == 0);
 }
 
+/* The cases, in the order they run: their number is the plan. */
+static const struct t_case t_cases[] = {
+	CASE(hash_u32_matches_golden_values),
+	CASE(hash3i_matches_golden_values_including_negative),
+	CASE(hash_u32_avalanches),
+	CASE(hash_unit_is_uniform_in_unit_interval),
+	CASE(hash3i_seed_changes_every_output),
+};
+
 int main(void)
 {
-	RUN(hash_u32_matches_golden_values);
-	RUN(hash3i_matches_golden_values_including_negative);
-	RUN(hash_u32_avalanches);
-	RUN(hash_unit_is_uniform_in_unit_interval);
-	RUN(hash3i_seed_changes_every_output);
+	T_RUN_TABLE(t_cases);
 	TEST_EXIT();
 }

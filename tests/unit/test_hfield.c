@@ -204,12 +204,17 @@ static void normal_of_a_tilted_plane(void)
 	cs_hfield_free(&f);
 }
 
+/* The cases, in the order they run: their number is the plan. */
+static const struct t_case t_cases[] = {
+	CASE(flat_ground_is_hit_exactly),
+	CASE(grazing_rays_never_tunnel_through_a_thin_ridge),
+	CASE(random_terrain_agrees_with_brute_force),
+	CASE(placement_maps_grid_to_world_and_back),
+	CASE(normal_of_a_tilted_plane),
+};
+
 int main(void)
 {
-	RUN(flat_ground_is_hit_exactly);
-	RUN(grazing_rays_never_tunnel_through_a_thin_ridge);
-	RUN(random_terrain_agrees_with_brute_force);
-	RUN(placement_maps_grid_to_world_and_back);
-	RUN(normal_of_a_tilted_plane);
+	T_RUN_TABLE(t_cases);
 	TEST_EXIT();
 }

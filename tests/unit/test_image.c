@@ -175,12 +175,17 @@ static void png_round_trip_is_exact(void)
 	CHECK(cs_png_read_rgb8(tmp_png("absent.png"), &back, &w, &h) == CS_EDATA);
 }
 
+/* The cases, in the order they run: their number is the plan. */
+static const struct t_case t_cases[] = {
+	CASE(aces_matches_narkowicz_2015),
+	CASE(srgb_oetf_matches_iec_61966_2_1),
+	CASE(tonemap_srgb8_scales_by_exposure_over_16),
+	CASE(auto_exposure_brings_log_average_to_key_0_25),
+	CASE(png_round_trip_is_exact),
+};
+
 int main(void)
 {
-	RUN(aces_matches_narkowicz_2015);
-	RUN(srgb_oetf_matches_iec_61966_2_1);
-	RUN(tonemap_srgb8_scales_by_exposure_over_16);
-	RUN(auto_exposure_brings_log_average_to_key_0_25);
-	RUN(png_round_trip_is_exact);
+	T_RUN_TABLE(t_cases);
 	TEST_EXIT();
 }

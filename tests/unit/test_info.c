@@ -60,9 +60,13 @@ static void info_json_reads_back(void)
 	free(text);
 }
 
+static const struct t_case t_cases[] = {
+	CASE(info_text_is_labelled_lines),
+	CASE(info_json_reads_back),
+};
+
 int main(void)
 {
-	RUN(info_text_is_labelled_lines);
-	RUN(info_json_reads_back);
+	T_RUN_TABLE(t_cases);
 	TEST_EXIT();
 }

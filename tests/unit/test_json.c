@@ -110,13 +110,18 @@ static void pretty_indents_and_keeps_flat_containers_on_one_line(void)
 	free(out);
 }
 
+/* The cases, in the order they run: their number is the plan. */
+static const struct t_case t_cases[] = {
+	CASE(string_end_skips_escaped_quotes),
+	CASE(container_end_matches_brackets_outside_strings),
+	CASE(cut_short_sees_open_strings_and_brackets),
+	CASE(near_stays_inside_the_buffer_and_on_one_line),
+	CASE(provider_malformed_message_reads_only_len_bytes),
+	CASE(pretty_indents_and_keeps_flat_containers_on_one_line),
+};
+
 int main(void)
 {
-	RUN(string_end_skips_escaped_quotes);
-	RUN(container_end_matches_brackets_outside_strings);
-	RUN(cut_short_sees_open_strings_and_brackets);
-	RUN(near_stays_inside_the_buffer_and_on_one_line);
-	RUN(provider_malformed_message_reads_only_len_bytes);
-	RUN(pretty_indents_and_keeps_flat_containers_on_one_line);
+	T_RUN_TABLE(t_cases);
 	TEST_EXIT();
 }

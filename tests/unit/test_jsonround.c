@@ -73,9 +73,13 @@ static void wx_state_numbers_are_rounded_and_round_trip_to_the_same_bytes(void)
 	free(b);
 }
 
+static const struct t_case t_cases[] = {
+	CASE(num_round_gives_the_decimals_asked),
+	CASE(wx_state_numbers_are_rounded_and_round_trip_to_the_same_bytes),
+};
+
 int main(void)
 {
-	RUN(num_round_gives_the_decimals_asked);
-	RUN(wx_state_numbers_are_rounded_and_round_trip_to_the_same_bytes);
+	T_RUN_TABLE(t_cases);
 	TEST_EXIT();
 }

@@ -58,10 +58,15 @@ static void moon_stands_opposite_the_sun(void)
 	CHECK(cs_moon_position(0, 91, 0, &m) != 0);
 }
 
+/* The cases, in the order they run: their number is the plan. */
+static const struct t_case t_cases[] = {
+	CASE(moon_matches_meeus_worked_examples),
+	CASE(full_and_new_moon),
+	CASE(moon_stands_opposite_the_sun),
+};
+
 int main(void)
 {
-	RUN(moon_matches_meeus_worked_examples);
-	RUN(full_and_new_moon);
-	RUN(moon_stands_opposite_the_sun);
+	T_RUN_TABLE(t_cases);
 	TEST_EXIT();
 }

@@ -253,21 +253,26 @@ static void noise_survives_nonfinite_and_huge_input(void)
 	}
 }
 
+/* The cases, in the order they run: their number is the plan. */
+static const struct t_case t_cases[] = {
+	CASE(perlin_matches_ken_perlin_reference),
+	CASE(perlin_is_zero_on_the_lattice),
+	CASE(perlin_periodic_at_negative_and_large_coordinates),
+	CASE(perlin_range_is_about_unit),
+	CASE(perlin_seed_changes_the_field),
+	CASE(worley_f1_equals_bruteforce),
+	CASE(worley_f1_unbounded_equals_bruteforce),
+	CASE(worley_periodic_at_negative_and_large_coordinates),
+	CASE(worley_is_zero_at_its_feature_points),
+	CASE(fbm_one_octave_is_the_base_noise),
+	CASE(fbm_ranges_hold),
+	CASE(fbm_is_periodic),
+	CASE(fbm_check_rejects_bad_settings),
+	CASE(noise_survives_nonfinite_and_huge_input),
+};
+
 int main(void)
 {
-	RUN(perlin_matches_ken_perlin_reference);
-	RUN(perlin_is_zero_on_the_lattice);
-	RUN(perlin_periodic_at_negative_and_large_coordinates);
-	RUN(perlin_range_is_about_unit);
-	RUN(perlin_seed_changes_the_field);
-	RUN(worley_f1_equals_bruteforce);
-	RUN(worley_f1_unbounded_equals_bruteforce);
-	RUN(worley_periodic_at_negative_and_large_coordinates);
-	RUN(worley_is_zero_at_its_feature_points);
-	RUN(fbm_one_octave_is_the_base_noise);
-	RUN(fbm_ranges_hold);
-	RUN(fbm_is_periodic);
-	RUN(fbm_check_rejects_bad_settings);
-	RUN(noise_survives_nonfinite_and_huge_input);
+	T_RUN_TABLE(t_cases);
 	TEST_EXIT();
 }

@@ -121,15 +121,19 @@ static void check_finds_twice_named_outputs_and_missing_folders(void)
 	CHECK(entries() == 1);
 }
 
+static const struct t_case t_cases[] = {
+	CASE(a_set_appears_whole),
+	CASE(no_clobber_takes_back_what_it_placed_when_a_later_output_fails),
+	CASE(no_clobber_refuses_an_existing_file_at_open_and_at_check),
+	CASE(check_finds_twice_named_outputs_and_missing_folders),
+};
+
 int main(void)
 {
 	snprintf(dir, sizeof dir, "%s/cs-outset.XXXXXX", getenv("TMPDIR") ? getenv("TMPDIR") : "/tmp");
 	if (mkdtemp(dir) == NULL)
 		return 1;
-	RUN(a_set_appears_whole);
-	RUN(no_clobber_takes_back_what_it_placed_when_a_later_output_fails);
-	RUN(no_clobber_refuses_an_existing_file_at_open_and_at_check);
-	RUN(check_finds_twice_named_outputs_and_missing_folders);
+	T_RUN_TABLE(t_cases);
 	clean();
 	rmdir(dir);
 	TEST_EXIT();

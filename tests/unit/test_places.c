@@ -30,9 +30,14 @@ static void every_view_is_a_place_of_the_table(void)
 	CHECK(cs_view_find("Atlantis") == NULL && cs_place_find("Atlantis") == NULL);
 }
 
+/* The cases, in the order they run: their number is the plan. */
+static const struct t_case t_cases[] = {
+	CASE(views_stand_on_the_places_ground_plus_their_tower),
+	CASE(every_view_is_a_place_of_the_table),
+};
+
 int main(void)
 {
-	RUN(views_stand_on_the_places_ground_plus_their_tower);
-	RUN(every_view_is_a_place_of_the_table);
+	T_RUN_TABLE(t_cases);
 	TEST_EXIT();
 }

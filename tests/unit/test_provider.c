@@ -96,7 +96,7 @@ static void real_meteoblue_capture_checks_clean_and_parses(void)
 	unsigned char *data;
 	size_t len;
 	if (cs_read_all(real_path(), 1 << 24, &data, &len) != CS_OK)
-		SKIP("%s is absent (the shared data folder is not here)", real_path());
+		SKIP("%.200s is absent (the shared data folder is not here)", real_path());
 	struct cs_problems pr;
 	CHECK(cs_provider_check((char *)data, len, &pr) == CS_OK);
 	CHECK(pr.count == 0);
@@ -461,24 +461,29 @@ static void parse_error_starts_with_the_name_and_counts_the_rest(void)
 	cs_series_free(&s); /* safe on a failed parse */
 }
 
+/* The cases, in the order they run: their number is the plan. */
+static const struct t_case t_cases[] = {
+	CASE(real_meteoblue_capture_checks_clean_and_parses),
+	CASE(provider_is_detected_from_content),
+	CASE(meteoblue_values_and_wall_times_convert_with_the_offset),
+	CASE(openmeteo_units_offset_and_showers_convert),
+	CASE(openmeteo_snowfall_is_read_in_cm),
+	CASE(openmeteo_instant_radiation_is_read_in_w_m2),
+	CASE(openmeteo_legacy_names_and_unixtime_are_read),
+	CASE(arrays_of_another_length_name_the_field_and_index),
+	CASE(nulls_are_kept_as_nan_never_zero),
+	CASE(time_gaps_repeats_and_bad_times_are_reported),
+	CASE(units_other_than_requested_fail_the_check_but_parse),
+	CASE(out_of_range_values_name_field_index_and_value),
+	CASE(provider_error_bodies_are_reported_verbatim),
+	CASE(html_truncated_and_empty_bodies_are_reported),
+	CASE(missing_objects_and_required_arrays_are_named),
+	CASE(problems_are_one_line_each_and_all_counted),
+	CASE(parse_error_starts_with_the_name_and_counts_the_rest),
+};
+
 int main(void)
 {
-	RUN(real_meteoblue_capture_checks_clean_and_parses);
-	RUN(provider_is_detected_from_content);
-	RUN(meteoblue_values_and_wall_times_convert_with_the_offset);
-	RUN(openmeteo_units_offset_and_showers_convert);
-	RUN(openmeteo_snowfall_is_read_in_cm);
-	RUN(openmeteo_instant_radiation_is_read_in_w_m2);
-	RUN(openmeteo_legacy_names_and_unixtime_are_read);
-	RUN(arrays_of_another_length_name_the_field_and_index);
-	RUN(nulls_are_kept_as_nan_never_zero);
-	RUN(time_gaps_repeats_and_bad_times_are_reported);
-	RUN(units_other_than_requested_fail_the_check_but_parse);
-	RUN(out_of_range_values_name_field_index_and_value);
-	RUN(provider_error_bodies_are_reported_verbatim);
-	RUN(html_truncated_and_empty_bodies_are_reported);
-	RUN(missing_objects_and_required_arrays_are_named);
-	RUN(problems_are_one_line_each_and_all_counted);
-	RUN(parse_error_starts_with_the_name_and_counts_the_rest);
+	T_RUN_TABLE(t_cases);
 	TEST_EXIT();
 }

@@ -269,14 +269,18 @@ static void irradiance_under_a_slab(void)
 	CHECK_NEAR(dif, 0.2907918, 0.01);
 }
 
+static const struct t_case t_cases[] = {
+	CASE(slab_matches_adding_doubling),
+	CASE(single_scattering_matches_closed_form),
+	CASE(error_halves_as_paths_quadruple),
+	CASE(same_image_for_any_thread_count),
+	CASE(every_preset_sees_a_small_cloud_around_the_eye),
+	CASE(cloud_phase_has_the_droplets_asymmetry),
+	CASE(irradiance_under_a_slab),
+};
+
 int main(void)
 {
-	RUN(slab_matches_adding_doubling);
-	RUN(single_scattering_matches_closed_form);
-	RUN(error_halves_as_paths_quadruple);
-	RUN(same_image_for_any_thread_count);
-	RUN(every_preset_sees_a_small_cloud_around_the_eye);
-	RUN(cloud_phase_has_the_droplets_asymmetry);
-	RUN(irradiance_under_a_slab);
+	T_RUN_TABLE(t_cases);
 	TEST_EXIT();
 }

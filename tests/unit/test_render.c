@@ -985,40 +985,45 @@ static void luminous_efficacies_are_littlefairs(void)
 	CHECK_NEAR(cs_diffuse_efficacy_lm_w(0.0), 115.0, 0.5);
 }
 
+/* The cases, in the order they run: their number is the plan. */
+static const struct t_case t_cases[] = {
+	CASE(slab_transmittance_is_beer_lambert),
+	CASE(thick_slab_transmits_like_one_over_tau),
+	CASE(luminous_efficacies_are_littlefairs),
+	CASE(clear_sky_rays_are_the_sky_model),
+	CASE(diffuse_irradiance_never_sees_the_sun_disc),
+	CASE(deck_transmittance_matches_a_monte_carlo_slab),
+	CASE(renderer_reflectance_against_monte_carlo),
+	CASE(thunderstorm_has_no_speckles),
+	CASE(moon_and_stars_only_at_night),
+	CASE(cloud_shadows_darken_the_haze),
+	CASE(thin_cirrostratus_shows_the_22_degree_halo),
+	CASE(rain_and_snow_extinction_follow_published_relations),
+	CASE(precipitation_only_when_it_rains_or_snows),
+	CASE(black_object_at_the_visibility_keeps_two_percent_contrast),
+	CASE(fog_extinction_at_the_ground_is_koschmieder),
+	CASE(overcast_ground_sees_the_transmitted_light),
+	CASE(slab_single_scattering_matches_closed_form),
+	CASE(doubling_steps_halves_the_error),
+	CASE(phase_hg_is_normalised),
+	CASE(clear_sky_has_no_alpha_and_costs_nothing),
+	CASE(absent_effects_cost_nothing),
+	CASE(more_coverage_gives_more_cloud),
+	CASE(output_is_identical_for_any_thread_count),
+	CASE(hard_rays_stay_finite),
+	CASE(random_scenes_render_finite_pixels),
+	CASE(higher_clouds_shade_lower_ones),
+	CASE(cloud_shadow_is_displaced_along_the_sun),
+	CASE(terrain_is_the_ground_where_it_is),
+	CASE(quality_presets_exist_and_rise),
+};
+
 int main(void)
 {
 	if (cs_volume_new(&noise, 32, 32) != CS_OK ||
 	    cs_volume_bake(&noise, 0, NULL, NULL) != CS_OK)
 		return 1;
-	RUN(slab_transmittance_is_beer_lambert);
-	RUN(thick_slab_transmits_like_one_over_tau);
-	RUN(luminous_efficacies_are_littlefairs);
-	RUN(clear_sky_rays_are_the_sky_model);
-	RUN(diffuse_irradiance_never_sees_the_sun_disc);
-	RUN(deck_transmittance_matches_a_monte_carlo_slab);
-	RUN(renderer_reflectance_against_monte_carlo);
-	RUN(thunderstorm_has_no_speckles);
-	RUN(moon_and_stars_only_at_night);
-	RUN(cloud_shadows_darken_the_haze);
-	RUN(thin_cirrostratus_shows_the_22_degree_halo);
-	RUN(rain_and_snow_extinction_follow_published_relations);
-	RUN(precipitation_only_when_it_rains_or_snows);
-	RUN(black_object_at_the_visibility_keeps_two_percent_contrast);
-	RUN(fog_extinction_at_the_ground_is_koschmieder);
-	RUN(overcast_ground_sees_the_transmitted_light);
-	RUN(slab_single_scattering_matches_closed_form);
-	RUN(doubling_steps_halves_the_error);
-	RUN(phase_hg_is_normalised);
-	RUN(clear_sky_has_no_alpha_and_costs_nothing);
-	RUN(absent_effects_cost_nothing);
-	RUN(more_coverage_gives_more_cloud);
-	RUN(output_is_identical_for_any_thread_count);
-	RUN(hard_rays_stay_finite);
-	RUN(random_scenes_render_finite_pixels);
-	RUN(higher_clouds_shade_lower_ones);
-	RUN(cloud_shadow_is_displaced_along_the_sun);
-	RUN(terrain_is_the_ground_where_it_is);
-	RUN(quality_presets_exist_and_rise);
+	T_RUN_TABLE(t_cases);
 	cs_volume_free(&noise);
 	TEST_EXIT();
 }

@@ -357,18 +357,22 @@ static void series_patterns(void)
 	CHECK(cs_series_name("%05d", 1, b, 4) == CS_EINVAL); /* too long */
 }
 
+static const struct t_case t_cases[] = {
+	CASE(emd_of_a_translated_histogram_is_the_translation),
+	CASE(chi2_is_zero_equal_one_disjoint_and_a_third_between),
+	CASE(cloud_fraction_of_known_pixels_is_exact),
+	CASE(luminance_and_colour_of_known_levels),
+	CASE(exposure_change_scales_luminance_and_keeps_cloud_fraction),
+	CASE(identical_pictures_differ_by_nothing),
+	CASE(verdict_limits),
+	CASE(area_resampling_undoes_an_enlargement),
+	CASE(masks_from_depth_horizon_and_an_estimate),
+	CASE(aces_inverse_undoes_narkowicz_2015),
+	CASE(series_patterns),
+};
+
 int main(void)
 {
-	RUN(emd_of_a_translated_histogram_is_the_translation);
-	RUN(chi2_is_zero_equal_one_disjoint_and_a_third_between);
-	RUN(cloud_fraction_of_known_pixels_is_exact);
-	RUN(luminance_and_colour_of_known_levels);
-	RUN(exposure_change_scales_luminance_and_keeps_cloud_fraction);
-	RUN(identical_pictures_differ_by_nothing);
-	RUN(verdict_limits);
-	RUN(area_resampling_undoes_an_enlargement);
-	RUN(masks_from_depth_horizon_and_an_estimate);
-	RUN(aces_inverse_undoes_narkowicz_2015);
-	RUN(series_patterns);
+	T_RUN_TABLE(t_cases);
 	TEST_EXIT();
 }

@@ -267,21 +267,26 @@ static void direction_is_unit_enu_vector_along_azimuth(void)
 	CHECK(d[2] < -0.3 && d[1] > 0.0);
 }
 
+/* The cases, in the order they run: their number is the plan. */
+static const struct t_case t_cases[] = {
+	CASE(sun_matches_meeus_example_25a),
+	CASE(sun_reproduces_meeus_example_25a_to_printed_digits),
+	CASE(sun_matches_nrel_spa_example_within_002_deg),
+	CASE(sun_is_overhead_at_equinox_noon_on_equator),
+	CASE(bern_solstice_noon_elevation_is_colatitude_plus_obliquity),
+	CASE(bern_june_sunrise_is_north_of_east),
+	CASE(sun_below_horizon_at_night_has_negative_elevation),
+	CASE(at_poles_elevation_equals_plus_minus_declination),
+	CASE(refraction_agrees_with_saemundsson_above_horizon),
+	CASE(sun_exactly_overhead_gives_finite_azimuth),
+	CASE(longitude_wraps_modulo_360),
+	CASE(years_1800_and_2200_give_plausible_values),
+	CASE(non_finite_input_or_bad_latitude_is_einval),
+	CASE(direction_is_unit_enu_vector_along_azimuth),
+};
+
 int main(void)
 {
-	RUN(sun_matches_meeus_example_25a);
-	RUN(sun_reproduces_meeus_example_25a_to_printed_digits);
-	RUN(sun_matches_nrel_spa_example_within_002_deg);
-	RUN(sun_is_overhead_at_equinox_noon_on_equator);
-	RUN(bern_solstice_noon_elevation_is_colatitude_plus_obliquity);
-	RUN(bern_june_sunrise_is_north_of_east);
-	RUN(sun_below_horizon_at_night_has_negative_elevation);
-	RUN(at_poles_elevation_equals_plus_minus_declination);
-	RUN(refraction_agrees_with_saemundsson_above_horizon);
-	RUN(sun_exactly_overhead_gives_finite_azimuth);
-	RUN(longitude_wraps_modulo_360);
-	RUN(years_1800_and_2200_give_plausible_values);
-	RUN(non_finite_input_or_bad_latitude_is_einval);
-	RUN(direction_is_unit_enu_vector_along_azimuth);
+	T_RUN_TABLE(t_cases);
 	TEST_EXIT();
 }

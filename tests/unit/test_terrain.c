@@ -546,6 +546,24 @@ static void terrainprep_fill_modes_on_withnodata(void)
 	cs_terrainprep_result_free(&prep_res);
 }
 
+/* The cases, in the order they run: their number is the plan. */
+static const struct t_case t_cases[] = {
+	CASE(terrain_round_trips_exr_and_sidecar),
+	CASE(terrain_read_reports_missing_and_corrupt_sidecars),
+	CASE(terrain_read_refuses_voids),
+	CASE(terrain_r16_maps_range_to_16_bits),
+	CASE(terrain_sidecar_path_replaces_the_extension),
+	CASE(terrain_write_to_unwritable_place_leaves_nothing),
+	CASE(terrain_height_is_bilinear_and_clamped),
+	CASE(exr_reads_one_channel_of_half_or_float),
+	CASE(fill_nearest_takes_the_closest_valid_sample),
+	CASE(hillshade_of_planes_is_lambertian),
+	CASE(terrainprep_n43_to_utm17_at_1000m),
+	CASE(hillshade_agrees_with_gdaldem_on_n43),
+	CASE(terrainprep_needs_s_srs_without_crs),
+	CASE(terrainprep_fill_modes_on_withnodata),
+};
+
 int main(void)
 {
 	snprintf(tmpdir, sizeof tmpdir, "%s/cs-test-terrain.XXXXXX",
@@ -555,20 +573,7 @@ int main(void)
 		return 1;
 	}
 	find_data();
-	RUN(terrain_round_trips_exr_and_sidecar);
-	RUN(terrain_read_reports_missing_and_corrupt_sidecars);
-	RUN(terrain_read_refuses_voids);
-	RUN(terrain_r16_maps_range_to_16_bits);
-	RUN(terrain_sidecar_path_replaces_the_extension);
-	RUN(terrain_write_to_unwritable_place_leaves_nothing);
-	RUN(terrain_height_is_bilinear_and_clamped);
-	RUN(exr_reads_one_channel_of_half_or_float);
-	RUN(fill_nearest_takes_the_closest_valid_sample);
-	RUN(hillshade_of_planes_is_lambertian);
-	RUN(terrainprep_n43_to_utm17_at_1000m);
-	RUN(hillshade_agrees_with_gdaldem_on_n43);
-	RUN(terrainprep_needs_s_srs_without_crs);
-	RUN(terrainprep_fill_modes_on_withnodata);
+	T_RUN_TABLE(t_cases);
 	char cmd[300];
 	snprintf(cmd, sizeof cmd, "rm -rf '%s'", tmpdir);
 	if (system(cmd) != 0)

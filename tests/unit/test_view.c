@@ -165,14 +165,18 @@ static void hazy_default_view_still_shows_the_nearest_clouds(void)
 	free(y1), free(y0), free(z1), free(z0), free(f1), free(f0), free(g1), free(g0);
 }
 
+static const struct t_case t_cases[] = {
+	CASE(default_view_looks_away_from_the_sun),
+	CASE(hazy_default_view_still_shows_the_nearest_clouds),
+};
+
 int main(void)
 {
 	snprintf(tmpdir, sizeof tmpdir, "%s/cs-view-XXXXXX",
 		 getenv("TMPDIR") ? getenv("TMPDIR") : "/tmp");
 	if (mkdtemp(tmpdir) == NULL)
 		return 1;
-	RUN(default_view_looks_away_from_the_sun);
-	RUN(hazy_default_view_still_shows_the_nearest_clouds);
+	T_RUN_TABLE(t_cases);
 	unlink(tmp("wx.json"));
 	unlink(tmp("v.exr"));
 	rmdir(tmpdir);

@@ -402,6 +402,21 @@ static void contact_sheet_layout_and_values(void)
 	cs_volume_free(&v);
 }
 
+/* The cases, in the order they run: their number is the plan. */
+static const struct t_case t_cases[] = {
+	CASE(recipe_formats_and_parses_back),
+	CASE(bake_is_identical_for_any_thread_count),
+	CASE(baked_volume_has_no_seam),
+	CASE(seam_metric_detects_a_seam),
+	CASE(sample_is_periodic_and_interpolates_voxels),
+	CASE(exr_round_trip_half_and_float),
+	CASE(exr_truncated_file_is_a_clear_error),
+	CASE(exr_corrupt_bytes_never_crash),
+	CASE(exr_reader_rejects_wrong_files_with_clear_messages),
+	CASE(outputs_are_atomic),
+	CASE(contact_sheet_layout_and_values),
+};
+
 int main(void)
 {
 	snprintf(tmpdir, sizeof tmpdir, "%s/cs-test-volume.XXXXXX",
@@ -410,17 +425,7 @@ int main(void)
 		perror("mkdtemp");
 		return 1;
 	}
-	RUN(recipe_formats_and_parses_back);
-	RUN(bake_is_identical_for_any_thread_count);
-	RUN(baked_volume_has_no_seam);
-	RUN(seam_metric_detects_a_seam);
-	RUN(sample_is_periodic_and_interpolates_voxels);
-	RUN(exr_round_trip_half_and_float);
-	RUN(exr_truncated_file_is_a_clear_error);
-	RUN(exr_corrupt_bytes_never_crash);
-	RUN(exr_reader_rejects_wrong_files_with_clear_messages);
-	RUN(outputs_are_atomic);
-	RUN(contact_sheet_layout_and_values);
+	T_RUN_TABLE(t_cases);
 	char cmd[600];
 	snprintf(cmd, sizeof cmd, "rm -rf '%s'", tmpdir);
 	if (system(cmd) != 0)

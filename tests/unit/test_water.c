@@ -159,12 +159,16 @@ static void cpt_errors_name_the_line(void)
 	free(p);
 }
 
+static const struct t_case t_cases[] = {
+	CASE(fresnel_matches_the_closed_form),
+	CASE(water_reflects_the_sky_by_fresnel),
+	CASE(glint_returns_fresnel_of_the_beam),
+	CASE(cpt_maps_heights_to_colours),
+	CASE(cpt_errors_name_the_line),
+};
+
 int main(void)
 {
-	RUN(fresnel_matches_the_closed_form);
-	RUN(water_reflects_the_sky_by_fresnel);
-	RUN(glint_returns_fresnel_of_the_beam);
-	RUN(cpt_maps_heights_to_colours);
-	RUN(cpt_errors_name_the_line);
+	T_RUN_TABLE(t_cases);
 	TEST_EXIT();
 }

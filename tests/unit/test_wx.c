@@ -793,6 +793,39 @@ static void read_of_a_missing_file_names_the_file(void)
 	CHECK_STR_CONTAINS(cs_errmsg(), tmp("no-such-wx.json"));
 }
 
+/* The cases, in the order they run: their number is the plan. */
+static const struct t_case t_cases[] = {
+	CASE(default_state_is_the_documented_fair_weather_over_bern),
+	CASE(default_state_round_trips_through_json_exactly),
+	CASE(awkward_state_with_far_sites_round_trips_bit_exactly),
+	CASE(json_is_one_line_with_keys_in_schema_order_and_short_numbers),
+	CASE(to_json_refuses_a_state_that_does_not_validate),
+	CASE(full_example_with_far_site_parses_to_its_values),
+	CASE(minimal_state_gets_the_documented_defaults),
+	CASE(empty_layers_is_a_valid_clear_sky),
+	CASE(unknown_keys_are_ignored_at_every_level),
+	CASE(every_genus_name_maps_both_ways_ignoring_case),
+	CASE(genus_in_json_is_case_insensitive_and_unknown_names_are_listed),
+	CASE(each_range_violation_names_the_field_and_value),
+	CASE(range_limits_themselves_are_accepted),
+	CASE(snow_and_temperature_are_written_and_read_back),
+	CASE(observed_is_optional_and_written_only_when_known),
+	CASE(validate_rejects_nan_and_impossible_counts_in_a_struct),
+	CASE(missing_required_fields_are_named),
+	CASE(wrong_json_types_are_named),
+	CASE(site_name_longer_than_63_bytes_is_an_error),
+	CASE(malformed_json_says_where),
+	CASE(text_after_the_object_is_an_error_in_a_string),
+	CASE(wrong_schema_version_is_named),
+	CASE(eight_layers_are_allowed_nine_are_too_many),
+	CASE(five_far_sites_are_too_many),
+	CASE(failed_parse_leaves_the_state_untouched),
+	CASE(read_gives_the_first_line_of_json_lines),
+	CASE(read_takes_a_multi_line_object),
+	CASE(read_errors_start_with_the_file_name),
+	CASE(read_of_a_missing_file_names_the_file),
+};
+
 int main(void)
 {
 	snprintf(tmpdir, sizeof tmpdir, "%s/cs-test-wx.XXXXXX",
@@ -801,35 +834,7 @@ int main(void)
 		perror("mkdtemp");
 		return 1;
 	}
-	RUN(default_state_is_the_documented_fair_weather_over_bern);
-	RUN(default_state_round_trips_through_json_exactly);
-	RUN(awkward_state_with_far_sites_round_trips_bit_exactly);
-	RUN(json_is_one_line_with_keys_in_schema_order_and_short_numbers);
-	RUN(to_json_refuses_a_state_that_does_not_validate);
-	RUN(full_example_with_far_site_parses_to_its_values);
-	RUN(minimal_state_gets_the_documented_defaults);
-	RUN(empty_layers_is_a_valid_clear_sky);
-	RUN(unknown_keys_are_ignored_at_every_level);
-	RUN(every_genus_name_maps_both_ways_ignoring_case);
-	RUN(genus_in_json_is_case_insensitive_and_unknown_names_are_listed);
-	RUN(each_range_violation_names_the_field_and_value);
-	RUN(range_limits_themselves_are_accepted);
-	RUN(snow_and_temperature_are_written_and_read_back);
-	RUN(observed_is_optional_and_written_only_when_known);
-	RUN(validate_rejects_nan_and_impossible_counts_in_a_struct);
-	RUN(missing_required_fields_are_named);
-	RUN(wrong_json_types_are_named);
-	RUN(site_name_longer_than_63_bytes_is_an_error);
-	RUN(malformed_json_says_where);
-	RUN(text_after_the_object_is_an_error_in_a_string);
-	RUN(wrong_schema_version_is_named);
-	RUN(eight_layers_are_allowed_nine_are_too_many);
-	RUN(five_far_sites_are_too_many);
-	RUN(failed_parse_leaves_the_state_untouched);
-	RUN(read_gives_the_first_line_of_json_lines);
-	RUN(read_takes_a_multi_line_object);
-	RUN(read_errors_start_with_the_file_name);
-	RUN(read_of_a_missing_file_names_the_file);
+	T_RUN_TABLE(t_cases);
 	char cmd[300];
 	snprintf(cmd, sizeof cmd, "rm -rf '%s'", tmpdir);
 	if (system(cmd) != 0)

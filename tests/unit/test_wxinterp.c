@@ -98,7 +98,7 @@ static void real_data_at_exact_hours_equals_the_file(void)
 	struct cs_series s;
 	cJSON *root = NULL;
 	if (!load_real(&s, &root))
-		SKIP("%s is absent (the shared data folder is not here)", real_path());
+		SKIP("%.200s is absent (the shared data folder is not here)", real_path());
 	const cJSON *d = cJSON_GetObjectItem(root, "data_1h");
 	int checked = 0;
 	for (size_t k = 0; k < sizeof real_vars / sizeof *real_vars; k++) {
@@ -132,7 +132,7 @@ static void real_data_half_way_is_the_mean(void)
 	struct cs_series s;
 	cJSON *root = NULL;
 	if (!load_real(&s, &root))
-		SKIP("%s is absent (the shared data folder is not here)", real_path());
+		SKIP("%.200s is absent (the shared data folder is not here)", real_path());
 	const cJSON *d = cJSON_GetObjectItem(root, "data_1h");
 	for (size_t k = 0; k < sizeof real_vars / sizeof *real_vars; k++) {
 		const cJSON *arr = cJSON_GetObjectItem(d, real_vars[k].key);
@@ -212,7 +212,7 @@ static void real_data_state_has_the_files_snow_and_temperature(void)
 	struct cs_series s;
 	cJSON *root = NULL;
 	if (!load_real(&s, &root))
-		SKIP("%s is absent (the shared data folder is not here)", real_path());
+		SKIP("%.200s is absent (the shared data folder is not here)", real_path());
 	cs_series_free(&s);
 	const cJSON *d = cJSON_GetObjectItem(root, "data_1h");
 	const cJSON *times = cJSON_GetObjectItem(d, "time");
@@ -259,7 +259,7 @@ static void real_data_observed_radiation_equals_the_file(void)
 	struct cs_series s;
 	cJSON *root = NULL;
 	if (!load_real(&s, &root))
-		SKIP("%s is absent (the shared data folder is not here)", real_path());
+		SKIP("%.200s is absent (the shared data folder is not here)", real_path());
 	cs_series_free(&s);
 	const cJSON *d = cJSON_GetObjectItem(root, "data_1h");
 	const char *keys[4] = {"ghi_instant", "dni_instant", "dif_instant",
@@ -902,32 +902,37 @@ static void set_keeps_layers_low_to_high(void)
 	CHECK(wx.layers[0].base_m == 500 && wx.layers[0].genus == CS_CIRRUS);
 }
 
+/* The cases, in the order they run: their number is the plan. */
+static const struct t_case t_cases[] = {
+	CASE(set_keeps_layers_low_to_high),
+	CASE(real_data_at_exact_hours_equals_the_file),
+	CASE(real_data_half_way_is_the_mean),
+	CASE(snow_fraction_comes_from_the_best_source_there_is),
+	CASE(real_data_state_has_the_files_snow_and_temperature),
+	CASE(real_data_observed_radiation_equals_the_file),
+	CASE(wind_direction_across_north_passes_through_zero),
+	CASE(null_is_bridged_within_max_gap_and_reported_beyond),
+	CASE(null_at_the_ends_is_reported_never_zero),
+	CASE(times_outside_the_data_say_the_covered_range),
+	CASE(merge_unites_hours_and_the_later_file_wins),
+	CASE(set_edits_each_kind_of_path),
+	CASE(set_reports_bad_paths_values_and_targets),
+	CASE(set_edits_far_sites),
+	CASE(pretty_json_reads_back_with_flat_objects_on_one_line),
+	CASE(durations_take_s_m_h_d),
+	CASE(run_writes_states_with_far_sites_and_edits),
+	CASE(run_series_is_json_lines_and_errors_leave_no_output),
+	CASE(openmeteo_default_visibility_is_taken_as_unknown),
+	CASE(openmeteo_low_cover_at_an_elevated_site_is_fog_or_nothing),
+	CASE(run_template_and_option_errors),
+};
+
 int main(void)
 {
-	RUN(set_keeps_layers_low_to_high);
 	snprintf(tmpdir, sizeof tmpdir, "/tmp/cs-test-wxinterp.XXXXXX");
 	if (mkdtemp(tmpdir) == NULL)
 		return 1;
-	RUN(real_data_at_exact_hours_equals_the_file);
-	RUN(real_data_half_way_is_the_mean);
-	RUN(snow_fraction_comes_from_the_best_source_there_is);
-	RUN(real_data_state_has_the_files_snow_and_temperature);
-	RUN(real_data_observed_radiation_equals_the_file);
-	RUN(wind_direction_across_north_passes_through_zero);
-	RUN(null_is_bridged_within_max_gap_and_reported_beyond);
-	RUN(null_at_the_ends_is_reported_never_zero);
-	RUN(times_outside_the_data_say_the_covered_range);
-	RUN(merge_unites_hours_and_the_later_file_wins);
-	RUN(set_edits_each_kind_of_path);
-	RUN(set_reports_bad_paths_values_and_targets);
-	RUN(set_edits_far_sites);
-	RUN(pretty_json_reads_back_with_flat_objects_on_one_line);
-	RUN(durations_take_s_m_h_d);
-	RUN(run_writes_states_with_far_sites_and_edits);
-	RUN(run_series_is_json_lines_and_errors_leave_no_output);
-	RUN(openmeteo_default_visibility_is_taken_as_unknown);
-	RUN(openmeteo_low_cover_at_an_elevated_site_is_fog_or_nothing);
-	RUN(run_template_and_option_errors);
+	T_RUN_TABLE(t_cases);
 	char cmd[300];
 	snprintf(cmd, sizeof cmd, "rm -rf '%s'", tmpdir);
 	if (system(cmd) != 0)

@@ -262,19 +262,24 @@ static void snow_fraction_by_temperature_and_by_open_meteo_snowfall(void)
 	CHECK(isnan(cs_snow_fraction_of(NAN, 1)));
 }
 
+/* The cases, in the order they run: their number is the plan. */
+static const struct t_case t_cases[] = {
+	CASE(rule_l1_convective_rain_makes_cumulonimbus),
+	CASE(snow_fraction_by_temperature_and_by_open_meteo_snowfall),
+	CASE(rule_l2_fog_probability_or_low_visibility_makes_ground_stratus),
+	CASE(rule_l3_showers_make_cumulus_by_night_too),
+	CASE(rule_l4_high_cover_and_steady_rain_make_nimbostratus),
+	CASE(rule_l5_overcast_low_with_drizzle_or_mist_is_stratus),
+	CASE(rule_l6_scattered_low_cover_under_a_high_sun_is_cumulus),
+	CASE(rule_l7_other_low_cover_is_stratocumulus_and_none_is_clear),
+	CASE(rules_m1_m2_mid_cover_is_altostratus_or_altocumulus),
+	CASE(rules_h1_h2_h3_high_cover_is_cirrostratus_cirrocumulus_or_cirrus),
+	CASE(all_three_etages_come_low_to_high),
+	CASE(high_ground_lifts_mid_and_high_layers),
+};
+
 int main(void)
 {
-	RUN(rule_l1_convective_rain_makes_cumulonimbus);
-	RUN(snow_fraction_by_temperature_and_by_open_meteo_snowfall);
-	RUN(rule_l2_fog_probability_or_low_visibility_makes_ground_stratus);
-	RUN(rule_l3_showers_make_cumulus_by_night_too);
-	RUN(rule_l4_high_cover_and_steady_rain_make_nimbostratus);
-	RUN(rule_l5_overcast_low_with_drizzle_or_mist_is_stratus);
-	RUN(rule_l6_scattered_low_cover_under_a_high_sun_is_cumulus);
-	RUN(rule_l7_other_low_cover_is_stratocumulus_and_none_is_clear);
-	RUN(rules_m1_m2_mid_cover_is_altostratus_or_altocumulus);
-	RUN(rules_h1_h2_h3_high_cover_is_cirrostratus_cirrocumulus_or_cirrus);
-	RUN(all_three_etages_come_low_to_high);
-	RUN(high_ground_lifts_mid_and_high_layers);
+	T_RUN_TABLE(t_cases);
 	TEST_EXIT();
 }
