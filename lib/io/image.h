@@ -15,6 +15,12 @@ int cs_png_write(const char *path, int width, int height, int channels,
 /* Reads a PNG as 8-bit sRGB RGB (any PNG: grey, palette and alpha are
  * converted); *rgb is malloc'ed for the caller. */
 int cs_png_read_rgb8(const char *path, uint8_t **rgb, int *width, int *height);
+/* The same from len bytes in memory; name labels messages.  A header that
+ * claims more than CS_PNG_MAX_PIXELS, or more pixels than len bytes can
+ * hold at zlib's best ratio, is CS_EDATA before anything is allocated. */
+int cs_png_read_rgb8_mem(const void *data, size_t len, const char *name,
+			 uint8_t **rgb, int *width, int *height);
+#define CS_PNG_MAX_PIXELS 100000000 /* 1e8: 300 MB of RGB */
 
 /* The exposure (stops) that brings the log-average luminance of n pixels
  * (R G B first of each, stride floats apart) to 0.25 on the tone curve's

@@ -422,6 +422,11 @@ int cs_wx_parse(const char *json, size_t len, struct cs_wx *wx)
 	return parse_text(json, len, wx, 0);
 }
 
+int cs_wx_parse_lines(const char *json, size_t len, struct cs_wx *wx)
+{
+	return parse_text(json, len, wx, 1);
+}
+
 int cs_wx_read(const char *path, struct cs_wx *wx)
 {
 	unsigned char *data;
