@@ -50,7 +50,7 @@ static void usage(void)
 	       "      --altitude DEG       sun altitude (default 45)\n"
 	       "      --z-factor Z         vertical exaggeration (default 1)\n"
 	       "      --scale S            horizontal units per vertical unit (default 1)\n"
-	       "  -q, --quiet              no progress bar\n"
+	       "  -q, --quiet              no progress bar, no warnings\n"
 	       "  -v, --verbose            describe the result on stderr\n"
 	       "  -h, --help               this help\n"
 	       "      --version            print the version\n"
@@ -112,8 +112,18 @@ static void describe(const struct cs_terrainprep_opts *o, const struct cs_terrai
 		r->resampling_used, r->voids, 100.0 * (double)r->voids / n,
 		r->voids == 0 ? "" : o->fill == CS_FILL_NONE ? " kept" : " filled");
 	fprintf(stderr, "terrainprep: centre %.6f, %.6f (WGS84)\n", t->center_lat, t->center_lon);
-	if (r->warning[0])
-		fprintf(stderr, "terrainprep: GDAL warned: %s\n", r->warning);
+}
+
+/* GDAL's warnings and ours, one a line, unless -q. */
+static void warn(const struct cs_terrainprep_result *r)
+{
+	if (cli_quiet)
+		return;
+	for (const char *p = r->warning; *p;) {
+		size_t n = strcspn(p, "\n");
+		cli_err("warning: %.*s", (int)n, p);
+		p += n + (p[n] == '\n');
+	}
 }
 
 enum {
@@ -227,6 +237,7 @@ int main(int argc, char **argv)
 	struct cs_terrainprep_result r;
 	int rc = cs_terrainprep_run(&o, &r);
 	cli_progress_done();
+	warn(&r);
 	if (rc != CS_OK) {
 		cli_err("%s", cs_errmsg());
 		cs_terrainprep_result_free(&r);

@@ -132,8 +132,11 @@ double cs_auto_exposure_ev(const float *px, size_t stride, size_t n)
 		sum += log(isfinite(y) && y > 1e-9 ? y : 1e-9);
 	}
 	double avg = n ? exp(sum / (double)n) : 1.0;
-	/* x = L 2^ev / 16 = 0.25 at L = avg */
-	return log2(0.25 * 16.0 / avg);
+	/* x = L 2^ev / 16 = 0.25 at L = avg; within the range --exposure
+	 * accepts, which a black frame (32 EV) or the sun's disk would leave */
+	double ev = log2(0.25 * 16.0 / avg);
+	return ev < CS_EXPOSURE_MIN_EV ? CS_EXPOSURE_MIN_EV :
+	       ev > CS_EXPOSURE_MAX_EV ? CS_EXPOSURE_MAX_EV : ev;
 }
 
 void cs_tonemap_srgb8(const float *px, size_t stride, size_t n,

@@ -5,6 +5,7 @@
 
 #include "core/err.h"
 #include "core/fileio.h"
+#include "core/vec.h"
 
 #include <cpl_conv.h>
 #include <cpl_error.h>
@@ -43,8 +44,20 @@ int cs_reproject_resampling_known(const char *name)
 struct gdal_log {
 	int failed;
 	char failure[512]; /* the first CE_Failure message of the step */
-	char warning[256]; /* the last CE_Warning message */
+	char warning[1024]; /* every distinct CE_Warning message, and our own
+			       notices, one a line */
+	const char *input;  /* the input being opened, to name in warnings */
 };
+
+/* Adds a line to the warnings, once (GDAL repeats itself per block). */
+static void add_warning(struct gdal_log *g, const char *line)
+{
+	size_t n = strlen(g->warning), k = strlen(line);
+	for (const char *at = g->warning; (at = strstr(at, line)) != NULL; at++)
+		if ((at == g->warning || at[-1] == '\n') && (at[k] == '\n' || at[k] == '\0'))
+			return;
+	snprintf(g->warning + n, sizeof g->warning - n, "%s%s", n ? "\n" : "", line);
+}
 
 static void copy_msg(char *dst, size_t size, const char *msg)
 {
@@ -65,7 +78,14 @@ static void CPL_STDCALL on_gdal_error(CPLErr cls, CPLErrorNum no, const char *ms
 			copy_msg(g->failure, sizeof g->failure, msg);
 		g->failed = 1;
 	} else if (cls == CE_Warning) {
-		copy_msg(g->warning, sizeof g->warning, msg);
+		char line[400], named[520];
+		copy_msg(line, sizeof line, msg);
+		/* GDAL seldom names the file: with several inputs, say which */
+		if (g->input && strstr(line, g->input) == NULL)
+			snprintf(named, sizeof named, "%s: %s", g->input, line);
+		else
+			snprintf(named, sizeof named, "%s", line);
+		add_warning(g, named);
 	}
 }
 
@@ -103,6 +123,7 @@ struct cs_reproject {
 	double gt[6];
 	char tif_path[160];          /* the encoded GeoTIFF, or "" */
 	char *pam;                 /* GDAL_PAM_ENABLED outside our calls */
+	char *dted;                /* DTED_VERIFY_CHECKSUM outside our calls */
 };
 
 /* The failure message after a GDAL step, as a CS_EDATA error. */
@@ -153,6 +174,7 @@ static int utm_epsg(double lat, double lon)
 		return 32661;
 	if (lat < -80.0)
 		return 32761;
+	lon = isfinite(lon) ? lon - 360.0 * floor((lon + 180.0) / 360.0) : 0.0;
 	int zone = (int)floor((lon + 180.0) / 6.0) + 1;
 	zone = zone < 1 ? 1 : zone > 60 ? 60 : zone;
 	if (lat >= 56.0 && lat < 64.0 && lon >= 3.0 && lon < 12.0)
@@ -210,6 +232,22 @@ static int open_error(struct cs_reproject *r, const char *path, const char *labe
 	return cs_error(CS_EDATA, "%s", msg);
 }
 
+/* DTED stores a checksum per elevation profile: read the whole file once
+ * with DTED_VERIFY_CHECKSUM (set in enter()), so that a damaged tile is
+ * an error naming it, not a warp failure naming none of a mosaic's. */
+static int verify_checksums(struct cs_reproject *r, GDALDatasetH ds, const char *label)
+{
+	if (strcmp(GDALGetDriverShortName(GDALGetDatasetDriver(ds)), "DTED") != 0 ||
+	    GDALGetRasterCount(ds) < 1)
+		return CS_OK;
+	log_reset(&r->log);
+	GDALRasterBandH b = GDALGetRasterBand(ds, 1);
+	(void)GDALChecksumImage(b, 0, 0, GDALGetRasterXSize(ds), GDALGetRasterYSize(ds));
+	if (r->log.failed)
+		return cs_error(CS_EDATA, "%s is damaged: %s", label, r->log.failure);
+	return CS_OK;
+}
+
 static int open_inputs(struct cs_reproject *r)
 {
 	const struct cs_reproject_opts *o = r->o;
@@ -227,14 +265,20 @@ static int open_inputs(struct cs_reproject *r)
 		const char *path = is_stdin ? r->stdin_path : in;
 		const char *label = is_stdin ? "standard input" : in;
 		log_reset(&r->log);
+		r->log.input = label;
 		GDALDatasetH ds = GDALOpenEx(path, GDAL_OF_RASTER | GDAL_OF_READONLY |
 					     GDAL_OF_VERBOSE_ERROR, NULL, NULL, NULL);
 		if (ds == NULL || r->log.failed) {
+			r->log.input = NULL;
 			if (ds)
 				GDALClose(ds);
 			return open_error(r, path, label);
 		}
 		r->src[r->nsrc++] = ds;
+		int rc = verify_checksums(r, ds, label);
+		r->log.input = NULL;
+		if (rc != CS_OK)
+			return rc;
 		double gt[6];
 		if (GDALGetRasterCount(ds) < 1)
 			return cs_error(CS_EDATA, "%s has no raster band", label);
@@ -300,10 +344,45 @@ static int source_center(struct cs_reproject *r, double *lat, double *lon)
 		return gdal_fail(r, "cannot place the input on the Earth");
 	*lat = 0.5 * (lat0 + lat1);
 	*lon = 0.5 * (lon0 + lon1);
+	if (!(fabs(*lat) <= 90.0 && fabs(*lon) <= 540.0))
+		return cs_error(CS_EDATA, "cannot place the input on the Earth: its "
+				"georeferencing puts the centre at %g, %g", *lat, *lon);
 	return CS_OK;
 }
 
-/* The target CRS: --t-srs; else the input's own if projected in metres;
+/* The point scale of a projected CRS at (lat, lon), WGS84 degrees: its
+ * metres per true metre east and north, from points 1e-4 degree away
+ * (true lengths on the WGS84 ellipsoid: the meridian radius M and the
+ * prime vertical N).  1 within 0.1 % for UTM in its zone; 1/cos(lat) for
+ * Web Mercator (EPSG:3857).  0 when it cannot be computed. */
+static double crs_scale(struct cs_reproject *r, OGRSpatialReferenceH crs,
+			double lat, double lon)
+{
+	const double a = 6378137.0, e2 = 0.00669437999014, d = 1e-4;
+	double phi = lat * CS_PI / 180.0, w = 1.0 - e2 * sin(phi) * sin(phi);
+	double m = a * (1.0 - e2) / pow(w, 1.5), n = a / sqrt(w);
+	double x[3] = {lon, lon + d, lon}, y[3] = {lat, lat, lat + d};
+	if (fabs(lat) > 89.0 || transform(r, r->wgs84, crs, 3, x, y) != CS_OK)
+		return 0.0;
+	double ke = hypot(x[1] - x[0], y[1] - y[0]) / (n * cos(phi) * d * CS_PI / 180.0);
+	double kn = hypot(x[2] - x[0], y[2] - y[0]) / (m * d * CS_PI / 180.0);
+	double k = 0.5 * (ke + kn);
+	return isfinite(k) && k > 0.0 ? k : 0.0;
+}
+
+/* "EPSG:3857" or the CRS's name, for messages. */
+static void crs_label(OGRSpatialReferenceH h, char *buf, size_t size)
+{
+	const char *auth = OSRGetAuthorityName(h, NULL), *code = OSRGetAuthorityCode(h, NULL);
+	const char *name = OSRGetName(h);
+	if (auth && code)
+		snprintf(buf, size, "%s:%s (%s)", auth, code, name ? name : "unnamed");
+	else
+		snprintf(buf, size, "%s", name ? name : "the input's CRS");
+}
+
+/* The target CRS: --t-srs; else the input's own if projected in true
+ * metres (scale within CS_REPROJECT_MAX_SCALE_ERROR of 1 at the centre);
  * else the UTM zone of the centre (of the crop, or of the inputs). */
 static int choose_target(struct cs_reproject *r)
 {
@@ -314,12 +393,27 @@ static int choose_target(struct cs_reproject *r)
 	OGRSpatialReferenceH own = r->s_srs ? r->s_srs : GDALGetSpatialRef(r->src[0]);
 	if (own == NULL)
 		own = GDALGetGCPSpatialRef(r->src[0]);
+	double lat, lon, k = 1.0;
 	if (own && is_metric_projected(own)) {
-		r->t_srs = OSRClone(own);
-		OSRSetAxisMappingStrategy(r->t_srs, OAMS_TRADITIONAL_GIS_ORDER);
-		return CS_OK;
+		OGRSpatialReferenceH c = OSRClone(own);
+		OSRSetAxisMappingStrategy(c, OAMS_TRADITIONAL_GIS_ORDER);
+		if (source_center(r, &lat, &lon) == CS_OK)
+			k = crs_scale(r, c, lat, lon);
+		if (k == 0.0 || fabs(k - 1.0) <= CS_REPROJECT_MAX_SCALE_ERROR) {
+			r->t_srs = c;
+			return CS_OK;
+		}
+		/* metres that are not true metres (Web Mercator): the renderer
+		 * takes pixel sizes as lengths, so go to the local UTM zone */
+		char label[200], msg[400];
+		crs_label(c, label, sizeof label);
+		OSRDestroySpatialReference(c);
+		snprintf(msg, sizeof msg, "%s is not in true metres here: one of its metres is "
+			 "%.3f m at the centre (%.2f, %.2f; scale %.4f), so the result is "
+			 "reprojected to the local UTM zone (--t-srs keeps a CRS of your choice)",
+			 label, 1.0 / k, lat, lon, k);
+		add_warning(&r->log, msg);
 	}
-	double lat, lon;
 	if (o->have_center) {
 		lat = o->center_lat;
 		lon = o->center_lon;
@@ -534,6 +628,23 @@ static int warp_heights(struct cs_reproject *r, float **h, int *w, int *hh,
 
 /* ---- georeference, GeoTIFF ------------------------------------------ */
 
+/* A --t-srs whose metres are not true metres here: say the true size. */
+static void warn_target_scale(struct cs_reproject *r, const struct cs_terrain *t)
+{
+	if (r->o->t_srs == NULL)
+		return;
+	double k = crs_scale(r, r->t_srs, t->center_lat, t->center_lon);
+	if (k == 0.0 || fabs(k - 1.0) <= CS_REPROJECT_MAX_SCALE_ERROR)
+		return;
+	char label[200], msg[400];
+	crs_label(r->t_srs, label, sizeof label);
+	snprintf(msg, sizeof msg, "--t-srs %s is not in true metres here (scale %.4f at "
+		 "%.2f, %.2f): the pixels are %g x %g of its metres but about %.4g x %.4g "
+		 "true metres; the sidecar records its metres", label, k, t->center_lat,
+		 t->center_lon, t->pixel_x_m, t->pixel_y_m, t->pixel_x_m / k, t->pixel_y_m / k);
+	add_warning(&r->log, msg);
+}
+
 static int georeference(struct cs_reproject *r, struct cs_terrain *t)
 {
 	const double *gt = r->gt;
@@ -613,13 +724,17 @@ static void enter(struct cs_reproject *r)
 	pthread_once(&gdal_once, register_drivers);
 	r->pam = CPLStrdup(CPLGetThreadLocalConfigOption("GDAL_PAM_ENABLED", ""));
 	CPLSetThreadLocalConfigOption("GDAL_PAM_ENABLED", "NO");
+	r->dted = CPLStrdup(CPLGetThreadLocalConfigOption("DTED_VERIFY_CHECKSUM", ""));
+	CPLSetThreadLocalConfigOption("DTED_VERIFY_CHECKSUM", "YES");
 }
 
 static int leave(struct cs_reproject *r, int rc)
 {
 	CPLSetThreadLocalConfigOption("GDAL_PAM_ENABLED", r->pam[0] ? r->pam : NULL);
+	CPLSetThreadLocalConfigOption("DTED_VERIFY_CHECKSUM", r->dted[0] ? r->dted : NULL);
 	CPLFree(r->pam);
-	r->pam = NULL;
+	CPLFree(r->dted);
+	r->pam = r->dted = NULL;
 	CPLPopErrorHandler();
 	return rc;
 }
@@ -678,7 +793,10 @@ int cs_reproject_warp(struct cs_reproject *rp, struct cs_terrain *t,
 int cs_reproject_georeference(struct cs_reproject *rp, struct cs_terrain *t)
 {
 	enter(rp);
-	return leave(rp, georeference(rp, t));
+	int rc = georeference(rp, t);
+	if (rc == CS_OK)
+		warn_target_scale(rp, t);
+	return leave(rp, rc);
 }
 
 int cs_reproject_geotiff(struct cs_reproject *rp, const struct cs_terrain *t,

@@ -180,7 +180,7 @@ expect_rc 1; expect_err "terrainprep: $T/nope.tif: No such file or directory"
 if have_dem n43.dt0; then
 	head -c 20000 "$DEM/n43.dt0" >"$T/trunc.dt0"
 	run "$TP" "$T/trunc.dt0" -o "$T/o.exr"
-	expect_rc 1; expect_err "terrainprep: warp: Failed to seek to, or read profile"
+	expect_rc 1; expect_err "trunc.dt0 is damaged: Failed to seek to, or read profile"
 fi
 expect_no_file "$T/o.exr"; expect_no_file "$T/o.json"
 rm -f "$T"/*
