@@ -269,14 +269,12 @@ static int open_inputs(struct cs_reproject *r)
 		GDALDatasetH ds = GDALOpenEx(path, GDAL_OF_RASTER | GDAL_OF_READONLY |
 					     GDAL_OF_VERBOSE_ERROR, NULL, NULL, NULL);
 		if (ds == NULL || r->log.failed) {
-			r->log.input = NULL;
 			if (ds)
 				GDALClose(ds);
 			return open_error(r, path, label);
 		}
 		r->src[r->nsrc++] = ds;
 		int rc = verify_checksums(r, ds, label);
-		r->log.input = NULL;
 		if (rc != CS_OK)
 			return rc;
 		double gt[6];
@@ -774,6 +772,7 @@ int cs_reproject_open(const struct cs_reproject_opts *o, struct cs_reproject **o
 	int rc = parse_crs_opts(r);
 	if (rc == CS_OK)
 		rc = open_inputs(r);
+	r->log.input = NULL; /* named while it was read */
 	if (rc == CS_OK)
 		rc = choose_target(r);
 	if (rc == CS_OK && (r->t_wkt = export_wkt(r->t_srs)) == NULL)
