@@ -44,7 +44,7 @@ int cs_reproject_resampling_known(const char *name)
 struct gdal_log {
 	int failed;
 	char failure[512]; /* the first CE_Failure message of the step */
-	char warning[1024]; /* every distinct CE_Warning message, and our own
+	char warning[2048]; /* every distinct CE_Warning message, and our own
 			       notices, one a line */
 	const char *input;  /* the input being opened, to name in warnings */
 };
@@ -78,7 +78,7 @@ static void CPL_STDCALL on_gdal_error(CPLErr cls, CPLErrorNum no, const char *ms
 			copy_msg(g->failure, sizeof g->failure, msg);
 		g->failed = 1;
 	} else if (cls == CE_Warning) {
-		char line[400], named[520];
+		char line[800], named[1000];
 		copy_msg(line, sizeof line, msg);
 		/* GDAL seldom names the file: with several inputs, say which */
 		if (g->input && strstr(line, g->input) == NULL)
