@@ -11,6 +11,7 @@
 #include "noise/volume.h"
 #include "render/render.h"
 #include "render/scene.h"
+#include "terrain/heightfield.h"
 #include "terrain/terrain.h"
 #include "weather/provider.h"
 #include "weather/wx.h"
@@ -378,6 +379,34 @@ static void camera_at_ground_height_sees_sky_above_and_ground_below(void)
 	}
 }
 
+/* The same rule on the terrain: an eye exactly on a flat heightfield at
+ * 500 m sees the terrain below the horizontal at once and not above it. */
+static void camera_on_the_terrain_sees_it_below_only(void)
+{
+	enum { W = 41 };
+	static float z[W * W];
+	for (int i = 0; i < W * W; i++)
+		z[i] = 500.0f;
+	double a[3] = {20, 1 / 25.0, 0}, b[3] = {20, 0, -1 / 25.0};
+	struct cs_hfield f;
+	CHECK(cs_hfield_init(&f, z, W, W, a, b, CS_EARTH_RADIUS_M) == CS_OK);
+	const double hs[] = {0.0, 1e-6, 2.0};
+	for (int i = 0; i < 3; i++) {
+		cs_v3 o = v3(0, 0, 500.0 + hs[i]);
+		double t = -1;
+		for (int k = 0; k < 2; k++) {
+			double e = k ? -0.05 : 0.05;
+			int hit = cs_hfield_intersect(&f, o, v3(cos(e), 0, sin(e)), 1e6, &t, NULL);
+			if (k == 0 && hit)
+				printf("  h %g m, 0.05 rad up: hit at %g m\n", hs[i], t);
+			CHECK(k ? hit : !hit);
+			if (k)
+				CHECK_NEAR(t, hs[i] / sin(0.05), 1e-3 + 1e-3 * hs[i]);
+		}
+	}
+	cs_hfield_free(&f);
+}
+
 int main(void)
 {
 	RUN(heightfield_header_claiming_more_than_the_file_holds_is_refused);
@@ -391,5 +420,6 @@ int main(void)
 	RUN(message_times_keep_their_fraction);
 	RUN(auto_exposure_stays_in_the_documented_range);
 	RUN(camera_at_ground_height_sees_sky_above_and_ground_below);
+	RUN(camera_on_the_terrain_sees_it_below_only);
 	TEST_EXIT();
 }
