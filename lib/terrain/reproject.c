@@ -124,6 +124,7 @@ struct cs_reproject {
 	char tif_path[160];          /* the encoded GeoTIFF, or "" */
 	char *pam;                 /* GDAL_PAM_ENABLED outside our calls */
 	char *dted;                /* DTED_VERIFY_CHECKSUM outside our calls */
+	size_t in_bytes;           /* the inputs' sizes, all together */
 };
 
 /* The failure message after a GDAL step, as a CS_EDATA error. */
@@ -232,6 +233,18 @@ static int open_error(struct cs_reproject *r, const char *path, const char *labe
 	return cs_error(CS_EDATA, "%s", msg);
 }
 
+/* The size of a file GDAL opens (files and /vsimem alike), or 0. */
+static size_t file_bytes(const char *path)
+{
+	VSILFILE *f = VSIFOpenL(path, "rb");
+	size_t n = 0;
+	if (f != NULL && VSIFSeekL(f, 0, SEEK_END) == 0)
+		n = (size_t)VSIFTellL(f);
+	if (f != NULL)
+		VSIFCloseL(f);
+	return n;
+}
+
 /* DTED stores a checksum per elevation profile: read the whole file once
  * with DTED_VERIFY_CHECKSUM (set in enter()), so that a damaged tile is
  * an error naming it, not a warp failure naming none of a mosaic's. */
@@ -274,6 +287,7 @@ static int open_inputs(struct cs_reproject *r)
 			return open_error(r, path, label);
 		}
 		r->src[r->nsrc++] = ds;
+		r->in_bytes += file_bytes(path);
 		int rc = verify_checksums(r, ds, label);
 		if (rc != CS_OK)
 			return rc;
@@ -569,6 +583,17 @@ static int size_args(struct cs_reproject *r, char ***av, const double ext[2],
 			n = 2 * n - 1;
 		want_w = want_h = n;
 	}
+	/* the grid the inputs' headers make, when no option chose one: no
+	 * more samples than their bytes can hold, one bit a sample at
+	 * deflate's best ratio (1032:1) */
+	double can = (double)r->in_bytes * 8.0 * 1032.0;
+	if (o->res_m <= 0.0 && o->size_w <= 0 && o->size_long <= 0 && !o->size_unity &&
+	    want_w * want_h > can && want_w * want_h <= (double)CS_REPROJECT_MAX_SAMPLES)
+		return cs_error(CS_EDATA, "%s: the header%s make%s a %.0fx%.0f grid, more "
+				"samples than %zu bytes can hold (%.0f): a corrupt or hostile "
+				"header (--res or --size chooses the grid)", r->source,
+				r->nsrc > 1 ? "s" : "", r->nsrc > 1 ? "" : "s", want_w, want_h,
+				r->in_bytes, can);
 	if (want_w * want_h > (double)CS_REPROJECT_MAX_SAMPLES || want_w > 65536 ||
 	    want_h > 65536)
 		return cs_error(CS_EINVAL, "the grid would be %.0fx%.0f samples (at most %ld): choose a coarser --res or a smaller --size",

@@ -60,6 +60,17 @@ else
 	end
 fi
 
+begin esri_grid_claiming_16000_squared_cells_fails_fast_naming_the_file
+printf 'ncols 16000\nnrows 16000\nxllcorner 0\nyllcorner 0\ncellsize 1\n1 2 3\n' >"$T/h.asc"
+if [ $limited = 1 ]; then
+	run_limited "$TP" -q --s-srs EPSG:32632 -o "$T/h.exr" "$T/h.asc"
+else
+	run "$TP" -q --s-srs EPSG:32632 -o "$T/h.exr" "$T/h.asc"
+fi
+expect_rc 1; expect_no_file "$T/h.exr"
+expect_err "$T/h.asc: the header makes a 16000x16000 grid, more samples than 65 bytes can hold"
+end
+
 # ---- damaged and odd DEMs ----------------------------------------------
 if [ ! -f "$DT0" ]; then
 	skip terrainprep_names_the_damaged_tile_of_a_mosaic "$DT0 is absent"
