@@ -233,6 +233,20 @@ static int open_error(struct cs_reproject *r, const char *path, const char *labe
 	return cs_error(CS_EDATA, "%s", msg);
 }
 
+/* Whether the grid's corners lie within 1e9 units of the origin of its
+ * CRS (the Earth is 4e7 m round, 1.3e8 ft): far beyond, PROJ's inverse
+ * projections can run for minutes (an origin at 1e54 m hung gdalinfo). */
+static int sane_extent(const double gt[6], int w, int h)
+{
+	for (int k = 0; k < 4; k++) {
+		double c = (k & 1) ? w : 0, r = (k & 2) ? h : 0;
+		double x = gt[0] + c * gt[1] + r * gt[2], y = gt[3] + c * gt[4] + r * gt[5];
+		if (!(fabs(x) <= 1e9 && fabs(y) <= 1e9))
+			return 0;
+	}
+	return 1;
+}
+
 /* The size of a file GDAL opens (files and /vsimem alike), or 0. */
 static size_t file_bytes(const char *path)
 {
@@ -294,9 +308,14 @@ static int open_inputs(struct cs_reproject *r)
 		double gt[6];
 		if (GDALGetRasterCount(ds) < 1)
 			return cs_error(CS_EDATA, "%s has no raster band", label);
-		if (GDALGetGeoTransform(ds, gt) != CE_None && GDALGetGCPCount(ds) == 0)
+		int have_gt = GDALGetGeoTransform(ds, gt) == CE_None;
+		if (!have_gt && GDALGetGCPCount(ds) == 0)
 			return cs_error(CS_EDATA, "%s has no georeferencing (no geotransform, no GCPs)",
 					label);
+		if (have_gt && !sane_extent(gt, GDALGetRasterXSize(ds), GDALGetRasterYSize(ds)))
+			return cs_error(CS_EDATA, "%s: its georeferencing is off the Earth (origin %g, %g; "
+					"pixel %g x %g): a corrupt header", label, gt[0], gt[3],
+					gt[1], gt[5]);
 		log_reset(&r->log);
 		if (o->s_srs == NULL && GDALGetSpatialRef(ds) == NULL &&
 		    GDALGetGCPSpatialRef(ds) == NULL)

@@ -3,8 +3,8 @@
  * grid, georeference.  The first byte picks the file name the rest is
  * opened under (GDAL's SRTM driver takes its georeferencing from the
  * name); only the drivers of the DEM formats terrainprep(1) documents,
- * and the in-memory ones the warp needs, stay registered, so that an
- * input never makes GDAL open other files or the network. */
+ * and the in-memory and virtual ones the warp needs (MEM, VRT), stay
+ * registered. */
 #include "terrain/reproject.h"
 
 #include <gdal.h>
@@ -23,7 +23,7 @@ static const char *const names[] = {
 	"/vsimem/fuzz/N43W080.hgt", "/vsimem/fuzz/dem.asc", "/vsimem/fuzz/dem.dt0",
 	"/vsimem/fuzz/dem.tif", "/vsimem/fuzz/dem.xyz",
 };
-static const char *const keep[] = {"GTiff", "AAIGrid", "DTED", "SRTMHGT", "XYZ", "MEM"};
+static const char *const keep[] = {"GTiff", "AAIGrid", "DTED", "SRTMHGT", "XYZ", "MEM", "VRT"};
 
 int LLVMFuzzerInitialize(int *argc, char ***argv)
 {
