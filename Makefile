@@ -8,6 +8,8 @@
 #   make check-all    check, check SAN=1 and check SAN=thread (what CI runs)
 #   make WERROR=0     warnings stay warnings (the default, WERROR=1, for CI
 #                     and developers, makes them errors)
+#   make fuzz FUZZ_SECONDS=N  libFuzzer targets (tests/fuzz/) built with clang,
+#                     ASan + UBSan, in build-fuzz/; each run N s (default 10)
 #   make bench        benchmarks (not part of check)
 #   make study        the accuracy study: error against the reference integrator
 #                     and time, per scene and setting (not part of check)
@@ -45,7 +47,15 @@ CFLAGS    ?= -O2 -g
 WARN      := -Wall -Wextra $(if $(filter 1,$(WERROR)),-Werror) -Wshadow -Wpointer-arith -Wvla \
              -Wstrict-prototypes -Wmissing-prototypes -Wformat=2
 comma     := ,
-ifeq ($(SAN),thread)
+FUZZ_SECONDS ?= 10
+FUZZ_CC   ?= clang
+ifeq ($(FUZZ),1)
+# the library and programs instrumented for libFuzzer (tests/fuzz/run)
+B         := build-fuzz
+CC        := $(FUZZ_CC)
+SANFLAGS  := -fsanitize=fuzzer-no-link$(comma)address$(comma)undefined$(comma)float-cast-overflow \
+             -fno-sanitize-recover=all -fno-omit-frame-pointer
+else ifeq ($(SAN),thread)
 B         := build-tsan
 SANFLAGS  := -fsanitize=thread -fno-omit-frame-pointer
 else ifneq ($(SAN),)
@@ -74,13 +84,17 @@ UNIT_BINS := $(UNIT_SRC:tests/unit/%.c=$(B)/tests/%)
 # test helpers (servers, generators): tests/helpers/*.c -> $(B)/tests/helpers/*
 HELP_SRC  := $(wildcard tests/helpers/*.c)
 HELP_BINS := $(HELP_SRC:tests/helpers/%.c=$(B)/tests/helpers/%)
+# libFuzzer targets: tests/fuzz/fuzz_*.c -> build-fuzz/fuzz/fuzz_*
+FUZZ_SRC  := $(wildcard tests/fuzz/fuzz_*.c)
+FUZZ_BINS := $(FUZZ_SRC:tests/fuzz/%.c=$(B)/fuzz/%)
 
 .SECONDARY:
 # the accuracy study's tools: bench/*.c -> $(B)/bench/*
 BENCH_SRC := $(wildcard bench/*.c)
 BENCH_BINS := $(BENCH_SRC:bench/%.c=$(B)/bench/%)
 
-.PHONY: all check check-all check-run tests bench study mutate demo install uninstall deps have-deps clean
+.PHONY: all check check-all check-run tests bench study mutate demo install uninstall deps have-deps clean \
+	fuzz fuzz-build
 all: $(B)/libcloudscape.a $(BINS)
 
 $(B)/lib/%.o: lib/%.c
@@ -104,6 +118,12 @@ $(B)/tests/helpers/%.o: tests/helpers/%.c
 	$(CC) $(ALL_CFLAGS) -c $< -o $@
 $(B)/tests/helpers/%: $(B)/tests/helpers/%.o $(B)/libcloudscape.a
 	$(CC) $(CFLAGS) $(SANFLAGS) -o $@ $^ $(LDLIBS)
+
+$(B)/fuzz/%.o: tests/fuzz/%.c
+	@mkdir -p $(@D)
+	$(CC) $(ALL_CFLAGS) -c $< -o $@
+$(B)/fuzz/fuzz_%: $(B)/fuzz/fuzz_%.o $(B)/libcloudscape.a
+	$(CC) $(CFLAGS) $(subst fuzzer-no-link,fuzzer,$(SANFLAGS)) -o $@ $^ $(LDLIBS)
 
 $(B)/libcloudscape.a: $(LIB_OBJ)
 	@rm -f $@
@@ -140,6 +160,14 @@ deps:
 # the accuracy study (scripts/accuracy-study): STUDY_ARGS=--full for 1280x720
 study: have-deps all $(BENCH_BINS)
 	@scripts/accuracy-study --build $(B) $(STUDY_ARGS)
+
+# the fuzz build (FUZZ=1: build-fuzz/), then every target FUZZ_SECONDS s
+fuzz: have-deps
+	@[ -f "$$($(FUZZ_CC) -print-runtime-dir 2>/dev/null)/libclang_rt.fuzzer-x86_64.a" ] || scripts/deps
+	@$(MAKE) --no-print-directory FUZZ=1 fuzz-build
+	@tests/fuzz/run build-fuzz $(FUZZ_SECONDS)
+
+fuzz-build: all $(FUZZ_BINS)
 
 bench: have-deps
 	@$(MAKE) --no-print-directory all
@@ -200,7 +228,8 @@ uninstall:
 		$(addprefix $(DESTDIR)$(BASHCOMPDIR)/,$(PROGRAMS) $(SCRIPTS))
 
 clean:
-	rm -rf build build-san build-tsan out
+	rm -rf build build-san build-tsan build-fuzz out
 
 -include $(LIB_OBJ:.o=.d) $(CLI_OBJ:.o=.d) $(PROGRAMS:%=$(B)/tools/%.d) \
-	$(UNIT_SRC:tests/unit/%.c=$(B)/tests/%.d) $(HELP_SRC:tests/helpers/%.c=$(B)/tests/helpers/%.d)
+	$(UNIT_SRC:tests/unit/%.c=$(B)/tests/%.d) $(HELP_SRC:tests/helpers/%.c=$(B)/tests/helpers/%.d) \
+	$(FUZZ_SRC:tests/fuzz/%.c=$(B)/fuzz/%.d)

@@ -22,6 +22,7 @@ void cli_init(const char *prog)
 	cli_prog = prog;
 }
 
+__attribute__((format(printf, 1, 0)))
 static void vmessage(const char *fmt, va_list ap)
 {
 	fprintf(stderr, "%s: ", cli_prog);

@@ -360,7 +360,16 @@ int main(int argc, char **argv)
 		case OPT_CAMERA: {
 			char buf[256];
 			const char *c2 = strrchr(optarg, ',');
-			if (c2 == NULL || (size_t)(c2 - optarg) >= sizeof buf)
+			int commas = 0;
+			for (const char *p = optarg; *p; p++)
+				commas += *p == ',';
+			if (commas != 2)
+				cli_usage_error("--camera: expected three comma-separated numbers "
+						"LAT,LON,ALT_M (degrees, degrees, metres above sea "
+						"level), got %d in '%s'%s", commas + 1, optarg,
+						commas == 1 ? ": the altitude is missing, e.g. "
+						"--camera 46.9,7.4,600" : "");
+			if ((size_t)(c2 - optarg) >= sizeof buf)
 				cli_usage_error("--camera: expected LAT,LON,ALT_M, not '%s'", optarg);
 			memcpy(buf, optarg, (size_t)(c2 - optarg));
 			buf[c2 - optarg] = '\0';
@@ -388,8 +397,9 @@ int main(int argc, char **argv)
 			if (x == NULL)
 				cli_usage_error("--size: expected WxH, not '%s'", optarg);
 			*x = '\0';
-			o.width = (int)cli_long("--size", optarg, 1, 16384);
-			o.height = (int)cli_long("--size", x + 1, 1, 16384);
+			/* the library says what a size over the limits would need */
+			o.width = (int)cli_long("--size", optarg, 1, 1000000000);
+			o.height = (int)cli_long("--size", x + 1, 1, 1000000000);
 			*x = 'x';
 			break;
 		}

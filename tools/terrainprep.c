@@ -60,7 +60,7 @@ static void usage(void)
 	       "                           CRS units and on the ground, WGS84 bounds,\n"
 	       "                           min/max/mean height, voids, water\n"
 	       "      --json               --info as one JSON object\n"
-	       "  -q, --quiet              no progress bar\n"
+	       "  -q, --quiet              no progress bar, no warnings\n"
 	       "  -v, --verbose            describe the result on stderr\n"
 	       "  -h, --help               this help\n"
 	       "      --version            print the version\n"
@@ -125,8 +125,18 @@ static void describe(const struct cs_terrainprep_opts *o, const struct cs_terrai
 	if (t->water)
 		fprintf(stderr, "terrainprep: %ld water samples (%.2f%%)\n", cs_terrain_water_count(t),
 			100.0 * (double)cs_terrain_water_count(t) / n);
-	if (r->warning[0])
-		fprintf(stderr, "terrainprep: GDAL warned: %s\n", r->warning);
+}
+
+/* GDAL's warnings and ours, one a line, unless -q. */
+static void warn(const struct cs_terrainprep_result *r)
+{
+	if (cli_quiet)
+		return;
+	for (const char *p = r->warning; *p;) {
+		size_t n = strcspn(p, "\n");
+		cli_err("warning: %.*s", (int)n, p);
+		p += n + (p[n] == '\n');
+	}
 }
 
 enum {
@@ -271,6 +281,7 @@ int main(int argc, char **argv)
 	struct cs_terrainprep_result r;
 	int rc = cs_terrainprep_run(&o, &r);
 	cli_progress_done();
+	warn(&r);
 	if (rc != CS_OK) {
 		cli_err("%s", cs_errmsg());
 		cs_terrainprep_result_free(&r);

@@ -332,10 +332,16 @@ static int check_run(const struct cs_cloudrender_opts *o, struct cs_cloudrender_
 					"in " CS_OUT_EXTENSIONS " (or give -of)", o->outputs[i]);
 	if (o->jpeg_quality < 0 || o->jpeg_quality > 100)
 		return cs_error(CS_EINVAL, "JPEG quality %d is outside 1..100", o->jpeg_quality);
-	if (o->width < 1 || o->height < 1 || o->width > 16384 || o->height > 16384 ||
-	    (double)o->width * o->height > 1e8)
-		return cs_error(CS_EINVAL, "image size %dx%d is impossible (1..16384 a side, 10^8 pixels)",
+	if (o->width < 1 || o->height < 1)
+		return cs_error(CS_EINVAL, "image size %dx%d is impossible (1..16384 a side)",
 				o->width, o->height);
+	if (o->width > 16384 || o->height > 16384 || (double)o->width * o->height > 1e8)
+		return cs_error(CS_EINVAL, "image size %dx%d is too large: it would need about "
+				"%.3g GB of memory (%d bytes a pixel); the most is 16384 a side "
+				"and 10^8 pixels (about %.1f GB)", o->width, o->height,
+				(double)o->width * o->height * CS_CLOUDRENDER_BYTES_PER_PIXEL / 1e9,
+				CS_CLOUDRENDER_BYTES_PER_PIXEL,
+				1e8 * CS_CLOUDRENDER_BYTES_PER_PIXEL / 1e9);
 	int rc = check_streams(o);
 	if (rc != CS_OK)
 		return rc;

@@ -13,6 +13,10 @@ struct cs_cloudrender_result;
 enum cs_out_format { CS_FMT_NONE, CS_FMT_PNG, CS_FMT_EXR, CS_FMT_TIFF, CS_FMT_JPEG };
 #define CS_OUT_EXTENSIONS ".png, .exr, .tif, .tiff, .jpg or .jpeg"
 #define CS_OUT_FORMAT_NAMES "PNG, EXR, GTiff (or TIFF) or JPEG (or JPG)"
+/* Memory a frame takes per pixel, bytes: the float frame (R G B A Z),
+ * the PNG and EXR encodings; measured as peak RSS growth between 400x200
+ * and 1600x800 frames written to PNG and EXR (49 bytes a pixel). */
+#define CS_CLOUDRENDER_BYTES_PER_PIXEL 49
 
 struct cs_cloudrender_opts {
 	const char *wx_path;      /* cloudwx JSON or "-", or NULL: built-in */

@@ -56,7 +56,7 @@ struct cs_terrainprep_result {
 	enum cs_terrain_format format; /* of the data file written */
 	long voids;                /* void samples found */
 	char resampling_used[16];
-	char warning[256];         /* GDAL's last warning, or "" */
+	char warning[2048];        /* GDAL's warnings and ours, one a line, or "" */
 };
 
 /* Defaults: format from the output's name, fill nearest, 50% voids

@@ -129,7 +129,20 @@ void cs_time_format(double unix_s, char *buf, size_t size)
 struct cs_time_text cs_time_text(double unix_s)
 {
 	struct cs_time_text t;
-	cs_time_format(unix_s, t.s, sizeof t.s);
+	double whole = floor(unix_s);
+	long ms = isfinite(unix_s) ? lround((unix_s - whole) * 1000.0) : 0;
+	if (ms == 1000)
+		whole += 1.0, ms = 0;
+	cs_time_format(whole, t.s, sizeof t.s);
+	size_t n = strlen(t.s);
+	if (ms > 0 && n >= 1 && n + 5 <= sizeof t.s) {
+		/* "...:00.5Z": a message must not round 22:00:00.5 to 22:00:00 */
+		char frac[24];
+		snprintf(frac, sizeof frac, ".%03ld", ms);
+		for (size_t k = strlen(frac); k > 2 && frac[k - 1] == '0'; k--)
+			frac[k - 1] = '\0';
+		snprintf(t.s + n - 1, sizeof t.s - (n - 1), "%sZ", frac);
+	}
 	return t;
 }
 

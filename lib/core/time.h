@@ -19,7 +19,9 @@ long cs_days_from_civil(long y, int m, int d);
 /* Julian Day of a UTC time (JD 2440587.5 at the Unix epoch). */
 double cs_julian_day(double unix_s);
 
-/* A UTC time as ISO 8601 text for messages: cs_time_text(t).s */
+/* A UTC time as ISO 8601 text for messages: cs_time_text(t).s; whole
+ * seconds as cs_time_format writes them, a fraction to the millisecond
+ * when there is one ("2021-06-14T22:00:00.5Z"). */
 struct cs_time_text {
 	char s[32];
 };

@@ -6,6 +6,7 @@
 
 #include <errno.h>
 #include <stddef.h>
+#include <stdint.h>
 #include <sys/stat.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -283,12 +284,38 @@ int cs_exr_write(const char *path, int width, int height,
 
 #define MAX_READ_PIXELS ((long)1 << 28) /* 1 GiB of floats */
 
+/* The most bytes of pixel data a file of len bytes can hold, by the best
+ * ratio its compression can reach: deflate (ZIP, ZIPS) at most 1032:1
+ * (RFC 1951: a 258-byte match in one ~2-bit code), PXR24 that on 24 of 32
+ * bits, RLE 64:1 (a 2-byte run of at most 128 bytes), PIZ's Huffman runs
+ * (255 values of 16 bits in >= 10 bits) about 410:1, B44's 3-byte flat
+ * block of 32 bytes; DWA's DCT runs are not bounded as simply: 65536:1.
+ * A header that claims more is hostile or corrupt, and refused before
+ * anything is allocated for it. */
+size_t cs_exr_max_pixel_bytes(size_t len, int compression)
+{
+	size_t ratio;
+	switch ((exr_compression_t)compression) {
+	case EXR_COMPRESSION_NONE: ratio = 1; break;
+	case EXR_COMPRESSION_RLE: ratio = 64; break;
+	case EXR_COMPRESSION_ZIPS:
+	case EXR_COMPRESSION_ZIP: ratio = 1032; break;
+	case EXR_COMPRESSION_PIZ: ratio = 512; break;
+	case EXR_COMPRESSION_PXR24: ratio = 1376; break;
+	case EXR_COMPRESSION_B44:
+	case EXR_COMPRESSION_B44A: ratio = 11; break;
+	default: ratio = 65536; break;
+	}
+	return len > SIZE_MAX / ratio ? SIZE_MAX : len * ratio;
+}
+
 /* One read of cs_exr_read_channels() in progress: the file, its decoder,
  * the result, and the blocks chunks are decoded into. */
 struct chunk_reader {
 	const char *name;
 	const char *const *channels;
 	int nch;
+	size_t len;         /* bytes of the whole file */
 	exr_context_t f;
 	exr_decode_pipeline_t dec;
 	int dec_live;
@@ -348,32 +375,64 @@ done:
 	return rc;
 }
 
+/* Bytes of one pixel of the channels asked for, as stored (half 2, float 4). */
+static int wanted_pixel_bytes(const struct chunk_reader *r, size_t *bytes)
+{
+	int rc = CS_OK;
+	const char *name = r->name;
+	const exr_attr_chlist_t *chl = NULL;
+	TRY(exr_get_channels(r->f, 0, &chl), "channel list");
+	*bytes = 0;
+	for (int i = 0; i < chl->num_channels; i++)
+		for (int c = 0; c < r->nch; c++)
+			if (strcmp(chl->entries[i].name.str, r->channels[c]) == 0)
+				*bytes += chl->entries[i].pixel_type == EXR_PIXEL_HALF ? 2 : 4;
+done:
+	return rc;
+}
+
 /* Reads the image size and chunk height and allocates the result and the
- * decoding blocks. */
+ * decoding blocks, once the header's size is one the file can hold. */
 static int alloc_buffers(struct chunk_reader *r)
 {
 	int rc = CS_OK;
 	const char *name = r->name;
 	exr_attr_box2i_t dw;
+	exr_compression_t comp = EXR_COMPRESSION_NONE;
+	size_t pxbytes = 0;
 	TRY(exr_get_data_window(r->f, 0, &dw), "data window");
+	TRY(exr_get_compression(r->f, 0, &comp), "compression");
 	long w = (long)dw.max.x - dw.min.x + 1, h = (long)dw.max.y - dw.min.y + 1;
 	if (dw.min.x != 0 || dw.min.y != 0 || w < 1 || h < 1 || w * h > MAX_READ_PIXELS)
-		return cs_error(CS_EDATA, "%s: unsupported data window (%d,%d)-(%d,%d)",
-				name, dw.min.x, dw.min.y, dw.max.x, dw.max.y);
+		return cs_error(CS_EDATA, "%s: unsupported data window (%d,%d)-(%d,%d)%s",
+				name, dw.min.x, dw.min.y, dw.max.x, dw.max.y,
+				w >= 1 && h >= 1 && w * h > MAX_READ_PIXELS ?
+				" (more than 268435456 pixels)" : "");
+	rc = wanted_pixel_bytes(r, &pxbytes);
+	if (rc != CS_OK)
+		return rc;
+	size_t claim = (size_t)w * (size_t)h * pxbytes;
+	size_t can = cs_exr_max_pixel_bytes(r->len, comp);
+	if (claim > can)
+		return cs_error(CS_EDATA, "%s: the header claims %ldx%ld pixels (%.3g MB of "
+				"pixel data) but a file of %zu bytes can hold at most %.3g MB "
+				"(corrupt or hostile header)", name, w, h, claim / 1e6,
+				r->len, can / 1e6);
 	r->w = w;
 	r->h = h;
 	r->px = malloc((size_t)w * (size_t)h * (size_t)r->nch * sizeof *r->px);
 	if (r->px == NULL)
-		return cs_error(CS_ENOMEM, "out of memory");
+		return cs_error(CS_ENOMEM, "%s: out of memory for %ldx%ld pixels", name, w, h);
 	TRY(exr_get_scanlines_per_chunk(r->f, 0, &r->spc), "chunk size");
 	if (r->spc < 1 || r->spc > 256)
 		return cs_error(CS_EDATA, "%s: unexpected %d scanlines per chunk",
 				name, r->spc);
-	r->block = (size_t)w * (size_t)r->spc * 4;
+	/* a chunk never holds more rows than the image */
+	r->block = (size_t)w * (size_t)(r->spc < h ? r->spc : h) * 4;
 	r->skip = malloc(r->block);
 	r->stage = malloc(r->block * (size_t)r->nch);
 	if (r->skip == NULL || r->stage == NULL)
-		return cs_error(CS_ENOMEM, "out of memory");
+		return cs_error(CS_ENOMEM, "%s: out of memory for %ldx%ld pixels", name, w, h);
 done:
 	return rc;
 }
@@ -455,7 +514,7 @@ int cs_exr_read_channels(const void *data, size_t len, const char *name,
 			 int *height, float **pixels)
 {
 	struct chunk_reader r = {
-		.name = name, .channels = channels, .nch = nch,
+		.name = name, .channels = channels, .nch = nch, .len = len,
 		.dec = EXR_DECODE_PIPELINE_INITIALIZER,
 	};
 	struct cs_exr_mem src = {data, len};

@@ -69,6 +69,9 @@ int cs_exr_read_float_channel(const void *data, size_t len, const char *name,
 			      const char *channel, int *width, int *height,
 			      float **pixels);
 
+/* The most bytes of pixel data a file of len bytes can hold under the
+ * given compression (an exr_compression_t): what a header may claim. */
+size_t cs_exr_max_pixel_bytes(size_t len, int compression);
 /* The core's last message on this thread, or the default text of code. */
 const char *cs_exr_message(exr_result_t code);
 

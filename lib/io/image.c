@@ -139,33 +139,63 @@ int cs_png16_write_to(struct cs_outfile *of, const char *name, int width,
 	return CS_OK;
 }
 
-int cs_png_read_rgb8(const char *path, uint8_t **rgb, int *width, int *height)
+/* The most bytes of an image's pixel data a PNG of len bytes can hold:
+ * zlib's best ratio, 1032:1 (RFC 1951). */
+#define PNG_MAX_RATIO 1032
+#define PNG_MAX_FILE_BYTES ((size_t)1 << 30)
+
+int cs_png_read_rgb8_mem(const void *data, size_t len, const char *name,
+			 uint8_t **rgb, int *width, int *height)
 {
 	png_image img;
 	memset(&img, 0, sizeof img);
 	img.version = PNG_IMAGE_VERSION;
 	*rgb = NULL;
-	if (!png_image_begin_read_from_file(&img, path))
-		return cs_error(CS_EDATA, "%s: not a readable PNG: %s", path, img.message);
-	if (img.width < 1 || img.height < 1 || (double)img.width * img.height > 1e8) {
+	if (!png_image_begin_read_from_memory(&img, data, len))
+		return cs_error(CS_EDATA, "%s: not a readable PNG: %s", name, img.message);
+	if (img.width < 1 || img.height < 1 ||
+	    (double)img.width * img.height > CS_PNG_MAX_PIXELS) {
 		png_image_free(&img);
-		return cs_error(CS_EDATA, "%s: a %ux%u image is too large", path,
-				img.width, img.height);
+		return cs_error(CS_EDATA, "%s: a %ux%u image is too large (at most %.0f pixels)",
+				name, img.width, img.height, (double)CS_PNG_MAX_PIXELS);
+	}
+	/* every row is a filter byte and at least one bit a pixel */
+	double least = (double)img.height * (1.0 + ceil(img.width / 8.0));
+	if (least > (double)PNG_MAX_RATIO * (double)len) {
+		png_image_free(&img);
+		return cs_error(CS_EDATA, "%s: the header claims %ux%u pixels, more than a "
+				"file of %zu bytes can hold (corrupt or hostile header)",
+				name, img.width, img.height, len);
 	}
 	img.format = PNG_FORMAT_RGB;
 	uint8_t *buf = malloc(PNG_IMAGE_SIZE(img));
 	if (buf == NULL) {
 		png_image_free(&img);
-		return cs_error(CS_ENOMEM, "out of memory reading %s", path);
+		return cs_error(CS_ENOMEM, "%s: out of memory for %ux%u pixels", name,
+				img.width, img.height);
 	}
 	if (!png_image_finish_read(&img, NULL, buf, 0, NULL)) {
 		free(buf);
-		return cs_error(CS_EDATA, "%s: %s", path, img.message);
+		return cs_error(CS_EDATA, "%s: %s", name, img.message);
 	}
 	*rgb = buf;
 	*width = (int)img.width;
 	*height = (int)img.height;
 	return CS_OK;
+}
+
+int cs_png_read_rgb8(const char *path, uint8_t **rgb, int *width, int *height)
+{
+	unsigned char *data = NULL;
+	size_t len = 0;
+	*rgb = NULL;
+	int rc = cs_read_all(path, PNG_MAX_FILE_BYTES, &data, &len);
+	if (rc != CS_OK) /* an unreadable PNG is bad data to the caller, as before */
+		return cs_error(CS_EDATA, "%s", cs_errmsg());
+	rc = cs_png_read_rgb8_mem(data, len, strcmp(path, "-") == 0 ? "standard input" : path,
+				  rgb, width, height);
+	free(data);
+	return rc;
 }
 
 double cs_tonemap_aces(double x)
@@ -188,8 +218,11 @@ double cs_auto_exposure_ev(const float *px, size_t stride, size_t n)
 		sum += log(isfinite(y) && y > 1e-9 ? y : 1e-9);
 	}
 	double avg = n ? exp(sum / (double)n) : 1.0;
-	/* x = L 2^ev / 16 = 0.25 at L = avg */
-	return log2(0.25 * 16.0 / avg);
+	/* x = L 2^ev / 16 = 0.25 at L = avg; within the range --exposure
+	 * accepts, which a black frame (32 EV) or the sun's disk would leave */
+	double ev = log2(0.25 * 16.0 / avg);
+	return ev < CS_EXPOSURE_MIN_EV ? CS_EXPOSURE_MIN_EV :
+	       ev > CS_EXPOSURE_MAX_EV ? CS_EXPOSURE_MAX_EV : ev;
 }
 
 void cs_tonemap_srgb8(const float *px, size_t stride, size_t n,

@@ -27,11 +27,20 @@ int cs_png16_write_to(struct cs_outfile *of, const char *name, int width,
 /* Reads a PNG as 8-bit sRGB RGB (any PNG: grey, palette and alpha are
  * converted); *rgb is malloc'ed for the caller. */
 int cs_png_read_rgb8(const char *path, uint8_t **rgb, int *width, int *height);
+/* The same from len bytes in memory; name labels messages.  A header that
+ * claims more than CS_PNG_MAX_PIXELS, or more pixels than len bytes can
+ * hold at zlib's best ratio, is CS_EDATA before anything is allocated. */
+int cs_png_read_rgb8_mem(const void *data, size_t len, const char *name,
+			 uint8_t **rgb, int *width, int *height);
+#define CS_PNG_MAX_PIXELS 100000000 /* 1e8: 300 MB of RGB */
 
 /* The exposure (stops) that brings the log-average luminance of n pixels
  * (R G B first of each, stride floats apart) to 0.25 on the tone curve's
  * input, as a camera's automatic exposure does (Reinhard et al. 2002's
- * key); zero-radiance pixels count as 1e-9 kcd/m^2. */
+ * key); zero-radiance pixels count as 1e-9 kcd/m^2.  Clamped to
+ * CS_EXPOSURE_MIN_EV..CS_EXPOSURE_MAX_EV (a black frame would ask 32). */
+#define CS_EXPOSURE_MIN_EV (-20.0)
+#define CS_EXPOSURE_MAX_EV 20.0
 double cs_auto_exposure_ev(const float *px, size_t stride, size_t n);
 
 /* The ACES filmic tone curve, Narkowicz 2015's fit

@@ -165,6 +165,40 @@ void cs_mbfetch_judge(enum cs_provider p, const struct cs_fetch_resp *r,
 
 /* ---- validation ---- */
 
+/* What a body that is not text looks like, from its magic bytes: "a PNG
+ * image", ..., "binary data"; NULL for text (no NUL and hardly any control
+ * characters in its first 512 bytes), whose excerpt can be shown. */
+static const char *binary_kind(const char *body, size_t len)
+{
+	static const struct {
+		const char *magic;
+		size_t n;
+		const char *what;
+	} kinds[] = {
+		{"\x89PNG\r\n\x1a\n", 8, "a PNG image"},
+		{"\xff\xd8\xff", 3, "a JPEG image"},
+		{"GIF8", 4, "a GIF image"},
+		{"\x76\x2f\x31\x01", 4, "an OpenEXR image"},
+		{"II*\0", 4, "a TIFF image"},
+		{"MM\0*", 4, "a TIFF image"},
+		{"\x1f\x8b", 2, "gzip-compressed data (not decompressed)"},
+		{"PK\x03\x04", 4, "a zip archive"},
+		{"%PDF", 4, "a PDF document"},
+		{"\x7f" "ELF", 4, "a program (ELF)"},
+	};
+	for (size_t i = 0; i < sizeof kinds / sizeof kinds[0]; i++)
+		if (len >= kinds[i].n && memcmp(body, kinds[i].magic, kinds[i].n) == 0)
+			return kinds[i].what;
+	size_t n = len < 512 ? len : 512, ctl = 0;
+	for (size_t i = 0; i < n; i++) {
+		unsigned char c = (unsigned char)body[i];
+		if (c == 0)
+			return "binary data";
+		ctl += c < 0x20 && c != '\t' && c != '\n' && c != '\r';
+	}
+	return ctl * 20 > n ? "binary data" : NULL;
+}
+
 int cs_mbfetch_validate(int expect, const char *body, size_t len,
 			const char *content_type, const char *secret,
 			struct cs_problems *pr)
@@ -180,6 +214,10 @@ int cs_mbfetch_validate(int expect, const char *body, size_t len,
 			cs_fetch_excerpt(body, len, secret, 200, ex, sizeof ex);
 			return cs_error_redacted(CS_EDATA, secret, "the response is HTML, not JSON: %s", ex);
 		}
+		const char *kind = binary_kind(body, len);
+		if (kind != NULL) /* never raw bytes on a terminal */
+			return cs_error(CS_EDATA, "the response is not JSON: it looks like "
+					"%s (%zu bytes)", kind, len);
 		cs_fetch_excerpt(body, len, secret, 100, ex, sizeof ex);
 		if (cs_json_cut_short(body, len, len))
 			return cs_error_redacted(CS_EDATA, secret, "the response is not valid JSON (it "

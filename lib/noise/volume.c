@@ -184,6 +184,12 @@ struct corners {
 CS_HD static void corners(const struct cs_volume *v, double u, double vv, double w,
 		    struct corners *c)
 {
+	/* a coordinate this large has no fraction left that a double can
+	 * tell; fmod (exact) keeps u * nx finite and the casts below defined
+	 * up to 1e308, while ordinary coordinates keep their bits */
+	u = fabs(u) < 0x1p40 ? u : fmod(u, 1.0);
+	vv = fabs(vv) < 0x1p40 ? vv : fmod(vv, 1.0);
+	w = fabs(w) < 0x1p40 ? w : fmod(w, 1.0);
 	double gx = u * v->nx - 0.5, gy = vv * v->ny - 0.5, gz = w * v->nz - 0.5;
 	double fx = floor(gx), fy = floor(gy), fz = floor(gz);
 	c->tx = (float)(gx - fx), c->ty = (float)(gy - fy), c->tz = (float)(gz - fz);

@@ -14,6 +14,9 @@
 
 #define CS_VOLUME_FORMAT 1  /* the cloudscapeFormat attribute written */
 #define CS_VOLUME_MAX_DIM 1024
+/* The most voxels a volume file may hold (4 GiB of floats when read), and
+ * the EXR reader's limit on its pixels: 512 x 512 x 1024, 1024 x 1024 x 256. */
+#define CS_VOLUME_MAX_READ_VOXELS ((long)1 << 28)
 
 /* How the channels were made (see man 5 cloudscape-noise).
  * R: Perlin-Worley base shape; G, B, A: inverted Worley fBm (detail). */

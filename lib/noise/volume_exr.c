@@ -187,6 +187,9 @@ static int read_volume_size(exr_context_t f, const char *name,
 	    size.z < 1 || size.z > CS_VOLUME_MAX_DIM)
 		BAD("cloudscapeVolumeSize %dx%dx%d is not a valid volume size",
 		    size.x, size.y, size.z);
+	if ((long)size.x * size.x * size.z > CS_VOLUME_MAX_READ_VOXELS)
+		BAD("cloudscapeVolumeSize %dx%dx%d is more voxels than a volume may have (%ld)",
+		    size.x, size.y, size.z, (long)CS_VOLUME_MAX_READ_VOXELS);
 	if (width != size.x || height != (long)size.x * size.z)
 		BAD("image is %ldx%ld but cloudscapeVolumeSize %dx%dx%d needs %dx%ld",
 		    width, height, size.x, size.y, size.z, size.x,
@@ -216,14 +219,17 @@ done:
 	return rc;
 }
 
-/* Allocates v for the header's size and sets its recipe, which must give
- * the header's periods. */
+/* Sets v's size and recipe from the header (the recipe must give the
+ * header's periods); allocates nothing: the pixels, read last, become the
+ * data, once the EXR reader has checked the file can hold them. */
 static int apply_volume_header(const struct vol_header *hd, const char *name,
 			       struct cs_volume *v)
 {
-	int rc = cs_volume_new(v, hd->size.x, hd->size.z);
-	if (rc != CS_OK)
-		return rc;
+	int rc = CS_OK;
+	memset(v, 0, sizeof *v);
+	v->nx = v->ny = hd->size.x;
+	v->nz = hd->size.z;
+	cs_noise_recipe_default(&v->recipe);
 	v->recipe.seed = (uint32_t)hd->seed;
 	if (cs_noise_recipe_parse(hd->recipe, &v->recipe) != CS_OK)
 		return cs_error(CS_EDATA, "%s: %s", name, cs_errmsg());
@@ -247,8 +253,9 @@ static int read_volume_pixels(const void *data, size_t len, const char *name,
 	int rc = cs_exr_read_channels(data, len, name, rgba, 4, &w, &h, &px);
 	if (rc != CS_OK)
 		return rc;
-	free(v->data);
 	v->data = px;
+	if ((size_t)w * (size_t)h * 4 != count)
+		BAD("%dx%d pixels where the header's volume needs %zu", w, h, count / 4);
 	for (size_t i = 0; i < count; i++)
 		if (!(v->data[i] == v->data[i] && v->data[i] - v->data[i] == 0.0f))
 			BAD("non-finite value at pixel %zu", i / 4);

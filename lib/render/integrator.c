@@ -106,15 +106,20 @@ CS_HD static void haze_to(const struct ray_ctx *c, struct path *P, double t)
 		haze_step(c, P, t, c->tsun);
 }
 
+/* The ground is solid: from an eye on it (a camera at exactly ground
+ * height, or a hair inside it by rounding, g0 < 0 <= g1) a ray that points
+ * down meets it at once, and one that points up leaves it and never meets
+ * it. */
 CS_HD double cs_find_ground(const struct cs_scene *sc, cs_v3 o, cs_v3 d,
 			    int *on_terrain, struct cs_render_stats *st)
 {
 	double tg = INFINITY, g0, g1;
+	cs_v3 up = v3(o.x, o.y, o.z + sc->earth_radius_m);
 	*on_terrain = 0;
 	if ((sc->effects & CS_FX_GROUND) &&
 	    cs_sphere_hit(o, d, sc->earth_radius_m, sc->earth_radius_m + sc->ground_alt_m,
 			  &g0, &g1) &&
-	    g1 >= 0.0) {
+	    g1 >= 0.0 && (g0 >= 0.0 || v3_dot(up, d) < 0.0)) {
 		tg = g0 > 0.0 ? g0 : 0.0;
 		double hh;
 		cs_v3 p = v3_mad(o, d, tg);

@@ -259,8 +259,16 @@ CS_HD int cs_hfield_intersect(const struct cs_hfield *f, cs_v3 o, cs_v3 d, doubl
 			double r = v3_len(q);
 			double al0 = r - R, al1 = v3_dot(d, q) / r;
 			double al2 = (1.0 - al1 * al1) / (2.0 * r);
-			double s = first_root(al0 - H0, al1 - H1, al2 - H2, te - t);
-			if (s < 0.0 && gap(f, o, d, te) <= 0.0)
+			double q0 = al0 - H0, q1 = al1 - H1, q2 = al2 - H2, s;
+			/* the eye stands on the surface (to rounding) and the ray
+			 * leaves it: the ground is solid, so only a ray that
+			 * comes back down meets it again */
+			int leaving = t == 0.0 && fabs(q0) < 1e-6 && q1 > 0.0;
+			if (leaving)
+				s = q2 < 0.0 && -q1 / q2 <= te - t ? -q1 / q2 : -1.0;
+			else
+				s = first_root(q0, q1, q2, te - t);
+			if (!leaving && s < 0.0 && gap(f, o, d, te) <= 0.0)
 				s = te - t; /* rounding: the end is below, so a root is here */
 			if (s >= 0.0) {
 				/* refine on the exact gap by bisection where it brackets */

@@ -5,6 +5,7 @@
 
 #include "core/err.h"
 #include "core/fileio.h"
+#include "core/vec.h"
 
 #include <cpl_conv.h>
 #include <cpl_error.h>
@@ -43,8 +44,20 @@ int cs_reproject_resampling_known(const char *name)
 struct gdal_log {
 	int failed;
 	char failure[512]; /* the first CE_Failure message of the step */
-	char warning[256]; /* the last CE_Warning message */
+	char warning[2048]; /* every distinct CE_Warning message, and our own
+			       notices, one a line */
+	const char *input;  /* the input being opened, to name in warnings */
 };
+
+/* Adds a line to the warnings, once (GDAL repeats itself per block). */
+static void add_warning(struct gdal_log *g, const char *line)
+{
+	size_t n = strlen(g->warning), k = strlen(line);
+	for (const char *at = g->warning; (at = strstr(at, line)) != NULL; at++)
+		if ((at == g->warning || at[-1] == '\n') && (at[k] == '\n' || at[k] == '\0'))
+			return;
+	snprintf(g->warning + n, sizeof g->warning - n, "%s%s", n ? "\n" : "", line);
+}
 
 static void copy_msg(char *dst, size_t size, const char *msg)
 {
@@ -65,7 +78,14 @@ static void CPL_STDCALL on_gdal_error(CPLErr cls, CPLErrorNum no, const char *ms
 			copy_msg(g->failure, sizeof g->failure, msg);
 		g->failed = 1;
 	} else if (cls == CE_Warning) {
-		copy_msg(g->warning, sizeof g->warning, msg);
+		char line[800], named[1000];
+		copy_msg(line, sizeof line, msg);
+		/* GDAL seldom names the file: with several inputs, say which */
+		if (g->input && strstr(line, g->input) == NULL)
+			snprintf(named, sizeof named, "%s: %s", g->input, line);
+		else
+			snprintf(named, sizeof named, "%s", line);
+		add_warning(g, named);
 	}
 }
 
@@ -103,6 +123,8 @@ struct cs_reproject {
 	double gt[6];
 	char tif_path[160];          /* the encoded GeoTIFF, or "" */
 	char *pam;                 /* GDAL_PAM_ENABLED outside our calls */
+	char *dted;                /* DTED_VERIFY_CHECKSUM outside our calls */
+	size_t in_bytes;           /* the inputs' sizes, all together */
 };
 
 /* The failure message after a GDAL step, as a CS_EDATA error. */
@@ -153,6 +175,7 @@ static int utm_epsg(double lat, double lon)
 		return 32661;
 	if (lat < -80.0)
 		return 32761;
+	lon = isfinite(lon) ? lon - 360.0 * floor((lon + 180.0) / 360.0) : 0.0;
 	int zone = (int)floor((lon + 180.0) / 6.0) + 1;
 	zone = zone < 1 ? 1 : zone > 60 ? 60 : zone;
 	if (lat >= 56.0 && lat < 64.0 && lon >= 3.0 && lon < 12.0)
@@ -210,6 +233,48 @@ static int open_error(struct cs_reproject *r, const char *path, const char *labe
 	return cs_error(CS_EDATA, "%s", msg);
 }
 
+/* Whether the grid's corners lie within 1e9 units of the origin of its
+ * CRS (the Earth is 4e7 m round, 1.3e8 ft): far beyond, PROJ's inverse
+ * projections can run for minutes (an origin at 1e54 m hung gdalinfo). */
+static int sane_extent(const double gt[6], int w, int h)
+{
+	for (int k = 0; k < 4; k++) {
+		double c = (k & 1) ? w : 0, r = (k & 2) ? h : 0;
+		double x = gt[0] + c * gt[1] + r * gt[2], y = gt[3] + c * gt[4] + r * gt[5];
+		if (!(fabs(x) <= 1e9 && fabs(y) <= 1e9))
+			return 0;
+	}
+	return 1;
+}
+
+/* The size of a file GDAL opens (files and /vsimem alike), or 0. */
+static size_t file_bytes(const char *path)
+{
+	VSILFILE *f = VSIFOpenL(path, "rb");
+	size_t n = 0;
+	if (f != NULL && VSIFSeekL(f, 0, SEEK_END) == 0)
+		n = (size_t)VSIFTellL(f);
+	if (f != NULL)
+		VSIFCloseL(f);
+	return n;
+}
+
+/* DTED stores a checksum per elevation profile: read the whole file once
+ * with DTED_VERIFY_CHECKSUM (set in enter()), so that a damaged tile is
+ * an error naming it, not a warp failure naming none of a mosaic's. */
+static int verify_checksums(struct cs_reproject *r, GDALDatasetH ds, const char *label)
+{
+	if (strcmp(GDALGetDriverShortName(GDALGetDatasetDriver(ds)), "DTED") != 0 ||
+	    GDALGetRasterCount(ds) < 1)
+		return CS_OK;
+	log_reset(&r->log);
+	GDALRasterBandH b = GDALGetRasterBand(ds, 1);
+	(void)GDALChecksumImage(b, 0, 0, GDALGetRasterXSize(ds), GDALGetRasterYSize(ds));
+	if (r->log.failed)
+		return cs_error(CS_EDATA, "%s is damaged: %s", label, r->log.failure);
+	return CS_OK;
+}
+
 static int open_inputs(struct cs_reproject *r)
 {
 	const struct cs_reproject_opts *o = r->o;
@@ -227,6 +292,7 @@ static int open_inputs(struct cs_reproject *r)
 		const char *path = is_stdin ? r->stdin_path : in;
 		const char *label = is_stdin ? "standard input" : in;
 		log_reset(&r->log);
+		r->log.input = label;
 		GDALDatasetH ds = GDALOpenEx(path, GDAL_OF_RASTER | GDAL_OF_READONLY |
 					     GDAL_OF_VERBOSE_ERROR, NULL, NULL, NULL);
 		if (ds == NULL || r->log.failed) {
@@ -235,12 +301,21 @@ static int open_inputs(struct cs_reproject *r)
 			return open_error(r, path, label);
 		}
 		r->src[r->nsrc++] = ds;
+		r->in_bytes += file_bytes(path);
+		int rc = verify_checksums(r, ds, label);
+		if (rc != CS_OK)
+			return rc;
 		double gt[6];
 		if (GDALGetRasterCount(ds) < 1)
 			return cs_error(CS_EDATA, "%s has no raster band", label);
-		if (GDALGetGeoTransform(ds, gt) != CE_None && GDALGetGCPCount(ds) == 0)
+		int have_gt = GDALGetGeoTransform(ds, gt) == CE_None;
+		if (!have_gt && GDALGetGCPCount(ds) == 0)
 			return cs_error(CS_EDATA, "%s has no georeferencing (no geotransform, no GCPs)",
 					label);
+		if (have_gt && !sane_extent(gt, GDALGetRasterXSize(ds), GDALGetRasterYSize(ds)))
+			return cs_error(CS_EDATA, "%s: its georeferencing is off the Earth (origin %g, %g; "
+					"pixel %g x %g): a corrupt header", label, gt[0], gt[3],
+					gt[1], gt[5]);
 		log_reset(&r->log);
 		if (o->s_srs == NULL && GDALGetSpatialRef(ds) == NULL &&
 		    GDALGetGCPSpatialRef(ds) == NULL)
@@ -300,10 +375,45 @@ static int source_center(struct cs_reproject *r, double *lat, double *lon)
 		return gdal_fail(r, "cannot place the input on the Earth");
 	*lat = 0.5 * (lat0 + lat1);
 	*lon = 0.5 * (lon0 + lon1);
+	if (!(fabs(*lat) <= 90.0 && fabs(*lon) <= 540.0))
+		return cs_error(CS_EDATA, "cannot place the input on the Earth: its "
+				"georeferencing puts the centre at %g, %g", *lat, *lon);
 	return CS_OK;
 }
 
-/* The target CRS: --t-srs; else the input's own if projected in metres;
+/* The point scale of a projected CRS at (lat, lon), WGS84 degrees: its
+ * metres per true metre east and north, from points 1e-4 degree away
+ * (true lengths on the WGS84 ellipsoid: the meridian radius M and the
+ * prime vertical N).  1 within 0.1 % for UTM in its zone; 1/cos(lat) for
+ * Web Mercator (EPSG:3857).  0 when it cannot be computed. */
+static double crs_scale(struct cs_reproject *r, OGRSpatialReferenceH crs,
+			double lat, double lon)
+{
+	const double a = 6378137.0, e2 = 0.00669437999014, d = 1e-4;
+	double phi = lat * CS_PI / 180.0, w = 1.0 - e2 * sin(phi) * sin(phi);
+	double m = a * (1.0 - e2) / pow(w, 1.5), n = a / sqrt(w);
+	double x[3] = {lon, lon + d, lon}, y[3] = {lat, lat, lat + d};
+	if (fabs(lat) > 89.0 || transform(r, r->wgs84, crs, 3, x, y) != CS_OK)
+		return 0.0;
+	double ke = hypot(x[1] - x[0], y[1] - y[0]) / (n * cos(phi) * d * CS_PI / 180.0);
+	double kn = hypot(x[2] - x[0], y[2] - y[0]) / (m * d * CS_PI / 180.0);
+	double k = 0.5 * (ke + kn);
+	return isfinite(k) && k > 0.0 ? k : 0.0;
+}
+
+/* "EPSG:3857" or the CRS's name, for messages. */
+static void crs_label(OGRSpatialReferenceH h, char *buf, size_t size)
+{
+	const char *auth = OSRGetAuthorityName(h, NULL), *code = OSRGetAuthorityCode(h, NULL);
+	const char *name = OSRGetName(h);
+	if (auth && code)
+		snprintf(buf, size, "%s:%s (%s)", auth, code, name ? name : "unnamed");
+	else
+		snprintf(buf, size, "%s", name ? name : "the input's CRS");
+}
+
+/* The target CRS: --t-srs; else the input's own if projected in true
+ * metres (scale within CS_REPROJECT_MAX_SCALE_ERROR of 1 at the centre);
  * else the UTM zone of the centre (of the crop, or of the inputs). */
 static int choose_target(struct cs_reproject *r)
 {
@@ -314,12 +424,27 @@ static int choose_target(struct cs_reproject *r)
 	OGRSpatialReferenceH own = r->s_srs ? r->s_srs : GDALGetSpatialRef(r->src[0]);
 	if (own == NULL)
 		own = GDALGetGCPSpatialRef(r->src[0]);
+	double lat, lon, k = 1.0;
 	if (own && is_metric_projected(own)) {
-		r->t_srs = OSRClone(own);
-		OSRSetAxisMappingStrategy(r->t_srs, OAMS_TRADITIONAL_GIS_ORDER);
-		return CS_OK;
+		OGRSpatialReferenceH c = OSRClone(own);
+		OSRSetAxisMappingStrategy(c, OAMS_TRADITIONAL_GIS_ORDER);
+		if (source_center(r, &lat, &lon) == CS_OK)
+			k = crs_scale(r, c, lat, lon);
+		if (k == 0.0 || fabs(k - 1.0) <= CS_REPROJECT_MAX_SCALE_ERROR) {
+			r->t_srs = c;
+			return CS_OK;
+		}
+		/* metres that are not true metres (Web Mercator): the renderer
+		 * takes pixel sizes as lengths, so go to the local UTM zone */
+		char label[200], msg[400];
+		crs_label(c, label, sizeof label);
+		OSRDestroySpatialReference(c);
+		snprintf(msg, sizeof msg, "%s is not in true metres here: one of its metres is "
+			 "%.3f m at the centre (%.2f, %.2f; scale %.4f), so the result is "
+			 "reprojected to the local UTM zone (--t-srs keeps a CRS of your choice)",
+			 label, 1.0 / k, lat, lon, k);
+		add_warning(&r->log, msg);
 	}
-	double lat, lon;
 	if (o->have_center) {
 		lat = o->center_lat;
 		lon = o->center_lon;
@@ -477,6 +602,17 @@ static int size_args(struct cs_reproject *r, char ***av, const double ext[2],
 			n = 2 * n - 1;
 		want_w = want_h = n;
 	}
+	/* the grid the inputs' headers make, when no option chose one: no
+	 * more samples than their bytes can hold, one bit a sample at
+	 * deflate's best ratio (1032:1) */
+	double can = (double)r->in_bytes * 8.0 * 1032.0;
+	if (o->res_m <= 0.0 && o->size_w <= 0 && o->size_long <= 0 && !o->size_unity &&
+	    want_w * want_h > can && want_w * want_h <= (double)CS_REPROJECT_MAX_SAMPLES)
+		return cs_error(CS_EDATA, "%s: the header%s make%s a %.0fx%.0f grid, more "
+				"samples than %zu bytes can hold (%.0f): a corrupt or hostile "
+				"header (--res or --size chooses the grid)", r->source,
+				r->nsrc > 1 ? "s" : "", r->nsrc > 1 ? "" : "s", want_w, want_h,
+				r->in_bytes, can);
 	if (want_w * want_h > (double)CS_REPROJECT_MAX_SAMPLES || want_w > 65536 ||
 	    want_h > 65536)
 		return cs_error(CS_EINVAL, "the grid would be %.0fx%.0f samples (at most %ld): choose a coarser --res or a smaller --size",
@@ -533,6 +669,23 @@ static int warp_heights(struct cs_reproject *r, float **h, int *w, int *hh,
 }
 
 /* ---- georeference, GeoTIFF ------------------------------------------ */
+
+/* A --t-srs whose metres are not true metres here: say the true size. */
+static void warn_target_scale(struct cs_reproject *r, const struct cs_terrain *t)
+{
+	if (r->o->t_srs == NULL)
+		return;
+	double k = crs_scale(r, r->t_srs, t->center_lat, t->center_lon);
+	if (k == 0.0 || fabs(k - 1.0) <= CS_REPROJECT_MAX_SCALE_ERROR)
+		return;
+	char label[200], msg[400];
+	crs_label(r->t_srs, label, sizeof label);
+	snprintf(msg, sizeof msg, "--t-srs %s is not in true metres here (scale %.4f at "
+		 "%.2f, %.2f): the pixels are %g x %g of its metres but about %.4g x %.4g "
+		 "true metres; the sidecar records its metres", label, k, t->center_lat,
+		 t->center_lon, t->pixel_x_m, t->pixel_y_m, t->pixel_x_m / k, t->pixel_y_m / k);
+	add_warning(&r->log, msg);
+}
 
 static int georeference(struct cs_reproject *r, struct cs_terrain *t)
 {
@@ -613,13 +766,17 @@ static void enter(struct cs_reproject *r)
 	pthread_once(&gdal_once, register_drivers);
 	r->pam = CPLStrdup(CPLGetThreadLocalConfigOption("GDAL_PAM_ENABLED", ""));
 	CPLSetThreadLocalConfigOption("GDAL_PAM_ENABLED", "NO");
+	r->dted = CPLStrdup(CPLGetThreadLocalConfigOption("DTED_VERIFY_CHECKSUM", ""));
+	CPLSetThreadLocalConfigOption("DTED_VERIFY_CHECKSUM", "YES");
 }
 
 static int leave(struct cs_reproject *r, int rc)
 {
 	CPLSetThreadLocalConfigOption("GDAL_PAM_ENABLED", r->pam[0] ? r->pam : NULL);
+	CPLSetThreadLocalConfigOption("DTED_VERIFY_CHECKSUM", r->dted[0] ? r->dted : NULL);
 	CPLFree(r->pam);
-	r->pam = NULL;
+	CPLFree(r->dted);
+	r->pam = r->dted = NULL;
 	CPLPopErrorHandler();
 	return rc;
 }
@@ -659,6 +816,7 @@ int cs_reproject_open(const struct cs_reproject_opts *o, struct cs_reproject **o
 	int rc = parse_crs_opts(r);
 	if (rc == CS_OK)
 		rc = open_inputs(r);
+	r->log.input = NULL; /* named while it was read */
 	if (rc == CS_OK)
 		rc = choose_target(r);
 	if (rc == CS_OK && (r->t_wkt = export_wkt(r->t_srs)) == NULL)
@@ -678,7 +836,10 @@ int cs_reproject_warp(struct cs_reproject *rp, struct cs_terrain *t,
 int cs_reproject_georeference(struct cs_reproject *rp, struct cs_terrain *t)
 {
 	enter(rp);
-	return leave(rp, georeference(rp, t));
+	int rc = georeference(rp, t);
+	if (rc == CS_OK)
+		warn_target_scale(rp, t);
+	return leave(rp, rc);
 }
 
 int cs_reproject_geotiff(struct cs_reproject *rp, const struct cs_terrain *t,

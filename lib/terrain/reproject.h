@@ -20,6 +20,10 @@
 
 /* Most samples in a warped grid. */
 #define CS_REPROJECT_MAX_SAMPLES ((long)1 << 28) /* 16384^2 */
+/* A projected CRS whose point scale at the data's centre is further than
+ * this from 1 is not taken as metric: its metres are not true metres
+ * (Web Mercator: 1/cos(latitude)).  UTM's is 0.1 % within its zone. */
+#define CS_REPROJECT_MAX_SCALE_ERROR 0.01
 
 struct cs_reproject_opts {
 	const char **inputs;      /* DEM files, "-" = standard input (once) */
@@ -83,7 +87,9 @@ int cs_reproject_water_mask(struct cs_reproject *rp, const char *path,
 const char *cs_reproject_source(const struct cs_reproject *rp);
 const char *cs_reproject_driver(const struct cs_reproject *rp);
 const char *cs_reproject_src_nodata(const struct cs_reproject *rp);
-/* GDAL's last warning, or "". */
+/* GDAL's warnings (each once, naming the input being opened when GDAL
+ * did not) and ours (a source CRS whose metres are not true metres), one
+ * a line, or "". */
 const char *cs_reproject_warning(const struct cs_reproject *rp);
 /* "GDAL 3.6.2" style release name of the GDAL in use. */
 const char *cs_reproject_gdal_version(void);

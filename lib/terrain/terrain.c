@@ -370,7 +370,11 @@ static int parse_sidecar(const char *text, size_t len, const char *name,
 	if (r.rc == CS_OK && !cJSON_IsNull(epsg)) {
 		double e = need_num(&r, "crs.epsg");
 		need_range(&r, "crs.epsg", e, 1, 999999);
-		t->epsg = (int)e;
+		if (r.rc == CS_OK && e != floor(e))
+			r.rc = cs_error(CS_EDATA, "%s: crs.epsg: %s is not a whole number",
+					name, cs_num(e).s);
+		if (r.rc == CS_OK) /* a rejected value never reaches the cast */
+			t->epsg = (int)e;
 	}
 	const char *wkt = need_str(&r, "crs.wkt");
 	for (int c = 0; c < 4; c++)
@@ -400,51 +404,10 @@ static int parse_sidecar(const char *text, size_t len, const char *name,
 	return r.rc;
 }
 
-int cs_terrain_read(const char *exr_path, struct cs_terrain *t)
+/* Checks the heights against the sidecar: no voids, the same range. */
+static int check_heights(const struct cs_terrain *t, const char *exr_name,
+			 const char *json_name)
 {
-	char json_path[4096];
-	unsigned char *data = NULL;
-	size_t len = 0;
-	memset(t, 0, sizeof *t);
-	if (strcmp(exr_path, "-") == 0)
-		return cs_error(CS_EINVAL,
-				"a heightfield is two files (EXR and sidecar): give its file name, not '-'");
-	int rc = cs_terrain_sidecar_path(exr_path, json_path, sizeof json_path);
-	if (rc != CS_OK)
-		return rc;
-	rc = cs_read_all(exr_path, MAX_DATA_BYTES, &data, &len);
-	if (rc != CS_OK)
-		return rc;
-	rc = cs_exr_read_float_channel(data, len, exr_path, "Y", &t->width,
-				       &t->height, &t->h);
-	if (rc != CS_OK) {
-		free(data);
-		return rc;
-	}
-	if (access(json_path, F_OK) != 0) {
-		free(data);
-		rc = cs_error(CS_EDATA, "%s: its sidecar %s is missing (%s)", exr_path,
-			      json_path, strerror(errno));
-		goto fail;
-	}
-	unsigned char *side = NULL;
-	size_t side_len = 0;
-	int has_water = 0;
-	rc = cs_read_all(json_path, MAX_SIDECAR_BYTES, &side, &side_len);
-	if (rc == CS_OK)
-		rc = parse_sidecar((const char *)side, side_len, json_path, t, &has_water);
-	free(side);
-	if (rc == CS_OK && has_water) {
-		int ww, wh;
-		rc = cs_exr_read_float_channel(data, len, exr_path, "W", &ww, &wh,
-					       &t->water);
-		if (rc == CS_OK && (ww != t->width || wh != t->height))
-			rc = cs_error(CS_EDATA, "%s: water is %dx%d, heights %dx%d",
-				      exr_path, ww, wh, t->width, t->height);
-	}
-	free(data);
-	if (rc != CS_OK)
-		goto fail;
 	size_t n = (size_t)t->width * t->height, voids = 0;
 	double lo = INFINITY, hi = -INFINITY;
 	for (size_t i = 0; i < n; i++) {
@@ -456,20 +419,65 @@ int cs_terrain_read(const char *exr_path, struct cs_terrain *t)
 		lo = v < lo ? v : lo;
 		hi = v > hi ? v : hi;
 	}
-	if (voids > 0) {
-		rc = cs_error(CS_EDATA, "%s: %zu of %zu heights are voids (NaN): make it with --fill nearest or --fill value",
-			      exr_path, voids, n);
-		goto fail;
-	}
+	if (voids > 0)
+		return cs_error(CS_EDATA, "%s: %zu of %zu heights are voids (NaN): make it with --fill nearest or --fill value",
+				exr_name, voids, n);
 	/* the sidecar's range is the data's, to float precision */
 	double tol = 1e-6 * (fabs(lo) + fabs(hi) + 1.0);
-	if (fabs(lo - t->min_m) > tol || fabs(hi - t->max_m) > tol) {
-		rc = cs_error(CS_EDATA, "%s: height range %g..%g disagrees with the heights (%g..%g)",
-			      json_path, t->min_m, t->max_m, lo, hi);
-		goto fail;
-	}
+	if (fabs(lo - t->min_m) > tol || fabs(hi - t->max_m) > tol)
+		return cs_error(CS_EDATA, "%s: height range %g..%g disagrees with the heights (%g..%g)",
+				json_name, t->min_m, t->max_m, lo, hi);
 	return CS_OK;
-fail:
-	cs_terrain_free(t);
+}
+
+int cs_terrain_read_mem(const void *exr, size_t exr_len, const char *exr_name,
+			const char *json, size_t json_len,
+			const char *json_name, struct cs_terrain *t)
+{
+	memset(t, 0, sizeof *t);
+	int has_water = 0;
+	int rc = cs_exr_read_float_channel(exr, exr_len, exr_name, "Y", &t->width,
+					   &t->height, &t->h);
+	if (rc == CS_OK)
+		rc = parse_sidecar(json, json_len, json_name, t, &has_water);
+	if (rc == CS_OK && has_water) {
+		int ww, wh;
+		rc = cs_exr_read_float_channel(exr, exr_len, exr_name, "W", &ww, &wh, &t->water);
+		if (rc == CS_OK && (ww != t->width || wh != t->height))
+			rc = cs_error(CS_EDATA, "%s: water is %dx%d, heights %dx%d", exr_name, ww,
+				      wh, t->width, t->height);
+	}
+	if (rc == CS_OK)
+		rc = check_heights(t, exr_name, json_name);
+	if (rc != CS_OK)
+		cs_terrain_free(t);
+	return rc;
+}
+
+int cs_terrain_read(const char *exr_path, struct cs_terrain *t)
+{
+	char json_path[4096];
+	unsigned char *data = NULL, *json = NULL;
+	size_t len = 0, json_len = 0;
+	memset(t, 0, sizeof *t);
+	if (strcmp(exr_path, "-") == 0)
+		return cs_error(CS_EINVAL,
+				"a heightfield is two files (EXR and sidecar): give its file name, not '-'");
+	int rc = cs_terrain_sidecar_path(exr_path, json_path, sizeof json_path);
+	if (rc != CS_OK)
+		return rc;
+	rc = cs_read_all(exr_path, MAX_DATA_BYTES, &data, &len);
+	if (rc != CS_OK)
+		return rc;
+	if (access(json_path, F_OK) != 0)
+		rc = cs_error(CS_EDATA, "%s: its sidecar %s is missing (%s)", exr_path,
+			      json_path, strerror(errno));
+	else
+		rc = cs_read_all(json_path, MAX_SIDECAR_BYTES, &json, &json_len);
+	if (rc == CS_OK)
+		rc = cs_terrain_read_mem(data, len, exr_path, (const char *)json,
+					 json_len, json_path, t);
+	free(data);
+	free(json);
 	return rc;
 }

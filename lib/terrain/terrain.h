@@ -71,6 +71,11 @@ int cs_terrain_sidecar_path(const char *path, char *out, size_t size);
  * "-" is not accepted (two files are needed).  Voids (NaN, from
  * terrainprep --fill none) are an error. */
 int cs_terrain_read(const char *exr_path, struct cs_terrain *t);
+/* The same from memory: the EXR's bytes and the sidecar's text, with the
+ * names messages give them. */
+int cs_terrain_read_mem(const void *exr, size_t exr_len, const char *exr_name,
+			const char *json, size_t json_len,
+			const char *json_name, struct cs_terrain *t);
 
 /* Writes the EXR and the sidecar atomically (each via temporary + rename).
  * source and driver describe where the data came from; nodata_policy is

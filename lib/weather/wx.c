@@ -1,4 +1,5 @@
 #include "weather/wx.h"
+#include "weather/provider.h"
 
 #include "core/err.h"
 #include "core/fileio.h"
@@ -409,7 +410,21 @@ static int parse_text(const char *json, size_t len, struct cs_wx *wx,
 	struct cs_wx w;
 	memset(&w, 0, sizeof w);
 	int rc = parse_root(root, &w);
+	int no_schema = cJSON_IsObject(root) &&
+			cJSON_GetObjectItemCaseSensitive(root, "schema") == NULL;
 	cJSON_Delete(root);
+	if (rc != CS_OK && no_schema) {
+		/* a provider's file where a state belongs: say what it is */
+		char why[512];
+		enum cs_provider p;
+		snprintf(why, sizeof why, "%s", cs_errmsg());
+		if (cs_provider_detect(json, len, &p) == CS_OK)
+			return cs_error(CS_EDATA, "this is %s response (hourly weather), "
+					"not a cloudwx weather state: make a state from "
+					"it with wxinterp --at TIME FILE",
+					p == CS_PROVIDER_METEOBLUE ? "a meteoblue" : "an Open-Meteo");
+		return cs_error(rc, "%s", why);
+	}
 	if (rc == CS_OK)
 		rc = cs_wx_validate(&w);
 	if (rc == CS_OK)
@@ -420,6 +435,11 @@ static int parse_text(const char *json, size_t len, struct cs_wx *wx,
 int cs_wx_parse(const char *json, size_t len, struct cs_wx *wx)
 {
 	return parse_text(json, len, wx, 0);
+}
+
+int cs_wx_parse_lines(const char *json, size_t len, struct cs_wx *wx)
+{
+	return parse_text(json, len, wx, 1);
 }
 
 int cs_wx_read(const char *path, struct cs_wx *wx)

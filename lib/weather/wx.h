@@ -97,6 +97,9 @@ void cs_wx_default(struct cs_wx *wx);
  * the field, e.g. "layers[1].coverage: 1.5 is outside 0..1".  Unknown keys
  * are ignored; *wx is left untouched on error. */
 int cs_wx_parse(const char *json, size_t len, struct cs_wx *wx);
+/* The same for JSON Lines text: the first non-empty line's state (what
+ * cs_wx_read() does with a file's bytes). */
+int cs_wx_parse_lines(const char *json, size_t len, struct cs_wx *wx);
 
 /* Reads a state from a file ("-" = stdin) of at most 16 MiB.  A JSON Lines
  * file gives its first non-empty line; the lines after it are not read.

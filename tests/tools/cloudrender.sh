@@ -134,7 +134,7 @@ printf 'not an exr' >"$T/bad.exr"
 check_bad 1 "not a readable OpenEXR file" --noise "$T/bad.exr" $FAST
 check_bad 2 "--size: 0 is out of range" --size 0x10 -q
 check_bad 2 "--size: expected WxH" --size 100 -q
-check_bad 2 "image size 16384x16384 is impossible" --size 16384x16384 -q
+check_bad 2 "image size 16384x16384 is too large: it would need about 13.2 GB" --size 16384x16384 -q
 check_bad 2 "--view: unknown view 'nowhere'" --view nowhere -q
 check_bad 2 "--quality: unknown quality 'best'" --quality best -q
 check_bad 2 "--time: '2021-06-14 15:00' is not an ISO 8601 UTC time" --time "2021-06-14 15:00" -q

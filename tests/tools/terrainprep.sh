@@ -200,7 +200,7 @@ begin terrainprep_reports_a_truncated_dem
 if have_dem n43.dt0; then
 	head -c 20000 "$DEM/n43.dt0" >"$T/trunc.dt0"
 	run "$TP" "$T/trunc.dt0" -o "$T/o.exr"
-	expect_rc 1; expect_err "terrainprep: warp: Failed to seek to, or read profile"
+	expect_rc 1; expect_err "trunc.dt0 is damaged: Failed to seek to, or read profile"
 	expect_no_file "$T/o.exr"; expect_no_file "$T/o.json"
 	rm -f "$T"/*
 	end
