@@ -67,6 +67,19 @@ static enum cs_terrain_format output_format(const struct cs_terrainprep_opts *o)
 
 /* Counts the voids (any non-finite height becomes NaN), refuses too many,
  * fills them as asked and sets the height range. */
+/* The range of the heights that are not voids. */
+static void height_range(struct cs_terrain *t)
+{
+	size_t n = (size_t)t->width * t->height;
+	t->min_m = INFINITY;
+	t->max_m = -INFINITY;
+	for (size_t i = 0; i < n; i++)
+		if (!isnan(t->h[i])) {
+			t->min_m = fmin(t->min_m, t->h[i]);
+			t->max_m = fmax(t->max_m, t->h[i]);
+		}
+}
+
 static int handle_voids(const struct cs_terrainprep_opts *o, struct cs_terrain *t,
 			long *nvoids)
 {
@@ -92,13 +105,7 @@ static int handle_voids(const struct cs_terrainprep_opts *o, struct cs_terrain *
 		for (size_t i = 0; i < n; i++)
 			if (isnan(t->h[i]))
 				t->h[i] = (float)o->fill_value;
-	t->min_m = INFINITY;
-	t->max_m = -INFINITY;
-	for (size_t i = 0; i < n; i++)
-		if (!isnan(t->h[i])) {
-			t->min_m = fmin(t->min_m, t->h[i]);
-			t->max_m = fmax(t->max_m, t->h[i]);
-		}
+	height_range(t);
 	return rc;
 }
 
@@ -184,15 +191,8 @@ static int make_water(const struct cs_terrainprep_opts *o, struct cs_reproject *
 				t->water[i] = 1.0f;
 				t->h[i] = (float)o->water_level_m;
 			}
-	if (o->have_water_level) {
-		t->min_m = INFINITY;
-		t->max_m = -INFINITY;
-		for (size_t i = 0; i < n; i++)
-			if (!isnan(t->h[i])) {
-				t->min_m = fmin(t->min_m, t->h[i]);
-				t->max_m = fmax(t->max_m, t->h[i]);
-			}
-	}
+	if (o->have_water_level)
+		height_range(t);
 	return CS_OK;
 }
 

@@ -225,16 +225,22 @@ double cs_auto_exposure_ev(const float *px, size_t stride, size_t n)
 	       ev > CS_EXPOSURE_MAX_EV ? CS_EXPOSURE_MAX_EV : ev;
 }
 
+/* A linear value on the display, 0..1: scaled by k, finite and positive,
+ * tone-mapped, sRGB-encoded. */
+static double display(float v, double k)
+{
+	double x = v * k;
+	x = isfinite(x) && x > 0.0 ? x : 0.0;
+	return cs_srgb_oetf(cs_tonemap_aces(x));
+}
+
 void cs_tonemap_srgb8(const float *px, size_t stride, size_t n,
 		      double exposure_ev, uint8_t *rgb)
 {
 	double k = pow(2.0, exposure_ev) / 16.0;
 	for (size_t i = 0; i < n; i++)
-		for (int c = 0; c < 3; c++) {
-			double x = px[i * stride + c] * k;
-			x = isfinite(x) && x > 0.0 ? x : 0.0;
-			rgb[i * 3 + c] = (uint8_t)lrint(255.0 * cs_srgb_oetf(cs_tonemap_aces(x)));
-		}
+		for (int c = 0; c < 3; c++)
+			rgb[i * 3 + c] = (uint8_t)lrint(255.0 * display(px[i * stride + c], k));
 }
 
 void cs_tonemap_srgb16(const float *px, size_t stride, size_t n,
@@ -242,9 +248,6 @@ void cs_tonemap_srgb16(const float *px, size_t stride, size_t n,
 {
 	double k = pow(2.0, exposure_ev) / 16.0;
 	for (size_t i = 0; i < n; i++)
-		for (int c = 0; c < 3; c++) {
-			double x = px[i * stride + c] * k;
-			x = isfinite(x) && x > 0.0 ? x : 0.0;
-			rgb[i * 3 + c] = (uint16_t)lrint(65535.0 * cs_srgb_oetf(cs_tonemap_aces(x)));
-		}
+		for (int c = 0; c < 3; c++)
+			rgb[i * 3 + c] = (uint16_t)lrint(65535.0 * display(px[i * stride + c], k));
 }

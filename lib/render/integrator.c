@@ -49,7 +49,19 @@ struct ray_ctx {
 	double fdome[3]; /* and the dome's */
 	double tsun;     /* the sun's transmittance through the clouds, area mean */
 	double shaft_dt; /* > 0: sample the clouds' shadows this often, m */
+	double below_share; /* of the diffuse light in the clouds that scatters
+			       toward the eye, the share from below */
 };
+
+/* deck.below_share at the ray's direction of travel toward the eye, whose
+ * vertical component is up_out (linear between the table's entries). */
+CS_HD static double below_share(const struct cs_deck *d, double up_out)
+{
+	double u = (up_out + 1.0) * 0.5 * (CS_DECK_SHARES - 1);
+	u = u < 0.0 ? 0.0 : u > CS_DECK_SHARES - 1 ? CS_DECK_SHARES - 1 : u;
+	int i = (int)u < CS_DECK_SHARES - 1 ? (int)u : CS_DECK_SHARES - 2;
+	return d->below_share[i] + (u - i) * (d->below_share[i + 1] - d->below_share[i]);
+}
 
 /* One stretch of haze and fog, from the last haze point to distance t,
  * with the sun's transmittance tsun through the clouds over it: their
@@ -210,13 +222,13 @@ CS_HD static void march_rain(const struct ray_ctx *c, const struct interval *iv,
  * (what reaches the layer's top through the layers above, then through the
  * column tau above the point, by the slab transmittance: deck.c) and from
  * below (the ground's), each hemisphere weighted by how much of it the
- * clouds' forward-peaked phase sends along the ray toward the eye, whose
- * direction of travel has vertical component up_out (deck.below_share for
- * the light from below, the rest for the light from above).  The reference
+ * clouds' forward-peaked phase sends along the ray toward the eye: w_up
+ * for the light from below (below_share), the rest for the light from
+ * above.  The reference
  * integrator showed the light from above at full weight 1.5 times too
  * bright on cumulus seen from the side. */
 CS_HD static void cloud_ambient(const struct cs_scene *sc, int li, double hb,
-				double tau, double up_out, double A[3])
+				double tau, double w_up, double A[3])
 {
 	const struct cs_deck *d = &sc->deck;
 	if (!d->on) {
@@ -228,10 +240,6 @@ CS_HD static void cloud_ambient(const struct cs_scene *sc, int li, double hb,
 	double T = cs_slab_transmittance(tau, d->g);
 	double beam = d->mu0 > 0.0 ? exp(-tau / d->mu0) : 0.0;
 	double scat = T - beam > 0.0 ? T - beam : 0.0;
-	double u = (up_out + 1.0) * 0.5 * (CS_DECK_SHARES - 1);
-	u = u < 0.0 ? 0.0 : u > CS_DECK_SHARES - 1 ? CS_DECK_SHARES - 1 : u;
-	int i = (int)u < CS_DECK_SHARES - 1 ? (int)u : CS_DECK_SHARES - 2;
-	double w_up = d->below_share[i] + (u - i) * (d->below_share[i + 1] - d->below_share[i]);
 	for (int k = 0; k < 3; k++)
 		A[k] = (1.0 - w_up) * (d->sun_top[li][k] * scat + d->dif_top[li][k] * T) / CS_PI +
 		       w_up * d->ground_below[k] * (1.0 - hb);
@@ -278,7 +286,7 @@ CS_HD static void sample_source(const struct ray_ctx *c, cs_v3 p, double alt,
 			tau_above = cs_cloud_column(l, sc->noise, p.x, p.y, alt, l->top_m, n);
 			c->st->light_samples += alt < l->top_m ? (uint64_t)n : 0u;
 		}
-		cloud_ambient(sc, li, hb, tau_above, -c->d.z, A);
+		cloud_ambient(sc, li, hb, tau_above, c->below_share, A);
 		for (int k = 0; k < 3; k++)
 			S[k] += ss * A[k];
 	}
@@ -456,7 +464,9 @@ CS_HD void cs_render_ray(const struct cs_scene *sc, const struct cs_render_setti
 	int n = gather_intervals(sc, o, d, isfinite(tg) ? tg : 1e7, iv);
 
 	struct ray_ctx c = {sc, s, o, d, jitter_u, {0.0}, {0.0}, st, 0, 0.0, 0.0,
-			    {0.0}, {0.0}, {0.0}, {0.0}, {0.0}, 1.0, 0.0};
+			    {0.0}, {0.0}, {0.0}, {0.0}, {0.0}, 1.0, 0.0, 0.0};
+	if (sc->deck.on)
+		c.below_share = below_share(&sc->deck, -d.z);
 	c.haze = (sc->effects & CS_FX_HAZE) &&
 		 (sc->haze_beta0_per_m > 0.0 || sc->fog_beta_per_m > 0.0);
 	if (c.haze) {
