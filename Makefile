@@ -4,7 +4,8 @@
 #   make check        build and run every test (scripts/deps only when pkg-config
 #                     or a tool the tests use is missing)
 #   make check SAN=1  the same with AddressSanitizer + UBSan (in build-san/)
-#   make check SAN=thread  the same with ThreadSanitizer (in build-tsan/)
+#   make check SAN=thread  unit tests and the threaded programs' scripts under
+#                     ThreadSanitizer (in build-tsan/)
 #   make check-all    check, check SAN=1 and check SAN=thread (what CI runs)
 #   make WERROR=0     warnings stay warnings (the default, WERROR=1, for CI
 #                     and developers, makes them errors)
@@ -141,8 +142,13 @@ tests: all $(UNIT_BINS) $(HELP_BINS) $(BENCH_BINS)
 # freshly installed packages.
 check: have-deps
 	@$(MAKE) --no-print-directory tests
-	@$(if $(filter thread,$(SAN)),TSAN_OPTIONS="suppressions=$(CURDIR)/tests/tsan.supp $$TSAN_OPTIONS") \
-		tests/run $(B)
+	@$(if $(filter thread,$(SAN)),TSAN_OPTIONS="suppressions=$(CURDIR)/tests/tsan.supp $$TSAN_OPTIONS" \
+		SCRIPTS="$(TSAN_SCRIPTS)") tests/run $(B)
+
+# Under ThreadSanitizer: every unit binary, and the tool scripts of the
+# programs that run the thread pool (noise baking, frame rendering, the
+# reference); the other programs are single-threaded and gain nothing.
+TSAN_SCRIPTS := cloudrender noisebake reference render_info
 
 check-all:
 	@$(MAKE) --no-print-directory check
