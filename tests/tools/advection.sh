@@ -45,6 +45,10 @@ expect_rc 0
 # 3 m/s from the west for 1.5 h: 16200 m east
 expect_out '"drift":{"since_utc":"2021-06-14T10:00:00Z","east_m":16200,"north_m":0,"axis_deg":90}'
 expect_out '"schema":"cloudwx/2"'
+# moved 10 min on by --set, the state's wind carries it 1800 m further
+run "$WI" --at 2021-06-14T11:30Z --set time_utc=2021-06-14T11:40Z "$T/w.json"
+expect_rc 0
+expect_out '"east_m":18000,"north_m":0,'
 end
 
 begin advection_a_state_at_a_time_is_that_of_any_series_holding_it
