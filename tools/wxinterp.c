@@ -7,6 +7,7 @@
 #include "weather/wxset.h"
 
 #include <getopt.h>
+#include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -40,6 +41,8 @@ static void usage(void)
 	       "      --alt M            ground height of the site, m (default: the file's)\n"
 	       "      --max-gap DURATION missing values are interpolated between valid hours\n"
 	       "                         at most this far apart (default 3h)\n"
+	       "      --fade DURATION    a change of genus fades over this window, up to 6h\n"
+	       "                         (default 1h; 0: at once, the rules of each instant)\n"
 	       "      --set PATH=VALUE   edit the state: layer.low.coverage=0.8,\n"
 	       "                         precipitation=2.5, wind.speed=3, visibility=5000,\n"
 	       "                         layer.high=cirrostratus, ... (repeatable)\n"
@@ -56,8 +59,48 @@ static void usage(void)
 	       "  -h, --help             this help\n"
 	       "      --version          print the version\n"
 	       "\n"
-	       "Exit status: 0 success, 1 data or runtime error, 2 usage error.\n"
+	       "Exit status: 0 success, 1 data or runtime error, 2 usage error; stopped\n"
+	       "by SIGINT (Ctrl-C), SIGTERM or SIGHUP it removes its temporary output and\n"
+	       "dies of the signal (130 for SIGINT in the shell).\n"
 	       "See wxinterp(1), cloudwx(5).\n");
+}
+
+/* The signal that asked to stop (SIGINT, SIGTERM, SIGHUP), 0 if none: the
+ * library checks it between states and removes its temporary output. */
+static volatile sig_atomic_t stop_signal;
+
+static void on_signal(int sig)
+{
+	stop_signal = sig;
+}
+
+/* Catches the stop signals once (SA_RESETHAND: a second one acts at once),
+ * leaving alone those this process was started ignoring (nohup, a
+ * background job of a shell without job control). */
+static void catch_stop_signals(void)
+{
+	static const int sigs[] = {SIGINT, SIGTERM, SIGHUP};
+	for (size_t i = 0; i < sizeof sigs / sizeof sigs[0]; i++) {
+		struct sigaction sa, old;
+		if (sigaction(sigs[i], NULL, &old) != 0 || old.sa_handler == SIG_IGN)
+			continue;
+		memset(&sa, 0, sizeof sa);
+		sa.sa_handler = on_signal;
+		sigemptyset(&sa.sa_mask);
+		/* no SA_RESTART: a read of a terminal stops at the signal */
+		sa.sa_flags = SA_RESETHAND;
+		sigaction(sigs[i], &sa, NULL);
+	}
+}
+
+/* Stopped by a signal: dies of it, so the shell sees 128 + the signal's
+ * number (130 for SIGINT) and a script's loop stops too. */
+static int die_of_stop_signal(void)
+{
+	int sig = stop_signal;
+	signal(sig, SIG_DFL);
+	raise(sig);
+	return 128 + sig;
 }
 
 static void print_note(void *user, int level, const char *msg)
@@ -88,7 +131,7 @@ static double duration(const char *opt, const char *s)
 enum {
 	OPT_AT = 256, OPT_FROM, OPT_TO, OPT_STEP, OPT_FAR, OPT_FAR_NAME,
 	OPT_SITE_NAME, OPT_ALT, OPT_MAX_GAP, OPT_SET, OPT_TEMPLATE, OPT_PRETTY,
-	OPT_VERSION, OPT_SUMMARY, OPT_DAILY, OPT_JSON, OPT_NO_CLOBBER,
+	OPT_VERSION, OPT_SUMMARY, OPT_DAILY, OPT_JSON, OPT_NO_CLOBBER, OPT_FADE,
 };
 
 int main(int argc, char **argv)
@@ -105,6 +148,7 @@ int main(int argc, char **argv)
 		{"site-name", required_argument, NULL, OPT_SITE_NAME},
 		{"alt", required_argument, NULL, OPT_ALT},
 		{"max-gap", required_argument, NULL, OPT_MAX_GAP},
+		{"fade", required_argument, NULL, OPT_FADE},
 		{"set", required_argument, NULL, OPT_SET},
 		{"template", no_argument, NULL, OPT_TEMPLATE},
 		{"pretty", no_argument, NULL, OPT_PRETTY},
@@ -156,6 +200,11 @@ int main(int argc, char **argv)
 			if (o.max_gap_s < 3600)
 				cli_usage_error("--max-gap: at least 1h (the step of the data)");
 			break;
+		case OPT_FADE:
+			o.fade_s = strcmp(optarg, "0") == 0 ? 0 : duration("--fade", optarg);
+			if (o.fade_s > CS_WX_FADE_MAX_S)
+				cli_usage_error("--fade: at most 6h");
+			break;
 		case OPT_SET:
 			if (o.nsets == CS_WXINTERP_MAX_SETS)
 				cli_usage_error("--set: at most %d edits", CS_WXINTERP_MAX_SETS);
@@ -199,8 +248,15 @@ int main(int argc, char **argv)
 		o.pretty = 1;
 
 	o.note = print_note;
+	o.cancel = &stop_signal;
+	catch_stop_signals();
 	struct cs_wxinterp_result r;
 	int rc = cs_wxinterp_run(&o, &r);
+	if (stop_signal) {
+		cli_err("%s", rc == CS_OK ? "interrupted after the output was "
+			"written" : cs_errmsg());
+		return die_of_stop_signal();
+	}
 	if (rc != CS_OK) {
 		cli_err("%s", cs_errmsg());
 		if (rc == CS_EINVAL)

@@ -371,7 +371,7 @@ static int load_inputs(const struct cs_cloudrender_opts *o, struct cs_cloudrende
 	if (rc != CS_OK)
 		return rc;
 	if (o->have_time)
-		r->wx.time_utc = o->time_utc;
+		cs_wx_retime(&r->wx, o->time_utc); /* the drift goes with the time */
 	double t0 = now_s();
 	if (o->noise_path) {
 		rc = cs_volume_read_exr(o->noise_path, noise);

@@ -6,6 +6,7 @@
 #include "core/fileio.h"
 #include "core/json.h"
 #include "core/time.h"
+#include "weather/transition.h"
 #include "weather/wxset.h"
 
 #include <math.h>
@@ -19,6 +20,7 @@ void cs_wxinterp_defaults(struct cs_wxinterp_opts *o)
 	memset(o, 0, sizeof *o);
 	o->step_s = 3600;
 	o->max_gap_s = CS_WXINTERP_DEFAULT_GAP_S;
+	o->fade_s = CS_WX_FADE_S;
 	o->output = "-";
 }
 
@@ -30,6 +32,14 @@ static const char *label(const char *path)
 
 /* ---- the program ---------------------------------------------------------- */
 
+/* The caller's cancel flag (a signal handler's), checked between states. */
+static int canceled(const struct cs_wxinterp_opts *o)
+{
+	if (o->cancel != NULL && *o->cancel)
+		return cs_error(CS_ECANCELED, "interrupted: no output written");
+	return CS_OK;
+}
+
 struct run {
 	const struct cs_wxinterp_opts *o;
 	struct cs_wxinterp_result *res;
@@ -38,6 +48,7 @@ struct run {
 	struct cs_wx_site site;
 	struct cs_series far[CS_WX_MAX_FAR];
 	struct cs_wx_site far_site[CS_WX_MAX_FAR];
+	struct cs_drift drift;                /* of the main series' wind */
 };
 
 static void note(const struct cs_wxinterp_opts *o, int level, const char *fmt,
@@ -118,7 +129,7 @@ static int read_inputs(struct run *r)
 		describe(o, o->far[i], &r->far[i]);
 		site_of(&r->far[i], o->far[i], o->far_name[i], &r->far_site[i]);
 	}
-	return CS_OK;
+	return cs_drift_new(&r->drift, &r->main, o->max_gap_s);
 }
 
 /* Both ends of the requested times inside every series. */
@@ -173,7 +184,10 @@ static int far_state(const struct run *r, int i, double t, struct cs_wx_far *f)
 	if (rc != CS_OK)
 		return cs_error(rc, "%s: %s", label(r->o->far[i]), cs_errmsg());
 	f->site = r->far_site[i];
-	cs_wx_layers(&ob, f->site.alt_m, f->layers, &f->nlayers, NULL);
+	rc = cs_series_layers(&r->far[i], t, r->o->max_gap_s, r->o->fade_s, f->site.alt_m,
+			      f->layers, &f->nlayers);
+	if (rc != CS_OK)
+		return cs_error(rc, "%s: %s", label(r->o->far[i]), cs_errmsg());
 	f->precipitation_mm_h = ob.precipitation_mm_h;
 	f->visibility_m = isnan(ob.visibility_m) ? CS_WX_DEFAULT_VIS_M :
 			  ob.visibility_m < 1 ? 1 : ob.visibility_m;
@@ -191,7 +205,10 @@ static int derive(const struct run *r, double t, struct cs_wx *wx,
 		return cs_error(rc, "%s: %s", r->main_label, cs_errmsg());
 	wx->time_utc = t;
 	wx->site = r->site;
-	cs_wx_layers(&ob, wx->site.alt_m, wx->layers, &wx->nlayers, NULL);
+	rc = cs_series_layers(&r->main, t, r->o->max_gap_s, r->o->fade_s, wx->site.alt_m,
+			      wx->layers, &wx->nlayers);
+	if (rc != CS_OK)
+		return cs_error(rc, "%s: %s", r->main_label, cs_errmsg());
 	wx->precipitation_mm_h = ob.precipitation_mm_h;
 	wx->convective_mm_h = ob.convective_mm_h;
 	wx->wind_speed_m_s = ob.wind_speed_m_s;
@@ -203,6 +220,11 @@ static int derive(const struct run *r, double t, struct cs_wx *wx,
 	wx->snow_fraction = ob.snow_fraction;
 	wx->temperature_c = ob.temperature_c;
 	wx->observed = ob.observed;
+	wx->drift.known = 1;
+	wx->drift.since_utc = r->drift.since_utc;
+	wx->drift.axis_deg = r->drift.axis_deg;
+	CS_TRY(cs_drift_at(&r->drift, &r->main, t, &wx->drift.east_m,
+			   &wx->drift.north_m));
 	explain(r->o, wx, &ob);
 	wx->nfar = r->o->nfar;
 	for (int i = 0; i < r->o->nfar; i++)
@@ -281,6 +303,8 @@ static int check_opts(const struct cs_wxinterp_opts *o)
 	if (!(o->step_s >= 1) || !(o->max_gap_s >= 3600))
 		return cs_error(CS_EINVAL, "the step must be at least 1 s and "
 				"--max-gap at least 1 h");
+	if (!(o->fade_s >= 0 && o->fade_s <= CS_WX_FADE_MAX_S))
+		return cs_error(CS_EINVAL, "--fade: outside 0..6h");
 	if (o->summary && (o->template_state || o->nsets > 0 || o->pretty))
 		return cs_error(CS_EINVAL, "--summary describes provider files: "
 				"not with --template, --set or --pretty");
@@ -306,6 +330,8 @@ static int summary(struct run *r, double t0, long count)
 	int rc = CS_OK;
 	for (long k = 0; rc == CS_OK && k < count; k++) {
 		double t = t0 + (double)k * o->step_s;
+		if ((rc = canceled(o)) != CS_OK)
+			break;
 		rc = derive(r, t, &rows[k].wx, &rows[k].ob);
 		if (rc == CS_OK && cs_wx_validate(&rows[k].wx) != CS_OK)
 			rc = cs_error(CS_EDATA, "%s: the state at %s is invalid: %s",
@@ -358,7 +384,8 @@ static int run_times(struct run *r)
 	CS_TRY(cs_outfile_open_flags(&of, o->output, o->no_clobber ? CS_OUT_NO_CLOBBER : 0));
 	int rc = CS_OK;
 	for (long k = 0; rc == CS_OK && k < (long)count; k++)
-		rc = one_state(r, t0 + (double)k * o->step_s, &of);
+		if ((rc = canceled(o)) == CS_OK)
+			rc = one_state(r, t0 + (double)k * o->step_s, &of);
 	if (rc == CS_OK)
 		rc = cs_outfile_commit(&of);
 	cs_outfile_abort(&of);
@@ -380,6 +407,7 @@ int cs_wxinterp_run(const struct cs_wxinterp_opts *o, struct cs_wxinterp_result 
 	if (rc == CS_OK)
 		rc = run_times(r);
 	cs_series_free(&r->main);
+	cs_drift_free(&r->drift);
 	for (int i = 0; i < CS_WX_MAX_FAR; i++)
 		cs_series_free(&r->far[i]);
 	free(r);

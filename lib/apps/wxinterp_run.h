@@ -1,5 +1,5 @@
 /* wxinterp.h - the wxinterp program as a library call: provider files in,
- * weather states (cloudwx/1, man 5 cloudwx) out, one per requested time.
+ * weather states (cloudwx/2, man 5 cloudwx) out, one per requested time.
  * Its parts - merging files and interpolating in time (weather/series.h),
  * the genus rules (genus_rules.h), play-mode edits (wxset.h) - are
  * callable alone. */
@@ -10,6 +10,9 @@
 #include "weather/series.h"
 #include "weather/wx.h"
 #include "weather/genus_rules.h"
+#include "weather/transition.h"
+
+#include <signal.h>
 
 #define CS_WXINTERP_MAX_INPUTS 32
 #define CS_WXINTERP_MAX_SETS 64
@@ -29,6 +32,9 @@ struct cs_wxinterp_opts {
 	double at_utc, from_utc, to_utc;      /* seconds since 1970 */
 	double step_s;                        /* series step (default 3600) */
 	double max_gap_s;                     /* null bridging (default 3 h) */
+	double fade_s;                        /* a genus change fades over this
+						 window (default CS_WX_FADE_S;
+						 0: at once; transition.h) */
 	const char *sets[CS_WXINTERP_MAX_SETS]; /* "PATH=VALUE" (wxset.h) */
 	int nsets;
 	const char *site_name;                /* or NULL: from the file */
@@ -43,6 +49,9 @@ struct cs_wxinterp_opts {
 	int no_clobber;                       /* never replace an existing file */
 	cs_note_fn note;
 	void *note_user;
+	/* Set (to nonzero, by the caller's signal handler) to stop: the run
+	 * returns CS_ECANCELED before the next state and leaves no output. */
+	const volatile sig_atomic_t *cancel;
 };
 
 /* What a run produced. */
@@ -53,7 +62,8 @@ struct cs_wxinterp_result {
 void cs_wxinterp_defaults(struct cs_wxinterp_opts *o);
 
 /* Reads the inputs, writes the states (atomically).  CS_EINVAL for bad
- * options or --set edits, CS_EDATA for bad or insufficient data, CS_EIO. */
+ * options or --set edits, CS_EDATA for bad or insufficient data, CS_EIO,
+ * CS_ECANCELED when *o->cancel was set (nothing written). */
 int cs_wxinterp_run(const struct cs_wxinterp_opts *o, struct cs_wxinterp_result *res);
 
 #endif

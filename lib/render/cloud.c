@@ -1,4 +1,5 @@
 #include "render/cloud.h"
+#include "weather/genus_rules.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -45,10 +46,10 @@ const struct cs_genus_preset *cs_genus_preset(enum cs_genus g)
 
 static void calibrate(struct cs_cloud_layer *l, const struct cs_volume *noise);
 
-/* The period of a genus's field along the wind, m: stretch times the least
- * common multiple of the base and detail tiles, or 0 when a tile is not a
- * whole number of metres (then the offset is not reduced). */
-static double wind_period_m(const struct cs_genus_preset *p)
+/* The period of a genus's field across the wind, m: the least common
+ * multiple of the base and detail tiles, or 0 when a tile is not a whole
+ * number of metres (then the offset is not reduced). */
+static double across_period_m(const struct cs_genus_preset *p)
 {
 	double a = p->tile_m, b = p->detail_tile_m;
 	if (a != floor(a) || b != floor(b) || a < 1.0 || b < 1.0 || a > 1e9 || b > 1e9)
@@ -59,7 +60,26 @@ static double wind_period_m(const struct cs_genus_preset *p)
 		x = y;
 		y = r;
 	}
-	return p->stretch * (a / (double)x * b);
+	return a / (double)x * b;
+}
+
+/* The period along the wind: the one across, stretched. */
+static double wind_period_m(const struct cs_genus_preset *p)
+{
+	return p->stretch * across_period_m(p);
+}
+
+double cs_cloud_aloft_factor(double height_m)
+{
+	double factor = pow(fmax(height_m, 10.0) / 10.0, 1.0 / 7.0);
+	return factor > 3.0 ? 3.0 : factor;
+}
+
+/* v reduced modulo period (when there is one); a non-finite v is 0. */
+static double reduce(double v, double period)
+{
+	v = isfinite(v) ? v : 0.0;
+	return period > 0.0 ? fmod(v, period) : v;
 }
 
 void cs_cloud_layer_init(struct cs_cloud_layer *l, const struct cs_wx_layer *wl,
@@ -87,18 +107,29 @@ void cs_cloud_layer_init(struct cs_cloud_layer *l, const struct cs_wx_layer *wl,
 	double from = wind_from_deg * (CS_PI / 180.0);
 	l->wind_x = -sin(from); /* blowing toward the opposite direction */
 	l->wind_y = -cos(from);
-	double mid = 0.5 * (wl->base_m + wl->top_m) - ground_alt_m;
-	double factor = pow(fmax(mid, 10.0) / 10.0, 1.0 / 7.0);
-	factor = factor > 3.0 ? 3.0 : factor;
+	double factor = cs_cloud_aloft_factor(0.5 * (wl->base_m + wl->top_m) - ground_alt_m);
 	/* Reduced modulo the field's period along the wind, the least common
 	 * multiple of the base and detail tiles (whole metres), stretched: the
 	 * field is the same, and the coordinates the per-sample code sees stay
 	 * small, so a float build keeps its precision on any date. */
-	double travelled = wind_speed_m_s * factor * time_s;
-	double period = wind_period_m(p);
-	travelled = isfinite(travelled) ? travelled : 0.0;
-	l->offset_along_m = period > 0.0 ? fmod(travelled, period) : travelled;
+	l->offset_along_m = reduce(wind_speed_m_s * factor * time_s, wind_period_m(p));
+	l->offset_across_m = 0.0;
 	calibrate(l, noise);
+}
+
+void cs_cloud_layer_drift(struct cs_cloud_layer *l, double east_m, double north_m,
+			  double axis_deg, double ground_alt_m)
+{
+	const struct cs_genus_preset *p = cs_genus_preset(l->genus);
+	double base, top, axis = axis_deg * (CS_PI / 180.0);
+	cs_genus_place(l->genus, ground_alt_m, &base, &top);
+	double factor = cs_cloud_aloft_factor(0.5 * (base + top) - ground_alt_m);
+	l->wind_x = sin(axis); /* a compass bearing: east is its sine */
+	l->wind_y = cos(axis);
+	double e = factor * east_m, n = factor * north_m;
+	/* the offsets in the field's axes, reduced by its periods there */
+	l->offset_along_m = reduce(e * l->wind_x + n * l->wind_y, wind_period_m(p));
+	l->offset_across_m = reduce(-e * l->wind_y + n * l->wind_x, across_period_m(p));
 }
 
 CS_HD static inline double smooth01(double x)
@@ -175,7 +206,7 @@ CS_HD double cs_cloud_extinction(const struct cs_cloud_layer *l,
 	}
 	/* coordinates along and across the wind, moved by it */
 	double along = x * l->wind_x + y * l->wind_y - l->offset_along_m;
-	double across = -x * l->wind_y + y * l->wind_x;
+	double across = -x * l->wind_y + y * l->wind_x - l->offset_across_m;
 	return extinction_aw(l, noise, along, across, alt_m, h, thr);
 }
 

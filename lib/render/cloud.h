@@ -60,8 +60,11 @@ struct cs_cloud_layer {
 	double inv_tile, inv_tile_z, inv_detail; /* 1 / tile sizes, 1/m */
 	double stretch, erosion, anvil, edge;
 	double ramp[4];
-	double wind_x, wind_y;    /* unit vector the wind blows toward (east, north) */
-	double offset_along_m;    /* how far the wind has carried the clouds */
+	double wind_x, wind_y;    /* unit vector of the field's along axis (east,
+				     north): the way the wind blows */
+	double offset_along_m;    /* how far the wind has carried the clouds along
+				     and across that axis, reduced modulo the */
+	double offset_across_m;   /* field's periods (small for a float build) */
 	/* Near and far weather: the layer belongs to the near site (site -1)
 	 * or to far site `site`; with far sites its coverage is scaled, point
 	 * by point, by its site's weight (see cs_cloud_site_weight). */
@@ -81,6 +84,21 @@ struct cs_cloud_layer {
 void cs_cloud_layer_init(struct cs_cloud_layer *l, const struct cs_wx_layer *wl,
 			 const struct cs_volume *noise, double wind_speed_m_s,
 			 double wind_from_deg, double ground_alt_m, double time_s);
+
+/* Moves an initialised layer by a weather state's drift instead (cloudwx/2:
+ * see struct cs_wx_drift): the field's along axis points to compass
+ * bearing axis_deg, and the field is carried by (east_m, north_m), the
+ * 10-m wind's displacement, times the wind-aloft factor of the genus's
+ * typical height above the ground (cs_genus_place; the power law of
+ * cs_cloud_layer_init).  The factor and the axis do not follow the
+ * layer's current altitude or wind, so a state a minute later shows the
+ * same clouds moved by the wind of that minute. */
+void cs_cloud_layer_drift(struct cs_cloud_layer *l, double east_m, double north_m,
+			  double axis_deg, double ground_alt_m);
+
+/* The wind-aloft factor at height_m above the ground: (height / 10 m)^(1/7),
+ * at least 1 and at most 3. */
+double cs_cloud_aloft_factor(double height_m);
 
 /* Makes the layer part of a near/far blend: it belongs to site (-1 near,
  * else the far index) among nfar far sites at world positions (far_x,

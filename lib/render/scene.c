@@ -64,9 +64,22 @@ static double air_visibility_m(const struct cs_wx *wx)
 								 : wx->visibility_m;
 }
 
+/* The wind's move of a layer: a state's drift (cloudwx/2) carried on to
+ * time_utc by its wind; without one, the wind times the time since
+ * 2000-01-01 (cs_cloud_layer_init), as cloudwx/1 states always moved. */
+static void drift_layer(struct cs_cloud_layer *l, const struct cs_wx *wx,
+			double time_utc, double ground_alt_m)
+{
+	double e, n;
+	if (!wx->drift.known)
+		return;
+	cs_wx_drift_at(wx, time_utc, &e, &n);
+	cs_cloud_layer_drift(l, e, n, wx->drift.axis_deg, ground_alt_m);
+}
+
 /* The cloud layers: only those that have any cover; in fog a layer resting
- * on the ground is the fog, not a cloud.  The wind moves them with time
- * counted from 2000-01-01 so that successive times move consistently.  Far
+ * on the ground is the fog, not a cloud.  The wind moves them: by the
+ * state's drift, or with time counted from 2000-01-01 without one.  Far
  * sites' layers join, every layer's coverage weighted by how far along the
  * line to each far site a point is. */
 static void build_layers(struct cs_scene *sc, const struct cs_wx *wx, double time_utc,
@@ -82,9 +95,10 @@ static void build_layers(struct cs_scene *sc, const struct cs_wx *wx, double tim
 			sc->fog_top_m = wx->layers[i].top_m;
 			continue;
 		}
-		cs_cloud_layer_init(&sc->layers[sc->nlayers++], &wx->layers[i], noise,
+		cs_cloud_layer_init(&sc->layers[sc->nlayers], &wx->layers[i], noise,
 				    wx->wind_speed_m_s, wx->wind_from_deg,
 				    wx->site.alt_m, t_wind);
+		drift_layer(&sc->layers[sc->nlayers++], wx, time_utc, wx->site.alt_m);
 	}
 	if (wx->nfar > 0) {
 		double fx[CS_WX_MAX_FAR], fy[CS_WX_MAX_FAR];
@@ -105,6 +119,7 @@ static void build_layers(struct cs_scene *sc, const struct cs_wx *wx, double tim
 				cs_cloud_layer_init(l, &wx->far[f].layers[i], noise,
 						    wx->wind_speed_m_s, wx->wind_from_deg,
 						    wx->far[f].site.alt_m, t_wind);
+				drift_layer(l, wx, time_utc, wx->far[f].site.alt_m);
 				cs_cloud_layer_blend(l, noise, f, wx->nfar, fx, fy);
 			}
 	}

@@ -191,62 +191,71 @@ void cs_wx_rules(const struct cs_wx_obs *o, enum cs_wx_rule rules[3])
 		rules[2] = CS_RULE_NONE;
 }
 
+static const enum cs_genus rule_genus[CS_RULE_COUNT] = {
+	[CS_RULE_L1_CB] = CS_CUMULONIMBUS, [CS_RULE_L2_FOG] = CS_STRATUS,
+	[CS_RULE_L3_SHOWERS] = CS_CUMULUS, [CS_RULE_L4_NS] = CS_NIMBOSTRATUS,
+	[CS_RULE_L5_ST] = CS_STRATUS, [CS_RULE_L6_CU] = CS_CUMULUS,
+	[CS_RULE_L7_SC] = CS_STRATOCUMULUS, [CS_RULE_M1_AS] = CS_ALTOSTRATUS,
+	[CS_RULE_M2_AC] = CS_ALTOCUMULUS, [CS_RULE_H1_CS] = CS_CIRROSTRATUS,
+	[CS_RULE_H2_CC] = CS_CIRROCUMULUS, [CS_RULE_H3_CI] = CS_CIRRUS,
+};
+
+int cs_wx_rule_layer(const struct cs_wx_obs *o, enum cs_wx_rule r,
+		     double ground_alt_m, struct cs_wx_layer *l)
+{
+	if ((unsigned)r >= CS_RULE_COUNT || r == CS_RULE_NONE ||
+	    r == CS_RULE_M0_IN_NS || r == CS_RULE_L8_BELOW)
+		return 0;
+	struct cs_wx_obs eff = above_ground(o);
+	o = &eff;
+	int e = r >= CS_RULE_H1_CS ? 2 : r >= CS_RULE_M0_IN_NS ? 1 : 0;
+	const double cover[3] = {o->low, o->mid, o->high};
+	l->genus = rule_genus[r];
+	l->coverage = cover[e];
+	cs_genus_place(l->genus, ground_alt_m, &l->base_m, &l->top_m);
+	double agl;
+	switch (r) {
+	case CS_RULE_L1_CB: /* rain falls from a cloud: some cover */
+		l->coverage = max2(o->low, 0.3);
+		break;
+	case CS_RULE_L2_FOG:
+		l->coverage = max2(o->low, o->fog_probability >= 0 ?
+				   o->fog_probability : 0);
+		if (o->visibility_m < CS_WX_FOG_VIS_M)
+			l->coverage = 1;
+		l->base_m = ground_alt_m;
+		l->top_m = ground_alt_m + CS_WX_FOG_DEPTH_M;
+		break;
+	case CS_RULE_L3_SHOWERS:
+		l->coverage = max2(o->low, 0.2);
+		/* fall through */
+	case CS_RULE_L6_CU:
+		if (cumulus_base_agl(o, &agl)) {
+			l->top_m += ground_alt_m + agl - l->base_m;
+			l->base_m = ground_alt_m + agl;
+		}
+		break;
+	case CS_RULE_L4_NS:
+		l->coverage = max2(o->low, o->mid);
+		break;
+	default:
+		break;
+	}
+	if (l->coverage > 1)
+		l->coverage = 1;
+	return 1;
+}
+
 void cs_wx_layers(const struct cs_wx_obs *o, double ground_alt_m,
 		  struct cs_wx_layer *layers, int *nlayers,
 		  enum cs_wx_rule *rules)
 {
-	static const enum cs_genus genus[CS_RULE_COUNT] = {
-		[CS_RULE_L1_CB] = CS_CUMULONIMBUS, [CS_RULE_L2_FOG] = CS_STRATUS,
-		[CS_RULE_L3_SHOWERS] = CS_CUMULUS, [CS_RULE_L4_NS] = CS_NIMBOSTRATUS,
-		[CS_RULE_L5_ST] = CS_STRATUS, [CS_RULE_L6_CU] = CS_CUMULUS,
-		[CS_RULE_L7_SC] = CS_STRATOCUMULUS, [CS_RULE_M1_AS] = CS_ALTOSTRATUS,
-		[CS_RULE_M2_AC] = CS_ALTOCUMULUS, [CS_RULE_H1_CS] = CS_CIRROSTRATUS,
-		[CS_RULE_H2_CC] = CS_CIRROCUMULUS, [CS_RULE_H3_CI] = CS_CIRRUS,
-	};
 	enum cs_wx_rule r[3];
 	cs_wx_rules(o, r);
-	struct cs_wx_obs eff = above_ground(o);
-	o = &eff;
-	const double cover[3] = {o->low, o->mid, o->high};
 	*nlayers = 0;
 	for (int e = 0; e < 3; e++) {
-		if (r[e] == CS_RULE_NONE || r[e] == CS_RULE_M0_IN_NS ||
-		    r[e] == CS_RULE_L8_BELOW)
+		if (!cs_wx_rule_layer(o, r[e], ground_alt_m, &layers[*nlayers]))
 			continue;
-		struct cs_wx_layer *l = &layers[*nlayers];
-		l->genus = genus[r[e]];
-		l->coverage = cover[e];
-		cs_genus_place(l->genus, ground_alt_m, &l->base_m, &l->top_m);
-		double agl;
-		switch (r[e]) {
-		case CS_RULE_L1_CB: /* rain falls from a cloud: some cover */
-			l->coverage = max2(o->low, 0.3);
-			break;
-		case CS_RULE_L2_FOG:
-			l->coverage = max2(o->low, o->fog_probability >= 0 ?
-					   o->fog_probability : 0);
-			if (o->visibility_m < CS_WX_FOG_VIS_M)
-				l->coverage = 1;
-			l->base_m = ground_alt_m;
-			l->top_m = ground_alt_m + CS_WX_FOG_DEPTH_M;
-			break;
-		case CS_RULE_L3_SHOWERS:
-			l->coverage = max2(o->low, 0.2);
-			/* fall through */
-		case CS_RULE_L6_CU:
-			if (cumulus_base_agl(o, &agl)) {
-				l->top_m += ground_alt_m + agl - l->base_m;
-				l->base_m = ground_alt_m + agl;
-			}
-			break;
-		case CS_RULE_L4_NS:
-			l->coverage = max2(o->low, o->mid);
-			break;
-		default:
-			break;
-		}
-		if (l->coverage > 1)
-			l->coverage = 1;
 		if (rules != NULL)
 			rules[*nlayers] = r[e];
 		(*nlayers)++;

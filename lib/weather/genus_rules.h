@@ -120,6 +120,12 @@ void cs_wx_layers(const struct cs_wx_obs *o, double ground_alt_m,
 		  struct cs_wx_layer *layers, int *nlayers,
 		  enum cs_wx_rule *rules);
 
+/* The layer rule r makes of an observation (its genus, coverage, base and
+ * top, as cs_wx_layers places it), whether or not the rules would pick r
+ * for it: 1, or 0 for a rule that makes no layer (none, M0, L8). */
+int cs_wx_rule_layer(const struct cs_wx_obs *o, enum cs_wx_rule r,
+		     double ground_alt_m, struct cs_wx_layer *l);
+
 /* The rule of each étage (low, mid, high) for an observation. */
 void cs_wx_rules(const struct cs_wx_obs *o, enum cs_wx_rule rules[3]);
 

@@ -37,6 +37,33 @@ int cs_series_value(const struct cs_series *s, enum cs_wxvar k, double t,
 int cs_series_obs(const struct cs_series *s, double t, double max_gap_s,
 		  struct cs_wx_obs *o);
 
+/* The drift of the air over a series: the integral of the 10-m wind
+ * vector (the way it blows toward, speed and direction interpolated as
+ * cs_series_value does) from the series' first hour, tabled at each hour
+ * (east[i], north[i] at time_utc[i], m).  Each hour is integrated by an
+ * 8-point Gauss-Legendre rule; an hour whose wind has no value (a gap
+ * longer than max_gap_s) adds nothing.  axis_deg: the compass bearing the
+ * mean of the hourly wind vectors blows toward (0 if it is calm). */
+struct cs_drift {
+	int n;
+	double *east, *north;
+	double since_utc;
+	double axis_deg;
+	double max_gap_s;
+};
+
+/* Tables the drift of s (allocates; cs_drift_free releases). */
+int cs_drift_new(struct cs_drift *d, const struct cs_series *s,
+		 double max_gap_s);
+void cs_drift_free(struct cs_drift *d);
+
+/* The drift at time t inside the series, m: the table's value at the hour
+ * before t plus the integral from that hour to t (the same rule on the
+ * shorter interval), so that it is continuous in t and the same for t
+ * whatever other times are asked. */
+int cs_drift_at(const struct cs_drift *d, const struct cs_series *s, double t,
+		double *east_m, double *north_m);
+
 /* "2024-10-06T00:00:00Z to 2024-10-14T00:00:00Z" (the hours covered). */
 void cs_series_range(const struct cs_series *s, char *buf, size_t size);
 

@@ -103,6 +103,12 @@ static const struct field wind_fields[] = {
 	{"speed_m_s", offsetof(struct cs_wx, wind_speed_m_s), 1, 0, 0, 100},
 	{"from_deg", offsetof(struct cs_wx, wind_from_deg), 1, 0, 0, 360},
 };
+/* "drift" (cloudwx/2, optional): all members required inside it. */
+static const struct field drift_fields[] = {
+	F(struct cs_wx_drift, east_m, 1, 0, -CS_WX_MAX_DRIFT_M, CS_WX_MAX_DRIFT_M),
+	F(struct cs_wx_drift, north_m, 1, 0, -CS_WX_MAX_DRIFT_M, CS_WX_MAX_DRIFT_M),
+	F(struct cs_wx_drift, axis_deg, 1, 0, 0, 360),
+};
 static const struct field far_fields[] = {
 	F(struct cs_wx_far, precipitation_mm_h, 0, 0, 0, 500),
 	F(struct cs_wx_far, visibility_m, 0, 30000, 1, 1e6),
@@ -182,6 +188,14 @@ int cs_wx_validate(const struct cs_wx *wx)
 		CS_TRY(check_fields("observed.", cover_fields, COUNT(cover_fields),
 				 &wx->observed));
 	CS_TRY(check_fields("wind.", wind_fields, COUNT(wind_fields), wx));
+	if (wx->drift.known) {
+		CS_TRY(check_fields("drift.", drift_fields, COUNT(drift_fields),
+				 &wx->drift));
+		if (!(wx->drift.since_utc >= cs_days_from_civil(0, 1, 1) * 86400.0 &&
+		      wx->drift.since_utc < cs_days_from_civil(10000, 1, 1) * 86400.0))
+			return cs_error(CS_EDATA, "drift.since_utc: %s s is outside "
+					"years 0000..9999", cs_num(wx->drift.since_utc).s);
+	}
 	if (wx->nfar < 0 || wx->nfar > CS_WX_MAX_FAR)
 		return cs_error(CS_EDATA, "far: %d sites, at most %d", wx->nfar,
 				CS_WX_MAX_FAR);
@@ -344,6 +358,22 @@ static int parse_observed(const cJSON *root, struct cs_wx_observed *ob)
 	return CS_OK;
 }
 
+/* "drift" (optional, cloudwx/2): since_utc, east_m, north_m, axis_deg. */
+static int parse_drift(const cJSON *root, struct cs_wx_drift *d)
+{
+	const cJSON *obj, *since;
+	memset(d, 0, sizeof *d);
+	CS_TRY(get(root, "", "drift", cJSON_Object, 0, &obj));
+	if (obj == NULL)
+		return CS_OK;
+	CS_TRY(get(obj, "drift.", "since_utc", cJSON_String, 1, &since));
+	if (cs_time_parse(since->valuestring, &d->since_utc) != CS_OK)
+		return cs_error(CS_EDATA, "drift.since_utc: %s", cs_errmsg());
+	CS_TRY(parse_fields(obj, "drift.", drift_fields, COUNT(drift_fields), d));
+	d->known = 1;
+	return CS_OK;
+}
+
 /* Fills *wx from the parsed document; the ranges are checked after. */
 static int parse_root(const cJSON *root, struct cs_wx *wx)
 {
@@ -351,10 +381,11 @@ static int parse_root(const cJSON *root, struct cs_wx *wx)
 	if (!cJSON_IsObject(root))
 		return cs_error(CS_EDATA, "expected a JSON object");
 	CS_TRY(get(root, "", "schema", cJSON_String, 1, &it));
-	if (strcmp(it->valuestring, CS_WX_SCHEMA) != 0)
+	int v1 = strcmp(it->valuestring, CS_WX_SCHEMA_V1) == 0;
+	if (!v1 && strcmp(it->valuestring, CS_WX_SCHEMA) != 0)
 		return cs_error(CS_EDATA, "schema: unsupported version \"%.40s\" "
-				"(this program reads \"%s\")", it->valuestring,
-				CS_WX_SCHEMA);
+				"(this program reads \"%s\" and \"%s\")",
+				it->valuestring, CS_WX_SCHEMA, CS_WX_SCHEMA_V1);
 	CS_TRY(get(root, "", "time_utc", cJSON_String, 1, &it));
 	if (cs_time_parse(it->valuestring, &wx->time_utc) != CS_OK)
 		return cs_error(CS_EDATA, "time_utc: %s", cs_errmsg());
@@ -365,6 +396,9 @@ static int parse_root(const cJSON *root, struct cs_wx *wx)
 	CS_TRY(parse_observed(root, &wx->observed));
 	CS_TRY(get(root, "", "wind", cJSON_Object, 0, &it));
 	CS_TRY(parse_fields(it, "wind.", wind_fields, COUNT(wind_fields), wx));
+	/* a cloudwx/1 state has no drift (an unknown key there is ignored) */
+	if (!v1)
+		CS_TRY(parse_drift(root, &wx->drift));
 	wx->nfar = 0;
 	return parse_far(root, wx);
 }
@@ -473,6 +507,8 @@ int cs_wx_read(const char *path, struct cs_wx *wx)
 #define AZ(v) cs_num_round((v), 1).s    /* directions, degrees */
 #define TEMP(v) cs_num_round((v), 2).s  /* degrees Celsius, as providers give */
 #define W_M2(v) cs_num_round((v), 2).s  /* irradiance, W/m^2, as providers give */
+#define DRIFT(v) cs_num_round((v), 2).s /* drift, m: 1 cm, so a frame a second
+					   apart moves by what its wind says */
 
 static void put_site(FILE *f, const struct cs_wx_site *s)
 {
@@ -542,6 +578,14 @@ int cs_wx_to_json(const struct cs_wx *wx, char **json)
 	if (!isnan(wx->temperature_c))
 		fprintf(f, ",\"temperature_c\":%s", TEMP(wx->temperature_c));
 	put_observed(f, &wx->observed);
+	if (wx->drift.known) {
+		char since[40];
+		cs_time_format(wx->drift.since_utc, since, sizeof since);
+		fprintf(f, ",\"drift\":{\"since_utc\":\"%s\",\"east_m\":%s,"
+			"\"north_m\":%s,", since, DRIFT(wx->drift.east_m),
+			DRIFT(wx->drift.north_m));
+		fprintf(f, "\"axis_deg\":%s}", AZ(wx->drift.axis_deg));
+	}
 	for (int i = 0; i < wx->nfar; i++) {
 		fputs(i ? ",{" : ",\"far\":[{", f);
 		put_site(f, &wx->far[i].site);
@@ -558,4 +602,27 @@ int cs_wx_to_json(const struct cs_wx *wx, char **json)
 	}
 	*json = buf;
 	return CS_OK;
+}
+
+/* ---- drift in time ------------------------------------------------------- */
+
+void cs_wx_drift_at(const struct cs_wx *wx, double t, double *east_m,
+		    double *north_m)
+{
+	double e = 0.0, n = 0.0; /* east_m may be wx's own member */
+	if (wx->drift.known) {
+		double from = wx->wind_from_deg * (3.14159265358979323846 / 180.0);
+		double dt = t - wx->time_utc;
+		/* the wind blows toward the opposite of where it comes from */
+		e = wx->drift.east_m - sin(from) * wx->wind_speed_m_s * dt;
+		n = wx->drift.north_m - cos(from) * wx->wind_speed_m_s * dt;
+	}
+	*east_m = e;
+	*north_m = n;
+}
+
+void cs_wx_retime(struct cs_wx *wx, double t)
+{
+	cs_wx_drift_at(wx, t, &wx->drift.east_m, &wx->drift.north_m);
+	wx->time_utc = t;
 }

@@ -1,14 +1,16 @@
 /* wx.h - the weather state: what the sky is like at one minute.
  *
- * Written by wxinterp, read by cloudrender; JSON schema "cloudwx/1",
- * documented in man 5 cloudwx.  Altitudes are metres above mean sea level,
- * times UTC. */
+ * Written by wxinterp, read by cloudrender; JSON schema "cloudwx/2" (read:
+ * also "cloudwx/1", which has no drift), documented in man 5 cloudwx.
+ * Altitudes are metres above mean sea level, times UTC. */
 #ifndef CS_WX_H
 #define CS_WX_H
 
 #include <stddef.h>
 
-#define CS_WX_SCHEMA "cloudwx/1"
+#define CS_WX_SCHEMA "cloudwx/2"    /* what writers write */
+#define CS_WX_SCHEMA_V1 "cloudwx/1" /* still read: no drift */
+#define CS_WX_MAX_DRIFT_M 1e11      /* |east_m|, |north_m| of a drift */
 #define CS_WX_MAX_LAYERS 8
 #define CS_WX_MAX_FAR 4
 
@@ -67,6 +69,22 @@ struct cs_wx_observed {
 	double total_cloud_cover; /* the provider's total cover, 0..1 */
 };
 
+/* How far the wind has carried the air since a reference time: the
+ * integral of the 10-m wind vector (the way it blows toward) over time,
+ * which moves the clouds continuously from one state of a series to the
+ * next (see wxinterp(1), ADVECTION).  known 0: a state without one (a
+ * cloudwx/1 file, the built-in state); the renderer then moves the clouds
+ * by the state's wind times the time since 2000-01-01, as before. */
+struct cs_wx_drift {
+	int known;
+	double since_utc;   /* the reference time, s since 1970 */
+	double east_m;      /* displacement toward the east since then, m */
+	double north_m;     /* displacement toward the north, m */
+	double axis_deg;    /* compass bearing the clouds' streaks lie along
+			       (the way the data's mean wind blows), 0..360;
+			       the same for every state of a series */
+};
+
 struct cs_wx {
 	double time_utc;               /* seconds since 1970-01-01T00:00Z */
 	struct cs_wx_site site;
@@ -83,6 +101,7 @@ struct cs_wx {
 	double temperature_c;          /* 2 m air temperature, -100..70;
 					  NaN: unknown (no JSON key) */
 	struct cs_wx_observed observed;
+	struct cs_wx_drift drift;
 	int nfar;
 	struct cs_wx_far far[CS_WX_MAX_FAR];
 };
@@ -93,7 +112,7 @@ struct cs_wx {
  * snow, temperature unknown (NaN). */
 void cs_wx_default(struct cs_wx *wx);
 
-/* Parses and validates one JSON object of schema cloudwx/1.  Errors name
+/* Parses and validates one JSON object of schema cloudwx/2 or cloudwx/1.  Errors name
  * the field, e.g. "layers[1].coverage: 1.5 is outside 0..1".  Unknown keys
  * are ignored; *wx is left untouched on error. */
 int cs_wx_parse(const char *json, size_t len, struct cs_wx *wx);
@@ -113,5 +132,15 @@ int cs_wx_validate(const struct cs_wx *wx);
  * Numbers read back exactly; time_utc is written in whole seconds.  A state
  * that cs_wx_validate() rejects is not written (*json = NULL). */
 int cs_wx_to_json(const struct cs_wx *wx, char **json);
+
+/* Moves the state to time t (UTC s): a known drift is carried on by the
+ * state's own wind over t - time_utc, so that a state rendered at another
+ * time shows its clouds where its wind takes them. */
+void cs_wx_retime(struct cs_wx *wx, double t);
+
+/* The drift of a state at time t (UTC s), m: the state's drift carried on
+ * by its wind over t - time_utc (see cs_wx_retime); 0, 0 without one. */
+void cs_wx_drift_at(const struct cs_wx *wx, double t, double *east_m,
+		    double *north_m);
 
 #endif

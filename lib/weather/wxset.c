@@ -332,6 +332,8 @@ int cs_wx_set(struct cs_wx *wx, const char *assignment)
 	}
 	if (a.field->type == T_TEXT)
 		snprintf(base + a.field->off, sizeof t.site->name, "%s", a.value);
+	else if (a.field->type == T_TIME)
+		cs_wx_retime(wx, a.num); /* the drift goes with the time */
 	else
 		*(double *)(base + a.field->off) = a.num;
 	if (a.kind == K_LAYER)

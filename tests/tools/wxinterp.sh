@@ -99,7 +99,8 @@ run "$WI" "$T/north.json" --at 2021-06-14T00:00+02:00; expect_num from_deg 350
 end
 
 # One hour per genus rule (UTC, Bern, 14 June 2021: the sun is up from
-# about 03:30 and 66 deg high at noon).
+# about 03:30 and 66 deg high at noon), each the rules' own (--fade 0:
+# no fading of the changes between the hours).
 #        00 L1 01 L2 02 L3 03 L4 04 L5 05 L7 06 M1 07 M2 08 H1 09 H2 10 H3 11 -- 12 L6
 begin wxinterp_every_genus_rule_fires_on_a_crafted_day
 times=""; for h in 00 01 02 03 04 05 06 07 08 09 10 11 12; do
@@ -113,7 +114,7 @@ mb "$T/rules.json" Rules 46.95 7.44 0 "$times" \
 	fog_probability=0,60,0,0,0,0,0,0,0,0,0,0,0 \
 	visibility=30000,30000,30000,30000,30000,30000,30000,30000,30000,30000,30000,30000,30000 \
 	windspeed=1,1,1,1,1,1,1,1,1,1,1,1,1 winddirection=0,0,0,0,0,0,0,0,0,0,0,0,0
-run "$WI" "$T/rules.json" -v
+run "$WI" "$T/rules.json" -v --fade 0
 expect_rc 0
 line() { sed -n "$((${1#0} + 1))p" "$T/out"; }
 rule() { # HOUR "expected layers text" rule-text
@@ -210,7 +211,7 @@ end
 
 begin wxinterp_template_and_play_mode
 run "$WI" --template
-expect_rc 0; expect_out '"schema": "cloudwx/1",'
+expect_rc 0; expect_out '"schema": "cloudwx/2",'
 expect_out '{"genus": "cumulus", "coverage": 0.35, "base_m": 1500, "top_m": 2700}'
 cp "$T/out" "$T/tpl.json"
 run "$WI" --template --at 2022-07-01T12:00+02:00 --set layer.low.coverage=0.8 \

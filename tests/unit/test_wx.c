@@ -209,7 +209,7 @@ static void awkward_state_with_far_sites_round_trips_bit_exactly(void)
 static void json_is_one_line_with_keys_in_schema_order_and_short_numbers(void)
 {
 	static const char *const order[] = {
-		"\"schema\":\"cloudwx/1\"", "\"time_utc\":\"2021-06-14T14:00:00Z\"",
+		"\"schema\":\"cloudwx/2\"", "\"time_utc\":\"2021-06-14T14:00:00Z\"",
 		"\"site\":{\"name\":\"Bern\",\"lat_deg\":46.95,\"lon_deg\":7.44,"
 		"\"alt_m\":540}",
 		"\"layers\":[{\"genus\":\"cumulus\",\"coverage\":0.35",
@@ -678,9 +678,10 @@ static void text_after_the_object_is_an_error_in_a_string(void)
 static void wrong_schema_version_is_named(void)
 {
 	struct cs_wx wx;
-	CHECK(parse_edited("cloudwx/1", "cloudwx/2", &wx) == CS_EDATA);
+	CHECK(parse_edited("cloudwx/1", "cloudwx/3", &wx) == CS_EDATA);
 	CHECK_STR_CONTAINS(cs_errmsg(), "schema: unsupported version "
-			   "\"cloudwx/2\" (this program reads \"cloudwx/1\")");
+			   "\"cloudwx/3\" (this program reads \"cloudwx/2\" and "
+			   "\"cloudwx/1\")");
 	CHECK(parse_edited("cloudwx/1", "CLOUDWX/1", &wx) == CS_EDATA);
 	CHECK_STR_CONTAINS(cs_errmsg(), "\"CLOUDWX/1\"");
 }
