@@ -66,9 +66,10 @@ B         := build
 SANFLAGS  :=
 endif
 # programs the tool tests run (scripts/deps installs them: gdal-bin, netpbm, jq,
-# openexr, man-db)
+# openexr, man-db, ffmpeg, python3)
 TEST_TOOLS := gdal_translate gdalinfo gdallocationinfo gdalwarp pamenlarge pnmcat pnmpad \
-              pamsumm pnmpsnr pnmtoplainpnm pnmtopng pngtopnm ppmtoppm jq exrheader man
+              pamsumm pnmpsnr pnmtoplainpnm pnmtopng pngtopnm ppmtoppm jq exrheader man \
+              ffmpeg ffprobe python3 gdal_create
 PKG_CFLAGS = $(shell pkg-config --cflags $(PKGS))
 PKG_LIBS   = $(shell pkg-config --libs $(PKGS))
 ALL_CFLAGS = -std=c17 -D_POSIX_C_SOURCE=200809L -DCS_VERSION='"$(VERSION)"' \
