@@ -35,7 +35,7 @@ PROGRAMS  := $(filter-out cli,$(basename $(notdir $(wildcard tools/*.c))))
 # the real meteoblue capture the demo's weather sheet draws (not ours)
 CAPTURE   := ../shared/data/weather/meteoblue-basic-clouds-solar-1h.json
 # the scripts users run, installed with the programs (each has a man page)
-SCRIPTS   := genus-sheet quality-study radiation-study weather-sheet
+SCRIPTS   := genus-sheet quality-study radiation-study weather-sheet timelapse slurm-timelapse
 # bash-completion's own directory rebased on PREFIX (bash-completion looks
 # in PREFIX/share too), else the same path by hand
 BASHCOMPDIR ?= $(or $(shell pkg-config --define-variable=prefix=$(PREFIX) \
@@ -66,10 +66,10 @@ B         := build
 SANFLAGS  :=
 endif
 # programs the tool tests run (scripts/deps installs them: gdal-bin, netpbm, jq,
-# openexr, man-db, ffmpeg, python3)
+# openexr, man-db, ffmpeg, python3, munge, slurmctld, slurmd, slurm-client)
 TEST_TOOLS := gdal_translate gdalinfo gdallocationinfo gdalwarp pamenlarge pnmcat pnmpad \
               pamsumm pnmpsnr pnmtoplainpnm pnmtopng pngtopnm ppmtoppm jq exrheader man \
-              ffmpeg ffprobe python3 gdal_create
+              ffmpeg ffprobe python3 gdal_create munged slurmctld slurmd sbatch
 PKG_CFLAGS = $(shell pkg-config --cflags $(PKGS))
 PKG_LIBS   = $(shell pkg-config --libs $(PKGS))
 ALL_CFLAGS = -std=c17 -D_POSIX_C_SOURCE=200809L -DCS_VERSION='"$(VERSION)"' \
