@@ -16,7 +16,8 @@
 #   make mutate       the suite's mutation score (scripts/mutate, nice -n 19;
 #                     not part of check: it rebuilds and runs it per mutant)
 #   make demo         bake the noise, make a synthetic Bern terrain, render into out/,
-#                     compare two renders of the capture an hour apart (skycompare)
+#                     compare two renders of the capture an hour apart (skycompare),
+#                     a short time-lapse of the capture (scripts/timelapse)
 #   make install PREFIX=/usr/local DESTDIR=   programs, scripts, man pages,
 #                     bash completion (BASHCOMPDIR: bash-completion's
 #                     completionsdir under PREFIX, else
@@ -203,12 +204,20 @@ demo: have-deps
 		$(B)/bin/skycompare out/sky-14h.exr out/sky-15h.exr -o out/skycompare-side.png \
 			--overlay out/skycompare-overlay.png --diff out/skycompare-diff.png; \
 	else echo "demo: $(CAPTURE) is absent: no sky comparison"; fi
+	@if [ -f $(CAPTURE) ]; then \
+		echo "scripts/timelapse $(CAPTURE) 2024-10-13T12:00Z 2024-10-13T18:00Z --step 20m --size 320x180 --fps 6 --noise out/noise.exr -o out/timelapse -- --quality low"; \
+		WXINTERP=$(B)/bin/wxinterp CLOUDRENDER=$(B)/bin/cloudrender NOISEBAKE=$(B)/bin/noisebake \
+		scripts/timelapse $(CAPTURE) 2024-10-13T12:00Z 2024-10-13T18:00Z --step 20m \
+			--size 320x180 --fps 6 --noise out/noise.exr -o out/timelapse -- --quality low || exit 1; \
+	else echo "demo: $(CAPTURE) is absent: no time-lapse"; fi
 	@echo "demo: wrote out/demo.png and out/demo.exr (the default scene), out/gurten.png (from the"
 	@echo "demo: Gurten over a SYNTHETIC Bern terrain), out/genus-sheet.png, out/noise.exr,"
 	@echo "demo: out/noise-preview.png, out/bern.exr and out/bern-hillshade.png, and"
 	@echo "demo: out/weather-sheet.png (a rainy overcast day of the real meteoblue capture),"
 	@echo "demo: out/sky-14h.png and out/sky-15h.png (the capture's 2024-10-13 at 14:00 and"
-	@echo "demo: 15:00 UTC) and out/skycompare-side.png, -overlay.png, -diff.png (the two compared)"
+	@echo "demo: 15:00 UTC) and out/skycompare-side.png, -overlay.png, -diff.png (the two compared),"
+	@echo "demo: out/timelapse/timelapse.mp4 (the capture's 2024-10-13 from 12:00 to 18:00 UTC, a"
+	@echo "demo: frame every 20 minutes, from out/timelapse/frames/*.png; make -C out/timelapse resumes it)"
 
 MAN1 := $(PROGRAMS:%=man/%.1) $(SCRIPTS:%=man/%.1)
 MAN5 := $(wildcard man/*.5)
