@@ -266,7 +266,8 @@ static void gdal_of(int argc, char **argv)
 }
 
 /* The view file: --views FILE, else $XDG_CONFIG_HOME/cloudscape/views
- * ($HOME/.config/cloudscape/views) when it exists.  1 if one was read;
+ * ($HOME/.config/cloudscape/views) when it exists (read for --view and
+ * --list-views only).  1 if one was read;
  * a file that cannot be read or has a bad line ends the program (1). */
 static int load_views(const char *path, struct cs_viewset *set)
 {
@@ -572,7 +573,9 @@ int main(int argc, char **argv)
 	if (optind < argc)
 		cli_usage_error("unexpected argument '%s'", argv[optind]);
 	static struct cs_viewset views; /* static: 30 kB */
-	if (load_views(views_path, &views))
+	/* the default file only when a view is named or listed: a bad one
+	 * does not stop other renders */
+	if ((views_path || o.view || list) && load_views(views_path, &views))
 		o.views = &views;
 	if (list) {
 		list_views(o.views);

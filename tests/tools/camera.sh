@@ -140,6 +140,12 @@ expect_rc 0
 set -- $(camera); [ "${3:-}" = 1627 ] || bad "the XDG file's Chasseral at ${3:-?} m"
 XDG_CONFIG_HOME="$T/none" run "$CR" --view chasseral -o "$T/x.png" $FAST
 expect_rc 2; expect_err "unknown view 'chasseral'"
+# a bad default file stops what names a view, not the other renders
+mkdir -p "$T/bad/cloudscape"; echo 'x 1 2' >"$T/bad/cloudscape/views"
+XDG_CONFIG_HOME="$T/bad" run "$CR" -o "$T/d.png" $FAST
+expect_rc 0
+XDG_CONFIG_HOME="$T/bad" run "$CR" --view gurten -o "$T/x.png" $FAST
+expect_rc 1; expect_err "views:1:"; expect_no_file "$T/x.png"
 end
 
 begin cloudrender_views_file_errors_name_the_line
