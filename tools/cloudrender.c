@@ -291,6 +291,15 @@ static int load_views(const char *path, struct cs_viewset *set)
 	return 1;
 }
 
+/* The views the run knows (o->views), read when a view is named or listed
+ * (a bad default file does not stop other renders). */
+static void resolve_views(struct cs_cloudrender_opts *o, const char *path, int list,
+			  struct cs_viewset *set)
+{
+	if ((path || o->view || list) && load_views(path, set))
+		o->views = set;
+}
+
 /* LAT,LON,ALT_M of --look-at. */
 static void parse_look_at(const char *s, struct cs_cloudrender_opts *o)
 {
@@ -398,6 +407,7 @@ int main(int argc, char **argv)
 	int list = 0; /* --list-views */
 	const char *camera_latlon = NULL; /* --camera LAT,LON */
 	const char *views_path = NULL;
+	static struct cs_viewset views; /* static: 30 kB */
 	int opt;
 
 	cli_init("cloudrender");
@@ -563,7 +573,13 @@ int main(int argc, char **argv)
 		case OPT_STATS: stats = o.irradiance = 1; break;
 		case 'q': cli_quiet = 1; break;
 		case 'v': cli_verbose = 1; break;
-		case 'h': usage(); return EXIT_OK;
+		case 'h': /* a bad --view before it is still refused */
+			resolve_views(&o, views_path, 0, &views);
+			if (o.view && cs_viewset_find(o.views, o.view) == NULL)
+				cli_usage_error("--view: unknown view '%s' (see --list-views)",
+						o.view);
+			usage();
+			return EXIT_OK;
 		case OPT_VERSION: printf("cloudrender (cloudscape) %s\n", CS_VERSION); return EXIT_OK;
 		default:
 			fprintf(stderr, "Try 'cloudrender --help' for more information.\n");
@@ -572,11 +588,7 @@ int main(int argc, char **argv)
 	}
 	if (optind < argc)
 		cli_usage_error("unexpected argument '%s'", argv[optind]);
-	static struct cs_viewset views; /* static: 30 kB */
-	/* the default file only when a view is named or listed: a bad one
-	 * does not stop other renders */
-	if ((views_path || o.view || list) && load_views(views_path, &views))
-		o.views = &views;
+	resolve_views(&o, views_path, list, &views);
 	if (list) {
 		list_views(o.views);
 		return EXIT_OK;
