@@ -17,7 +17,8 @@
 #   make mutate       the suite's mutation score (scripts/mutate, nice -n 19;
 #                     not part of check: it rebuilds and runs it per mutant)
 #   make demo         bake the noise, make a synthetic Bern terrain, render into out/,
-#                     compare two renders of the capture an hour apart (skycompare)
+#                     compare two renders of the capture an hour apart (skycompare),
+#                     a short time-lapse of the capture (scripts/timelapse)
 #   make install PREFIX=/usr/local DESTDIR=   programs, scripts, man pages,
 #                     bash completion (BASHCOMPDIR: bash-completion's
 #                     completionsdir under PREFIX, else
@@ -36,7 +37,7 @@ PROGRAMS  := $(filter-out cli,$(basename $(notdir $(wildcard tools/*.c))))
 # the real meteoblue capture the demo's weather sheet draws (not ours)
 CAPTURE   := ../shared/data/weather/meteoblue-basic-clouds-solar-1h.json
 # the scripts users run, installed with the programs (each has a man page)
-SCRIPTS   := genus-sheet quality-study radiation-study weather-sheet
+SCRIPTS   := genus-sheet quality-study radiation-study weather-sheet timelapse slurm-timelapse
 # bash-completion's own directory rebased on PREFIX (bash-completion looks
 # in PREFIX/share too), else the same path by hand
 BASHCOMPDIR ?= $(or $(shell pkg-config --define-variable=prefix=$(PREFIX) \
@@ -67,9 +68,10 @@ B         := build
 SANFLAGS  :=
 endif
 # programs the tool tests run (scripts/deps installs them: gdal-bin, netpbm, jq,
-# openexr, man-db)
+# openexr, man-db, ffmpeg, python3, munge, slurmctld, slurmd, slurm-client)
 TEST_TOOLS := gdal_translate gdalinfo gdallocationinfo gdalwarp pamenlarge pnmcat pnmpad \
-              pamsumm pnmpsnr pnmtoplainpnm pnmtopng pngtopnm ppmtoppm jq exrheader man
+              pamsumm pnmpsnr pnmtoplainpnm pnmtopng pngtopnm ppmtoppm jq exrheader man \
+              ffmpeg ffprobe python3 gdal_create munged slurmctld slurmd sbatch
 PKG_CFLAGS = $(shell pkg-config --cflags $(PKGS))
 PKG_LIBS   = $(shell pkg-config --libs $(PKGS))
 ALL_CFLAGS = -std=c17 -D_POSIX_C_SOURCE=200809L -DCS_VERSION='"$(VERSION)"' \
@@ -208,12 +210,20 @@ demo: have-deps
 		$(B)/bin/skycompare out/sky-14h.exr out/sky-15h.exr -o out/skycompare-side.png \
 			--overlay out/skycompare-overlay.png --diff out/skycompare-diff.png; \
 	else echo "demo: $(CAPTURE) is absent: no sky comparison"; fi
+	@if [ -f $(CAPTURE) ]; then \
+		echo "scripts/timelapse $(CAPTURE) 2024-10-13T12:00Z 2024-10-13T18:00Z --step 20m --size 320x180 --fps 6 --noise out/noise.exr -o out/timelapse -- --quality low"; \
+		WXINTERP=$(B)/bin/wxinterp CLOUDRENDER=$(B)/bin/cloudrender NOISEBAKE=$(B)/bin/noisebake \
+		scripts/timelapse $(CAPTURE) 2024-10-13T12:00Z 2024-10-13T18:00Z --step 20m \
+			--size 320x180 --fps 6 --noise out/noise.exr -o out/timelapse -- --quality low || exit 1; \
+	else echo "demo: $(CAPTURE) is absent: no time-lapse"; fi
 	@echo "demo: wrote out/demo.png and out/demo.exr (the default scene), out/gurten.png (from the"
 	@echo "demo: Gurten over a SYNTHETIC Bern terrain), out/genus-sheet.png, out/noise.exr,"
 	@echo "demo: out/noise-preview.png, out/bern.exr and out/bern-hillshade.png, and"
 	@echo "demo: out/weather-sheet.png (a rainy overcast day of the real meteoblue capture),"
 	@echo "demo: out/sky-14h.png and out/sky-15h.png (the capture's 2024-10-13 at 14:00 and"
-	@echo "demo: 15:00 UTC) and out/skycompare-side.png, -overlay.png, -diff.png (the two compared)"
+	@echo "demo: 15:00 UTC) and out/skycompare-side.png, -overlay.png, -diff.png (the two compared),"
+	@echo "demo: out/timelapse/timelapse.mp4 (the capture's 2024-10-13 from 12:00 to 18:00 UTC, a"
+	@echo "demo: frame every 20 minutes, from out/timelapse/frames/*.png; make -C out/timelapse resumes it)"
 
 MAN1 := $(PROGRAMS:%=man/%.1) $(SCRIPTS:%=man/%.1)
 MAN5 := $(wildcard man/*.5)

@@ -1,6 +1,7 @@
 # bash completion for the cloudscape programs: cloudrender, mbfetch,
 # noisebake, terrainprep, wxinterp (and the scripts genus-sheet,
-# quality-study, radiation-study, weather-sheet).
+# quality-study, radiation-study, weather-sheet, timelapse,
+# slurm-timelapse).
 #
 # The options are read from the program's own --help when first completed,
 # so they always match the program that is installed; the values of the
@@ -63,7 +64,7 @@ _cloudscape()
 	local key=${prog//[^A-Za-z0-9]/_} opts args
 	eval "opts=\$_cloudscape_opts_$key; args=\$_cloudscape_args_$key"
 	case ${prog##*/} in
-	genus-sheet | quality-study | radiation-study | weather-sheet)
+	genus-sheet | quality-study | radiation-study | weather-sheet | timelapse | slurm-timelapse)
 		# the scripts pass their other options to cloudrender
 		local cr=cloudrender dir
 		dir=$(dirname -- "$(type -P "$prog")" 2>/dev/null)
@@ -96,4 +97,4 @@ _cloudscape()
 }
 
 complete -F _cloudscape cloudrender mbfetch noisebake terrainprep wxinterp \
-	genus-sheet quality-study radiation-study weather-sheet
+	genus-sheet quality-study radiation-study weather-sheet timelapse slurm-timelapse

@@ -11,6 +11,8 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <strings.h>
+#include <unistd.h>
 
 #ifndef CS_VERSION
 #define CS_VERSION "unknown"
@@ -46,10 +48,19 @@ static void usage(void)
 	       "      --terrain-cpt FILE    colour the terrain by height with a GMT CPT palette\n"
 	       "                         (z0 r g b z1 r g b lines, as makecpt writes)\n"
 	       "      --time TIME        UTC time, ISO 8601 (default: the weather state's)\n"
-	       "      --view NAME        named viewpoint: gurten, bantiger\n"
+	       "      --view NAME        named viewpoint, any case: gurten, bantiger, or\n"
+	       "                         one of the --views file\n"
+	       "      --views FILE       more named viewpoints, one a line: NAME LAT LON\n"
+	       "                         ALT_M AZ EL FOV [DESCRIPTION] (default:\n"
+	       "                         $XDG_CONFIG_HOME/cloudscape/views if it exists)\n"
 	       "      --list-views       list the viewpoints and exit\n"
-	       "      --camera LAT,LON,ALT_M  camera position (degrees, metres above sea level)\n"
+	       "      --camera LAT,LON,ALT_M  camera position (degrees, metres above sea level;\n"
+	       "                         LAT,LON with --camera-agl)\n"
+	       "      --camera-agl M     the camera M metres above the terrain (or, without\n"
+	       "                         terrain, the weather site's ground), 0..100000\n"
 	       "      --look AZ,EL       view azimuth (from north, clockwise) and elevation, degrees\n"
+	       "      --look-at LAT,LON,ALT_M  look at this point (degrees, metres above sea\n"
+	       "                         level) instead of --look\n"
 	       "      --fov DEG          horizontal field of view, 1..179 (default 70, views 60)\n"
 	       "      --projection P     perspective (default); fisheye: an all-sky camera\n"
 	       "                         looking up (north up, east left); equirect: a\n"
@@ -97,15 +108,23 @@ static void usage(void)
 	       "See cloudrender(1) and cloudwx(5).\n");
 }
 
-static void list_views(void)
+static void list_view(const struct cs_view *v)
+{
+	printf("%-10s %9.5f %9.5f %6.0f m  look %5.1f,%4.1f deg  fov %2.0f  %s\n",
+	       v->name, v->place->lat_deg, v->place->lon_deg, cs_view_alt_m(v),
+	       v->azimuth_deg, v->elevation_deg, v->fov_deg, v->description);
+}
+
+/* The --views file's viewpoints, then the built-in ones it does not name. */
+static void list_views(const struct cs_viewset *set)
 {
 	int n;
 	const struct cs_view *v = cs_views(&n);
+	for (int i = 0; set && i < set->n; i++)
+		list_view(&set->views[i]);
 	for (int i = 0; i < n; i++)
-		printf("%-10s %9.5f %9.5f %6.0f m  look %5.1f,%4.1f deg  fov %2.0f  %s\n",
-		       v[i].name, v[i].place->lat_deg, v[i].place->lon_deg, cs_view_alt_m(&v[i]),
-		       v[i].azimuth_deg, v[i].elevation_deg, v[i].fov_deg,
-		       v[i].description);
+		if (cs_viewset_find(set, v[i].name) == &v[i])
+			list_view(&v[i]);
 }
 
 static void print_stats(const struct cs_cloudrender_opts *o,
@@ -246,6 +265,80 @@ static void gdal_of(int argc, char **argv)
 	}
 }
 
+/* The view file: --views FILE, else $XDG_CONFIG_HOME/cloudscape/views
+ * ($HOME/.config/cloudscape/views) when it exists (read for --view and
+ * --list-views only).  1 if one was read;
+ * a file that cannot be read or has a bad line ends the program (1). */
+static int load_views(const char *path, struct cs_viewset *set)
+{
+	char def[4096];
+	if (path == NULL) {
+		const char *xdg = getenv("XDG_CONFIG_HOME"), *home = getenv("HOME");
+		if (xdg && xdg[0] == '/')
+			snprintf(def, sizeof def, "%s/cloudscape/views", xdg);
+		else if (home && home[0])
+			snprintf(def, sizeof def, "%s/.config/cloudscape/views", home);
+		else
+			return 0;
+		if (access(def, F_OK) != 0)
+			return 0;
+		path = def;
+	}
+	if (cs_viewset_read(path, set) != CS_OK) {
+		cli_err("--views: %s", cs_errmsg());
+		exit(EXIT_DATA);
+	}
+	return 1;
+}
+
+/* The views the run knows (o->views), read when a view is named or listed
+ * (a bad default file does not stop other renders). */
+static void resolve_views(struct cs_cloudrender_opts *o, const char *path, int list,
+			  struct cs_viewset *set)
+{
+	if ((path || o->view || list) && load_views(path, set))
+		o->views = set;
+}
+
+/* LAT,LON,ALT_M of --look-at. */
+static void parse_look_at(const char *s, struct cs_cloudrender_opts *o)
+{
+	char buf[256];
+	const char *c2 = strrchr(s, ',');
+	int commas = 0;
+	for (const char *p = s; *p; p++)
+		commas += *p == ',';
+	if (commas != 2 || (size_t)(c2 - s) >= sizeof buf)
+		cli_usage_error("--look-at: expected LAT,LON,ALT_M (degrees, degrees, metres "
+				"above sea level), not '%s'", s);
+	memcpy(buf, s, (size_t)(c2 - s));
+	buf[c2 - s] = '\0';
+	parse_pair("--look-at", buf, &o->look_at_lat_deg, &o->look_at_lon_deg, -90.0, 90.0,
+		   -180.0, 180.0);
+	o->look_at_alt_m = cli_double("--look-at", c2 + 1, -500.0, 100000.0);
+	o->have_look_at = 1;
+}
+
+/* The easier cameras' rules, once every option is read. */
+static void check_easy_camera(const struct cs_cloudrender_opts *o, const char *camera_latlon)
+{
+	if (o->view && cs_viewset_find(o->views, o->view) == NULL)
+		cli_usage_error("--view: unknown view '%s' (see --list-views)", o->view);
+	if (o->have_look && o->have_look_at)
+		cli_usage_error("--look and --look-at exclude each other: give one");
+	if (camera_latlon && !o->have_camera_agl)
+		cli_usage_error("--camera: expected three comma-separated numbers LAT,LON,ALT_M "
+				"(degrees, degrees, metres above sea level), got 2 in '%s': the "
+				"altitude is missing, e.g. --camera 46.9,7.4,600 (or give "
+				"--camera-agl M)", camera_latlon);
+	if (o->have_camera && !camera_latlon && o->have_camera_agl)
+		cli_usage_error("--camera LAT,LON,ALT_M and --camera-agl both set the height: "
+				"give --camera LAT,LON with --camera-agl");
+}
+
+/* the easier cameras' options (--camera-agl, --look-at, --views) */
+enum { OPT_CAMERA_AGL = 600, OPT_LOOK_AT, OPT_VIEWS };
+
 enum {
 	OPT_WX = 256, OPT_NOISE, OPT_NOISE_SIZE, OPT_TIME, OPT_VIEW, OPT_LIST_VIEWS,
 	OPT_CAMERA, OPT_LOOK, OPT_FOV, OPT_SIZE, OPT_QUALITY, OPT_STEPS,
@@ -277,6 +370,9 @@ int main(int argc, char **argv)
 		{"list-views", no_argument, NULL, OPT_LIST_VIEWS},
 		{"camera", required_argument, NULL, OPT_CAMERA},
 		{"look", required_argument, NULL, OPT_LOOK},
+		{"camera-agl", required_argument, NULL, OPT_CAMERA_AGL},
+		{"look-at", required_argument, NULL, OPT_LOOK_AT},
+		{"views", required_argument, NULL, OPT_VIEWS},
 		{"fov", required_argument, NULL, OPT_FOV},
 		{"projection", required_argument, NULL, OPT_PROJECTION},
 		{"haze-steps", required_argument, NULL, OPT_HAZE_STEPS},
@@ -308,6 +404,10 @@ int main(int argc, char **argv)
 	struct cs_cloudrender_opts o;
 	struct cs_cloudrender_result r;
 	int stats = 0;
+	int list = 0; /* --list-views */
+	const char *camera_latlon = NULL; /* --camera LAT,LON */
+	const char *views_path = NULL;
+	static struct cs_viewset views; /* static: 30 kB */
 	int opt;
 
 	cli_init("cloudrender");
@@ -351,18 +451,30 @@ int main(int argc, char **argv)
 				cli_usage_error("--time: %s", cs_errmsg());
 			o.have_time = 1;
 			break;
-		case OPT_VIEW:
-			if (cs_view_find(optarg) == NULL)
-				cli_usage_error("--view: unknown view '%s' (see --list-views)", optarg);
-			o.view = optarg;
+		case OPT_VIEW: o.view = optarg; break; /* checked once --views is read */
+		case OPT_LIST_VIEWS: list = 1; break;
+		case OPT_CAMERA_AGL:
+			o.camera_agl_m = cli_double("--camera-agl", optarg, 0.0, 100000.0);
+			o.have_camera_agl = 1;
 			break;
-		case OPT_LIST_VIEWS: list_views(); return EXIT_OK;
+		case OPT_LOOK_AT:
+			parse_look_at(optarg, &o);
+			break;
+		case OPT_VIEWS: views_path = optarg; break;
 		case OPT_CAMERA: {
 			char buf[256];
 			const char *c2 = strrchr(optarg, ',');
 			int commas = 0;
 			for (const char *p = optarg; *p; p++)
 				commas += *p == ',';
+			if (commas == 1) { /* LAT,LON: the height from --camera-agl */
+				parse_pair("--camera", optarg, &o.cam_lat_deg, &o.cam_lon_deg,
+					   -89.9, 89.9, -180.0, 180.0);
+				o.have_camera = 1;
+				camera_latlon = optarg;
+				break;
+			}
+			camera_latlon = NULL;
 			if (commas != 2)
 				cli_usage_error("--camera: expected three comma-separated numbers "
 						"LAT,LON,ALT_M (degrees, degrees, metres above sea "
@@ -414,9 +526,9 @@ int main(int argc, char **argv)
 			break;
 		case OPT_MS: o.ms_octaves = (int)cli_long("--ms-octaves", optarg, 1, 4); break;
 		case OPT_INTEGRATOR:
-			if (strcmp(optarg, "march") == 0)
+			if (strcasecmp(optarg, "march") == 0)
 				o.reference = 0;
-			else if (strcmp(optarg, "reference") == 0)
+			else if (strcasecmp(optarg, "reference") == 0)
 				o.reference = 1;
 			else
 				cli_usage_error("--integrator: '%s' is not march or reference", optarg);
@@ -427,19 +539,19 @@ int main(int argc, char **argv)
 			break;
 		case OPT_NO_HAZE: o.no_haze = 1; break;
 		case OPT_MARCH:
-			if (strcmp(optarg, "standard") == 0)
+			if (strcasecmp(optarg, "standard") == 0)
 				o.march = CS_MARCH_STANDARD;
-			else if (strcmp(optarg, "naive") == 0)
+			else if (strcasecmp(optarg, "naive") == 0)
 				o.march = CS_MARCH_NAIVE;
-			else if (strcmp(optarg, "skip") == 0)
+			else if (strcasecmp(optarg, "skip") == 0)
 				o.march = CS_MARCH_SKIP;
 			else
 				cli_usage_error("--march: '%s' is not standard, naive or skip", optarg);
 			break;
 		case OPT_LIGHT_MARCH:
-			if (strcmp(optarg, "uniform") == 0)
+			if (strcasecmp(optarg, "uniform") == 0)
 				o.light_march = CS_LIGHT_UNIFORM;
-			else if (strcmp(optarg, "quadratic") == 0)
+			else if (strcasecmp(optarg, "quadratic") == 0)
 				o.light_march = CS_LIGHT_QUADRATIC;
 			else
 				cli_usage_error("--light-march: '%s' is not uniform or quadratic", optarg);
@@ -452,7 +564,7 @@ int main(int argc, char **argv)
 		case OPT_NO_JITTER: o.no_jitter = 1; break;
 		case OPT_SEED: o.seed = cli_long("--seed", optarg, 0, 4294967295L); break;
 		case OPT_EXPOSURE:
-			if (strcmp(optarg, "auto") == 0)
+			if (strcasecmp(optarg, "auto") == 0)
 				o.exposure_auto = 1;
 			else
 				o.exposure_ev = cli_double("--exposure", optarg, -20.0, 20.0);
@@ -461,7 +573,13 @@ int main(int argc, char **argv)
 		case OPT_STATS: stats = o.irradiance = 1; break;
 		case 'q': cli_quiet = 1; break;
 		case 'v': cli_verbose = 1; break;
-		case 'h': usage(); return EXIT_OK;
+		case 'h': /* a bad --view before it is still refused */
+			resolve_views(&o, views_path, 0, &views);
+			if (o.view && cs_viewset_find(o.views, o.view) == NULL)
+				cli_usage_error("--view: unknown view '%s' (see --list-views)",
+						o.view);
+			usage();
+			return EXIT_OK;
 		case OPT_VERSION: printf("cloudrender (cloudscape) %s\n", CS_VERSION); return EXIT_OK;
 		default:
 			fprintf(stderr, "Try 'cloudrender --help' for more information.\n");
@@ -470,6 +588,12 @@ int main(int argc, char **argv)
 	}
 	if (optind < argc)
 		cli_usage_error("unexpected argument '%s'", argv[optind]);
+	resolve_views(&o, views_path, list, &views);
+	if (list) {
+		list_views(o.views);
+		return EXIT_OK;
+	}
+	check_easy_camera(&o, camera_latlon);
 	if (of_unused)
 		cli_usage_error("-of applies to the -o outputs after it: none follows");
 	if (o.terrain_color_path && !o.terrain_path)

@@ -72,7 +72,7 @@ static void usage(void)
 static void parse_size(const char *s, struct cs_terrainprep_opts *o)
 {
 	const char *x = strchr(s, 'x');
-	if (strcmp(s, "unity") == 0) {
+	if (strcasecmp(s, "unity") == 0) {
 		o->size_unity = 1;
 	} else if (x) {
 		char w[32];
@@ -89,14 +89,14 @@ static void parse_size(const char *s, struct cs_terrainprep_opts *o)
 
 static void parse_fill(const char *s, struct cs_terrainprep_opts *o)
 {
-	if (strcmp(s, "nearest") == 0) {
+	if (strcasecmp(s, "nearest") == 0) {
 		o->fill = CS_FILL_NEAREST;
-	} else if (strcmp(s, "none") == 0) {
+	} else if (strcasecmp(s, "none") == 0) {
 		o->fill = CS_FILL_NONE;
-	} else if (strcmp(s, "value") == 0) {
+	} else if (strcasecmp(s, "value") == 0) {
 		o->fill = CS_FILL_VALUE;
 		o->fill_value = 0.0;
-	} else if (strncmp(s, "value=", 6) == 0) {
+	} else if (strncasecmp(s, "value=", 6) == 0) {
 		o->fill = CS_FILL_VALUE;
 		o->fill_value = cli_double("--fill", s + 6, -1e6, 1e6);
 	} else {
@@ -221,7 +221,7 @@ int main(int argc, char **argv)
 		case 'r': o.resampling = optarg; break;
 		case OPT_SRC_NODATA:
 			o.have_src_nodata = 1;
-			o.src_nodata_none = strcmp(optarg, "none") == 0;
+			o.src_nodata_none = strcasecmp(optarg, "none") == 0;
 			if (!o.src_nodata_none)
 				o.src_nodata = cli_double("--src-nodata", optarg, -1e38, 1e38);
 			break;

@@ -11,6 +11,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <strings.h>
 #include <time.h>
 
 #ifndef CS_VERSION
@@ -113,7 +114,7 @@ static void print_note(void *user, int level, const char *msg)
 static double when(const char *opt, const char *s)
 {
 	double t;
-	if (strcmp(s, "now") == 0)
+	if (strcasecmp(s, "now") == 0)
 		return (double)time(NULL);
 	if (cs_time_parse(s, &t) != CS_OK)
 		cli_usage_error("%s: %s", opt, cs_errmsg());

@@ -320,10 +320,49 @@ static void measure_irradiance(const struct cs_cloudrender_opts *o, const struct
 	cs_irradiance_area(sc, s, r->area_size_m, 5, &r->irr_area, &st);
 }
 
+/* --camera-agl and --look-at: in range, and no look given twice. */
+static int check_camera(const struct cs_cloudrender_opts *o)
+{
+	if (o->have_look && o->have_look_at)
+		return cs_error(CS_EINVAL, "--look and --look-at exclude each other");
+	if (o->have_camera_agl && !(o->camera_agl_m >= 0.0 && o->camera_agl_m <= 100000.0))
+		return cs_error(CS_EINVAL, "the camera's height above the ground must be "
+				"0..100000 m, not %g", o->camera_agl_m);
+	if (o->have_look_at && !(fabs(o->look_at_lat_deg) <= 90.0 &&
+				 fabs(o->look_at_lon_deg) <= 360.0 &&
+				 isfinite(o->look_at_alt_m)))
+		return cs_error(CS_EINVAL, "--look-at %g,%g,%g is not a place", o->look_at_lat_deg,
+				o->look_at_lon_deg, o->look_at_alt_m);
+	return CS_OK;
+}
+
+/* The camera's place and look by --camera-agl and --look-at, once the
+ * ground under it (m above sea level) is known: *alt, *pos, *az, *el. */
+static int place_camera_easy(const struct cs_cloudrender_opts *o, struct cs_cloudrender_result *r,
+			     const struct cs_scene *sc, double lat, double lon, double ground,
+			     double *alt, cs_v3 *pos, double *az, double *el)
+{
+	if (o->have_camera_agl) {
+		*alt = ground + o->camera_agl_m;
+		*pos = cs_geo_to_world(r->wx.site.lat_deg, r->wx.site.lon_deg, sc->earth_radius_m,
+				       lat, lon, *alt);
+	}
+	if (!o->have_look_at)
+		return CS_OK;
+	if (cs_look_at(sc->earth_radius_m, lat, lon, *alt, o->look_at_lat_deg, o->look_at_lon_deg,
+		       o->look_at_alt_m, az, el) != 0)
+		return cs_error(CS_EINVAL, "--look-at %g,%g,%g is where the camera is",
+				o->look_at_lat_deg, o->look_at_lon_deg, o->look_at_alt_m);
+	snprintf(r->look_why, sizeof r->look_why, "--look-at %.5f,%.5f,%.0f",
+		 o->look_at_lat_deg, o->look_at_lon_deg, o->look_at_alt_m);
+	return CS_OK;
+}
+
 /* Every check that needs no file: outputs, size, streams, settings, view. */
 static int check_run(const struct cs_cloudrender_opts *o, struct cs_cloudrender_result *r,
 		     const struct cs_view **view)
 {
+	*view = NULL;
 	if (o->noutputs < 1)
 		return cs_error(CS_EINVAL, "no output: give -o FILE.png or -o FILE.exr");
 	for (int i = 0; i < o->noutputs; i++)
@@ -354,9 +393,9 @@ static int check_run(const struct cs_cloudrender_opts *o, struct cs_cloudrender_
 	if (rc != CS_OK)
 		return rc;
 	*view = NULL;
-	if (o->view && (*view = cs_view_find(o->view)) == NULL)
+	if (o->view && (*view = cs_viewset_find(o->views, o->view)) == NULL)
 		return cs_error(CS_EINVAL, "unknown view '%s' (see --list-views)", o->view);
-	return CS_OK;
+	return check_camera(o);
 }
 
 /* The weather (and the time), then the noise volume. */
@@ -467,10 +506,13 @@ static int place_camera(const struct cs_cloudrender_opts *o, struct cs_cloudrend
 					      sc->earth_radius_m, lat, lon, alt);
 		}
 	}
+	int rc = place_camera_easy(o, r, sc, lat, lon, ground, &alt, &pos, &az, &el);
+	if (rc != CS_OK)
+		return rc;
 	if (alt < ground)
 		return cs_error(CS_EINVAL, "the camera at %.1f m is below the %s (%.1f m)",
 				alt, over_terrain ? "terrain" : "ground", ground);
-	if (!view && !o->have_look) {
+	if (!view && !o->have_look && !o->have_look_at) {
 		double fx[CS_WX_MAX_FAR], fy[CS_WX_MAX_FAR];
 		for (int f = 0; f < r->wx.nfar; f++) {
 			cs_v3 p = cs_geo_to_world(r->wx.site.lat_deg, r->wx.site.lon_deg,
@@ -485,7 +527,7 @@ static int place_camera(const struct cs_cloudrender_opts *o, struct cs_cloudrend
 	}
 	r->cam_lat_deg = lat, r->cam_lon_deg = lon, r->cam_alt_m = alt;
 	r->look_az_deg = az, r->look_el_deg = el, r->fov_deg = fov;
-	int rc = cs_camera_init(cam, sc, pos, r->wx.site.lat_deg, az, el, fov, o->width, o->height);
+	rc = cs_camera_init(cam, sc, pos, r->wx.site.lat_deg, az, el, fov, o->width, o->height);
 	if (rc != CS_OK)
 		return rc;
 	cam->projection = o->projection;

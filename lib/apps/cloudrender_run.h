@@ -3,6 +3,7 @@
 #define CS_CLOUDRENDER_H
 
 #include "render/render.h"
+#include "weather/viewfile.h"
 #include "weather/wx.h"
 
 #define CS_RENDER_MAX_OUTPUTS 4
@@ -33,6 +34,15 @@ struct cs_cloudrender_opts {
 	int have_look;
 	double look_az_deg, look_el_deg;
 	double fov_deg;           /* 0: the view's, or 70 */
+	/* easier cameras (cloudrender --camera-agl, --look-at, --views) */
+	const struct cs_viewset *views; /* a --views file's, or NULL: built-in only */
+	int have_camera_agl;      /* the camera camera_agl_m above the terrain (or
+				   * the ground without terrain), whatever the
+				   * view's or --camera's altitude */
+	double camera_agl_m;
+	int have_look_at;         /* look at this point instead of azimuth and
+				   * elevation (excludes have_look) */
+	double look_at_lat_deg, look_at_lon_deg, look_at_alt_m;
 	enum cs_projection projection; /* perspective (default), fisheye, equirect */
 	int irradiance;           /* measure the ground irradiance (--stats) */
 	int width, height;

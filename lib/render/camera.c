@@ -5,6 +5,7 @@
 
 #include <math.h>
 #include <string.h>
+#include <strings.h>
 
 int cs_camera_init(struct cs_camera *c, const struct cs_scene *sc, cs_v3 pos,
 		   double origin_lat_deg, double azimuth_deg, double elevation_deg,
@@ -46,7 +47,7 @@ int cs_projection_parse(const char *name, enum cs_projection *p)
 {
 	static const char *const names[] = {"perspective", "fisheye", "equirect"};
 	for (int i = 0; i < 3; i++)
-		if (strcmp(name, names[i]) == 0) {
+		if (strcasecmp(name, names[i]) == 0) {
 			*p = (enum cs_projection)i;
 			return CS_OK;
 		}

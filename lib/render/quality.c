@@ -5,6 +5,7 @@
 #include "core/err.h"
 
 #include <string.h>
+#include <strings.h>
 
 static const struct {
 	const char *name;
@@ -19,7 +20,7 @@ static const struct {
 int cs_render_quality(const char *name, struct cs_render_settings *s)
 {
 	for (size_t i = 0; i < sizeof presets / sizeof presets[0]; i++)
-		if (strcmp(name, presets[i].name) == 0) {
+		if (strcasecmp(name, presets[i].name) == 0) {
 			*s = presets[i].s;
 			return CS_OK;
 		}

@@ -50,7 +50,7 @@ const struct cs_view *cs_views(int *count)
 const struct cs_view *cs_view_find(const char *name)
 {
 	for (int i = 0; i < COUNT(views); i++)
-		if (strcmp(views[i].name, name) == 0)
+		if (strcasecmp(views[i].name, name) == 0)
 			return &views[i];
 	return NULL;
 }

@@ -19,14 +19,15 @@ const struct cs_place *cs_place_find(const char *name);
 /* A named viewpoint: a camera eye_m above a place's ground (a tower's
  * platform), looking along azimuth and elevation (degrees). */
 struct cs_view {
-	const char *name;          /* lower case, as --view takes it */
+	const char *name;          /* as --view takes it (any case) */
 	const struct cs_place *place;
 	double eye_m;
 	double azimuth_deg, elevation_deg, fov_deg;
 	const char *description;
 };
 
-/* The built-in viewpoints, and the one with a name (NULL if none). */
+/* The built-in viewpoints, and the one with a name (case-insensitive;
+ * NULL if none). */
 const struct cs_view *cs_views(int *count);
 const struct cs_view *cs_view_find(const char *name);
 

@@ -4,7 +4,7 @@
 . "$TOP/tests/tools/lib.sh"
 plan 4
 PROGS="cloudrender mbfetch noisebake terrainprep wxinterp"
-SCRIPTS="genus-sheet quality-study radiation-study weather-sheet"
+SCRIPTS="genus-sheet quality-study radiation-study weather-sheet timelapse slurm-timelapse"
 COMP="$TOP/completion/cloudscape.bash"
 have() { command -v "$1" >/dev/null 2>&1; }
 # complete WORD...: what the completion offers for the last word, one a line
