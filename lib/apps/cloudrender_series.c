@@ -238,6 +238,7 @@ static int run_frames(struct cs_cr_session *s, const struct cs_cloudrender_opts 
 		else if (st->n > 1)
 			rc = cs_error(rc, "frame %lld (state %d): %s", f->number, i + 1, cs_errmsg());
 		prog.done += 1.0;
+		r->t_noise_s = 0.0; /* made once: the first frame's cost */
 	}
 	free(f);
 	return rc;
