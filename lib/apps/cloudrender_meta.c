@@ -142,8 +142,8 @@ void cs_cloudrender_caption_text(const struct cs_cloudrender_result *r, char *bu
 	char vis[32];
 	distance_text(vis, sizeof vis, wx->visibility_m);
 	if (wx->precipitation_mm_h > 0.0)
-		ADD("\n%s %.1f mm/h, ", wx->snow_fraction > 0.5 ? "snow" : "rain",
-		    wx->precipitation_mm_h);
+		ADD("\n%s %.*f mm/h, ", wx->snow_fraction > 0.5 ? "snow" : "rain",
+		    wx->precipitation_mm_h < 0.1 ? 2 : 1, wx->precipitation_mm_h);
 	else
 		ADD("\ndry, ");
 	ADD("wind %.1f m/s from %.0f deg, visibility %s", wx->wind_speed_m_s,

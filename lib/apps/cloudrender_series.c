@@ -227,6 +227,8 @@ static int run_frames(struct cs_cr_session *s, const struct cs_cloudrender_opts 
 			break;
 		if (o->have_time)
 			r->wx.time_utc = o->time_utc;
+		if (prog.done > 0.0)
+			r->t_noise_s = 0.0; /* made once: the first frame's cost */
 		tell(o, f, CS_FRAME_START, r);
 		double t0 = now_s();
 		rc = cs_cr_session_frame(s, &fo, r);
@@ -238,7 +240,6 @@ static int run_frames(struct cs_cr_session *s, const struct cs_cloudrender_opts 
 		else if (st->n > 1)
 			rc = cs_error(rc, "frame %lld (state %d): %s", f->number, i + 1, cs_errmsg());
 		prog.done += 1.0;
-		r->t_noise_s = 0.0; /* made once: the first frame's cost */
 	}
 	free(f);
 	return rc;
