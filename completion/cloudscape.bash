@@ -52,6 +52,7 @@ _cloudscape_values()
 	mbfetch:--provider) echo meteoblue open-meteo ;;
 	mbfetch:--site) "$1" --list-sites 2>/dev/null | awk '{ print tolower($1) }' ;;
 	wxinterp:--at | wxinterp:--from | wxinterp:--to) echo now ;;
+	cloudrender:--time) echo now ;;
 	esac
 }
 

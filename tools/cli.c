@@ -2,12 +2,14 @@
 
 #include "core/err.h"
 #include "core/info.h"
+#include "core/time.h"
 
 #include <errno.h>
 #include <math.h>
 #include <stdarg.h>
 #include <stdlib.h>
 #include <string.h>
+#include <strings.h>
 #include <time.h>
 #include <unistd.h>
 
@@ -135,6 +137,8 @@ static void clock_text(char *buf, size_t size, double s)
 		snprintf(buf, size, "%ld:%02ld", t / 60, t % 60);
 }
 
+static char bar_label[128]; /* the label last drawn */
+
 int cli_progress(void *label, double fraction)
 {
 	if (cli_quiet || !isatty(STDERR_FILENO))
@@ -143,9 +147,11 @@ int cli_progress(void *label, double fraction)
 	if (bar_start_s < 0.0)
 		bar_start_s = now;
 	int pct = (int)(fraction * 100.0 + 0.5);
-	if (pct == bar_last_pct)
+	const char *text = label ? (const char *)label : "";
+	if (pct == bar_last_pct && strncmp(text, bar_label, sizeof bar_label - 1) == 0)
 		return 0;
 	bar_last_pct = pct;
+	snprintf(bar_label, sizeof bar_label, "%s", text);
 	enum { W = 40 };
 	char bar[W + 1], elapsed[32], eta[32] = "--:--";
 	int fill = (int)(fraction * W + 0.5);
@@ -164,6 +170,24 @@ int cli_progress(void *label, double fraction)
 	fflush(stderr);
 	bar_drawn = 1;
 	return 0;
+}
+
+void cli_progress_break(void)
+{
+	if (bar_drawn)
+		fputc('\n', stderr);
+	bar_drawn = 0;
+	bar_last_pct = -1;
+}
+
+double cli_time(const char *opt, const char *s)
+{
+	double t;
+	if (strcasecmp(s, "now") == 0)
+		return (double)time(NULL);
+	if (cs_time_parse(s, &t) != CS_OK)
+		cli_usage_error("%s: %s", opt, cs_errmsg());
+	return t;
 }
 
 void cli_progress_done(void)

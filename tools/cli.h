@@ -47,6 +47,13 @@ void cli_double_list(const char *opt, const char *s, double lo, double hi,
 int cli_progress(void *label, double fraction);
 /* Ends the bar line (if one was drawn). */
 void cli_progress_done(void);
+/* Ends the bar's line so that a message can follow, keeping its start (the
+ * ETA): the next call draws it again on a new line. */
+void cli_progress_break(void);
+
+/* The time of an option: ISO 8601 with a zone (core/time.h), or "now" (the
+ * clock's); exits with a usage error otherwise. */
+double cli_time(const char *opt, const char *s);
 
 /* Finishes an --info text (core/info.h) and writes it to standard output;
  * EXIT_OK, or EXIT_DATA with a message when that fails. */

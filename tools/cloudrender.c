@@ -18,6 +18,114 @@
 #define CS_VERSION "unknown"
 #endif
 
+/* ---- series: every state of --wx a frame (cloudrender(1), SERIES) ---- */
+
+static void series_usage(void)
+{
+	printf("A series: a --wx file of several states (JSON Lines, as wxinterp writes\n"
+	       "for a time range) renders every state as a frame, its -o names numbered as\n"
+	       "ffmpeg numbers frames: %%d, %%05d (5 digits), %%%% a literal percent; frame\n"
+	       "numbers are the state's index from 0 (--start-number).\n"
+	       "      --frames A:B       only frames A to B-1, by the numbers in the names\n"
+	       "                         (A: to the end, :B from the first, N: frame N)\n"
+	       "      --start-number N   the first state's frame number (default 0)\n"
+	       "      --skip-existing    write no output that exists; a frame whose outputs\n"
+	       "                         all exist is not rendered (resume a series)\n"
+	       "      --caption          stamp the time and the weather in the lower left\n"
+	       "                         corner (every output, EXR too)\n");
+}
+
+enum {
+	OPT_FRAMES = 512, OPT_START_NUMBER, OPT_SKIP_EXISTING, OPT_CAPTION,
+};
+#define SERIES_LONGOPTS                                                        \
+	{"frames", required_argument, NULL, OPT_FRAMES},                       \
+	{"start-number", required_argument, NULL, OPT_START_NUMBER},           \
+	{"skip-existing", no_argument, NULL, OPT_SKIP_EXISTING},               \
+	{"caption", no_argument, NULL, OPT_CAPTION},
+
+/* --frames A:B, A:, :B or N. */
+static void parse_frames(const char *s, struct cs_cloudrender_opts *o)
+{
+	const long max = 2000000000L;
+	const char *colon = strchr(s, ':');
+	char a[32];
+	if (colon == NULL) {
+		o->frames_from = cli_long("--frames", s, 0, max);
+		o->frames_to = o->frames_from + 1;
+		return;
+	}
+	if ((size_t)(colon - s) >= sizeof a)
+		cli_usage_error("--frames: expected A:B, not '%s'", s);
+	memcpy(a, s, (size_t)(colon - s));
+	a[colon - s] = '\0';
+	o->frames_from = a[0] ? cli_long("--frames", a, 0, max) : -1;
+	o->frames_to = colon[1] ? cli_long("--frames", colon + 1, 0, max) : -1;
+	if (o->frames_from >= 0 && o->frames_to >= 0 && o->frames_to <= o->frames_from)
+		cli_usage_error("--frames %s: no frame (B is the first frame not rendered: "
+				"%s:%lld renders frame %s)", s, a, o->frames_from + 1, a);
+}
+
+/* 1 when opt is a series option (then handled). */
+static int series_option(int opt, const char *arg, struct cs_cloudrender_opts *o)
+{
+	switch (opt) {
+	case OPT_FRAMES: parse_frames(arg, o); return 1;
+	case OPT_START_NUMBER:
+		o->start_number = cli_long("--start-number", arg, 0, 2000000000L);
+		return 1;
+	case OPT_SKIP_EXISTING: o->skip_existing = 1; return 1;
+	case OPT_CAPTION: o->caption = 1; return 1;
+	}
+	return 0;
+}
+
+/* What the frames of a run print: the progress label, -v, --stats. */
+struct series_report {
+	const struct cs_cloudrender_opts *o;
+	int stats;
+	char label[64];
+	int rendered, skipped;
+	double wall_s;
+};
+
+static void print_stats(const struct cs_cloudrender_opts *o,
+			const struct cs_cloudrender_result *r);
+
+static void frame_report(void *user, const struct cs_cloudrender_frame *f,
+			 const struct cs_cloudrender_result *r)
+{
+	struct series_report *rep = user;
+	int series = f->states > 1 || f->count > 1;
+	switch (f->stage) {
+	case CS_FRAME_START:
+		if (series)
+			snprintf(rep->label, sizeof rep->label, "frame %d/%d", f->nth, f->count);
+		break;
+	case CS_FRAME_SKIPPED:
+		rep->skipped++;
+		if (cli_verbose) {
+			cli_progress_break();
+			cli_err("frame %lld: skipped, its outputs exist", f->number);
+		}
+		break;
+	case CS_FRAME_DONE:
+		rep->rendered++;
+		rep->wall_s += f->wall_s;
+		if (cli_verbose && series) {
+			cli_progress_break();
+			cli_err("frame %lld (%d/%d, state %d of %d): %s%s in %.2f s", f->number,
+				f->nth, f->count, f->index + 1, f->states, f->outputs[0],
+				f->noutputs > 1 ? " ..." : "", f->wall_s);
+		}
+		if (rep->stats) {
+			cli_progress_break();
+			print_stats(rep->o, r);
+		}
+		break;
+	}
+}
+
 static void usage(void)
 {
 	printf("Usage: cloudrender [options] -o FILE.png|.exr|.tif|.jpg [-o FILE...]\n"
@@ -47,7 +155,8 @@ static void usage(void)
 	       "      --terrain-color FILE  PNG draped over the terrain's grid\n"
 	       "      --terrain-cpt FILE    colour the terrain by height with a GMT CPT palette\n"
 	       "                         (z0 r g b z1 r g b lines, as makecpt writes)\n"
-	       "      --time TIME        UTC time, ISO 8601 (default: the weather state's)\n"
+	       "      --time TIME        UTC time, ISO 8601, or 'now' (default: the weather\n"
+	       "                         state's)\n"
 	       "      --view NAME        named viewpoint, any case: gurten, bantiger, or\n"
 	       "                         one of the --views file\n"
 	       "      --views FILE       more named viewpoints, one a line: NAME LAT LON\n"
@@ -103,7 +212,9 @@ static void usage(void)
 	       "                         layers, effects, quality) and the time of each phase\n"
 	       "  -h, --help             this help\n"
 	       "      --version          print the version\n"
-	       "\n"
+	       "\n");
+	series_usage();
+	printf("\n"
 	       "Exit status: 0 success, 1 data or runtime error, 2 usage error.\n"
 	       "See cloudrender(1) and cloudwx(5).\n");
 }
@@ -399,6 +510,7 @@ int main(int argc, char **argv)
 		{"verbose", no_argument, NULL, 'v'},
 		{"help", no_argument, NULL, 'h'},
 		{"version", no_argument, NULL, OPT_VERSION},
+		SERIES_LONGOPTS
 		{NULL, 0, NULL, 0},
 	};
 	struct cs_cloudrender_opts o;
@@ -447,8 +559,7 @@ int main(int argc, char **argv)
 		case OPT_TERRAIN_CPT: o.terrain_cpt_path = optarg; break;
 		case OPT_NOISE_SIZE: o.noise_size = (int)cli_long("--noise-size", optarg, 16, 256); break;
 		case OPT_TIME:
-			if (cs_time_parse(optarg, &o.time_utc) != CS_OK)
-				cli_usage_error("--time: %s", cs_errmsg());
+			o.time_utc = cli_time("--time", optarg);
 			o.have_time = 1;
 			break;
 		case OPT_VIEW: o.view = optarg; break; /* checked once --views is read */
@@ -582,6 +693,8 @@ int main(int argc, char **argv)
 			return EXIT_OK;
 		case OPT_VERSION: printf("cloudrender (cloudscape) %s\n", CS_VERSION); return EXIT_OK;
 		default:
+			if (series_option(opt, optarg, &o))
+				break;
 			fprintf(stderr, "Try 'cloudrender --help' for more information.\n");
 			return EXIT_USAGE;
 		}
@@ -613,14 +726,20 @@ int main(int argc, char **argv)
 	    strcmp(o.noise_path, "-") == 0)
 		cli_usage_error("--wx - and --noise - cannot both read standard input");
 
+	struct series_report rep = {&o, stats, "rendering", 0, 0, 0.0};
 	o.progress = cli_progress;
-	o.progress_user = "rendering";
+	o.progress_user = rep.label;
+	o.frame = frame_report;
+	o.frame_user = &rep;
 	if (cli_verbose) {
 		o.ready = describe;
 		o.ready_user = &o;
 	}
 	int rc = cs_cloudrender_run(&o, &r);
 	cli_progress_done();
+	if (cli_verbose && rep.rendered + rep.skipped > 1)
+		cli_err("%d frames rendered in %.1f s (%.2f s a frame), %d skipped", rep.rendered,
+			rep.wall_s, rep.rendered ? rep.wall_s / rep.rendered : 0.0, rep.skipped);
 	if (rc != CS_OK) {
 		cli_err("%s", cs_errmsg());
 		cs_cloudrender_result_free(&r);
@@ -633,10 +752,8 @@ int main(int argc, char **argv)
 			r.wx.site.name[0] ? r.wx.site.name : "unnamed");
 	if (!cli_quiet && r.camera_terrain_km > 300.0)
 		cli_err("warning: the camera is %.0f km from the terrain's centre", r.camera_terrain_km);
-	if (cli_verbose)
+	if (cli_verbose && rep.rendered > 0)
 		report_times(&r);
-	if (stats)
-		print_stats(&o, &r);
 	cs_cloudrender_result_free(&r);
 	return EXIT_OK;
 }

@@ -113,12 +113,7 @@ static void print_note(void *user, int level, const char *msg)
 
 static double when(const char *opt, const char *s)
 {
-	double t;
-	if (strcasecmp(s, "now") == 0)
-		return (double)time(NULL);
-	if (cs_time_parse(s, &t) != CS_OK)
-		cli_usage_error("%s: %s", opt, cs_errmsg());
-	return t;
+	return cli_time(opt, s);
 }
 
 static double duration(const char *opt, const char *s)

@@ -1,4 +1,5 @@
 #include "apps/cloudrender_run.h"
+#include "apps/cloudrender_session.h"
 
 #include "io/skyclass.h"
 
@@ -7,6 +8,7 @@
 #include "core/geo.h"
 #include "io/exr.h"
 #include "io/image.h"
+#include "io/caption.h"
 #include "io/cpt.h"
 #include "render/water.h"
 #include "io/raster.h"
@@ -28,6 +30,10 @@
 #include <strings.h>
 #include <time.h>
 
+#ifndef CS_VERSION
+#define CS_VERSION "unknown"
+#endif
+
 void cs_cloudrender_defaults(struct cs_cloudrender_opts *o)
 {
 	memset(o, 0, sizeof *o);
@@ -41,6 +47,7 @@ void cs_cloudrender_defaults(struct cs_cloudrender_opts *o)
 	o->min_transmittance = -1.0;
 	o->march = o->light_march = -1;
 	o->spp = 64;
+	o->frames_from = o->frames_to = -1;
 }
 
 void cs_cloudrender_settings(const struct cs_cloudrender_opts *o,
@@ -139,30 +146,83 @@ static int want_rgb16(struct display *d, const float *px, size_t n, double ev)
 	return CS_OK;
 }
 
+/* What a frame says it shows (cloudrender_meta.c), for its outputs. */
+struct meta {
+	char *json;               /* the description, JSON */
+	char text[1024];          /* the same in words: the caption's lines */
+	char software[64];
+	char cap_date[24];        /* EXR capDate: "YYYY:MM:DD hh:mm:ss" */
+};
+
+static int make_meta(const struct cs_cloudrender_opts *o, const struct cs_cloudrender_result *r,
+		     struct meta *m)
+{
+	char when[32];
+	cs_cloudrender_caption_text(r, m->text, sizeof m->text);
+	snprintf(m->software, sizeof m->software, "cloudrender (cloudscape) %s", CS_VERSION);
+	cs_time_format(r->wx.time_utc, when, sizeof when); /* 2021-06-14T16:45:00Z */
+	snprintf(m->cap_date, sizeof m->cap_date, "%.4s:%.2s:%.2s %.8s", when, when + 5,
+		 when + 8, when + 11);
+	return cs_cloudrender_meta_json(o, r, &m->json);
+}
+
+/* The PNG, with the frame's description in its text chunks. */
+static int write_png(const struct cs_cloudrender_opts *o, const struct meta *m,
+		     struct cs_outfile *of, const char *name, const struct display *d)
+{
+	const struct cs_png_text text[] = {
+		{"Software", m->software, 0},
+		{"Description", m->text, 1},
+		{"cloudscape", m->json, 1},
+	};
+	return cs_png_write_text_to(of, name, o->width, o->height, 3, o->png16 ? 16 : 8,
+				    o->png16 ? (const void *)d->rgb16 : (const void *)d->rgb8,
+				    text, 3);
+}
+
+/* The EXR, with the frame's description in its attributes: OpenEXR's
+ * standard capDate, utcOffset, latitude, longitude, altitude and
+ * comments, and ours. */
+static int write_exr(const struct cs_cloudrender_opts *o, const struct cs_cloudrender_result *r,
+		     const struct meta *m, struct cs_outfile *of, const char *name,
+		     const float *px)
+{
+	const struct cs_exr_channel ch[5] = {
+		{"R", o->use_float, px + 0, 5}, {"G", o->use_float, px + 1, 5},
+		{"B", o->use_float, px + 2, 5}, {"A", o->use_float, px + 3, 5},
+		{"Z", 1, px + 4, 5},
+	};
+	char when[32];
+	cs_time_format(r->wx.time_utc, when, sizeof when);
+	const struct cs_exr_attr attrs[] = {
+		{"cloudscapeTimeUTC", CS_EXR_STRING, {0, 0, 0}, when, 0},
+		{"cloudscapeQuality", CS_EXR_STRING, {0, 0, 0}, o->quality, 0},
+		{"cloudscapeUnits", CS_EXR_STRING, {0, 0, 0},
+		 "RGB: radiance in kcd/m^2, linear sRGB; A: 1 - cloud transmittance; Z: metres", 0},
+		{"cloudscapeSoftware", CS_EXR_STRING, {0, 0, 0}, m->software, 0},
+		{"cloudscapeFrame", CS_EXR_STRING, {0, 0, 0}, m->json, 0},
+		{"comments", CS_EXR_STRING, {0, 0, 0}, m->text, 0},
+		{"capDate", CS_EXR_STRING, {0, 0, 0}, m->cap_date, 0},
+		{"utcOffset", CS_EXR_FLOAT, {0, 0, 0}, NULL, 0.0},
+		{"latitude", CS_EXR_FLOAT, {0, 0, 0}, NULL, r->cam_lat_deg},
+		{"longitude", CS_EXR_FLOAT, {0, 0, 0}, NULL, r->cam_lon_deg},
+		{"altitude", CS_EXR_FLOAT, {0, 0, 0}, NULL, r->cam_alt_m},
+	};
+	return cs_exr_write_to(of, name, o->width, o->height, ch, 5, attrs,
+			       (int)(sizeof attrs / sizeof attrs[0]));
+}
+
 /* One output, into its open temporary. */
 static int write_one(const struct cs_cloudrender_opts *o, struct cs_cloudrender_result *r,
-		     const float *px, int i, struct cs_outfile *of, struct display *d)
+		     const float *px, int i, struct cs_outfile *of, struct display *d,
+		     const struct meta *m)
 {
 	const char *name = strcmp(o->outputs[i], "-") == 0 ? "standard output" : o->outputs[i];
 	size_t n = (size_t)o->width * o->height;
 	int w = o->width, h = o->height, rc;
 	switch (cs_output_format_of(o, i)) {
-	case CS_FMT_EXR: {
-		const struct cs_exr_channel ch[5] = {
-			{"R", o->use_float, px + 0, 5}, {"G", o->use_float, px + 1, 5},
-			{"B", o->use_float, px + 2, 5}, {"A", o->use_float, px + 3, 5},
-			{"Z", 1, px + 4, 5},
-		};
-		char when[32];
-		cs_time_format(r->wx.time_utc, when, sizeof when);
-		const struct cs_exr_attr attrs[] = {
-			{"cloudscapeTimeUTC", CS_EXR_STRING, {0, 0, 0}, when, 0},
-			{"cloudscapeQuality", CS_EXR_STRING, {0, 0, 0}, o->quality, 0},
-			{"cloudscapeUnits", CS_EXR_STRING, {0, 0, 0},
-			 "RGB: radiance in kcd/m^2, linear sRGB; A: 1 - cloud transmittance; Z: metres", 0},
-		};
-		return cs_exr_write_to(of, name, w, h, ch, 5, attrs, 3);
-	}
+	case CS_FMT_EXR:
+		return write_exr(o, r, m, of, name, px);
 	case CS_FMT_TIFF:
 		if (o->use_float) {
 			static const char *const bands[5] = {"R", "G", "B", "A", "Z"};
@@ -188,14 +248,9 @@ static int write_one(const struct cs_cloudrender_opts *o, struct cs_cloudrender_
 					  NULL);
 	}
 	case CS_FMT_PNG:
-		if (o->png16) {
-			if ((rc = want_rgb16(d, px, n, r->exposure_ev)) != CS_OK)
-				return rc;
-			return cs_png16_write_to(of, name, w, h, 3, d->rgb16);
-		}
-		if ((rc = want_rgb8(d, px, n, r->exposure_ev)) != CS_OK)
-			return rc;
-		return cs_png_write_to(of, name, w, h, 3, d->rgb8);
+		rc = o->png16 ? want_rgb16(d, px, n, r->exposure_ev)
+			      : want_rgb8(d, px, n, r->exposure_ev);
+		return rc == CS_OK ? write_png(o, m, of, name, d) : rc;
 	case CS_FMT_NONE:
 		break;
 	}
@@ -205,25 +260,34 @@ static int write_one(const struct cs_cloudrender_opts *o, struct cs_cloudrender_
 /* Every output written to its temporary first, then all renamed: a run
  * that fails leaves none of them. */
 static int write_outputs(const struct cs_cloudrender_opts *o,
-			 struct cs_cloudrender_result *r, const float *px)
+			 struct cs_cloudrender_result *r, float *px)
 {
 	size_t n = (size_t)o->width * o->height;
 	r->exposure_ev = o->exposure_auto ? cs_auto_exposure_ev(px, 5, n) : o->exposure_ev;
+	struct meta m;
+	int rc = make_meta(o, r, &m);
+	if (rc == CS_OK && o->caption) {
+		/* white on every display: 8 x the tone curve's input that
+		 * saturates ACES (7.24 x 16 kcd/m^2 at 0 EV), below half's range */
+		double white = 128.0 / exp2(r->exposure_ev);
+		cs_caption_stamp(px, 5, o->width, o->height, 3, m.text,
+				 (float)(white < 60000.0 ? white : 60000.0));
+	}
 	struct cs_outset set;
 	cs_outset_init(&set, o->no_clobber ? CS_OUT_NO_CLOBBER : 0);
 	struct display d = {NULL, NULL};
-	int rc = CS_OK;
 	for (int i = 0; i < o->noutputs && rc == CS_OK; i++) {
 		struct cs_outfile *of;
 		rc = cs_outset_open(&set, o->outputs[i], &of);
 		if (rc == CS_OK)
-			rc = write_one(o, r, px, i, of, &d);
+			rc = write_one(o, r, px, i, of, &d, &m);
 	}
 	if (rc == CS_OK)
 		rc = cs_outset_commit(&set);
 	cs_outset_abort(&set);
 	free(d.rgb8);
 	free(d.rgb16);
+	free(m.json);
 	return rc;
 }
 
@@ -384,10 +448,6 @@ static int check_run(const struct cs_cloudrender_opts *o, struct cs_cloudrender_
 	int rc = check_streams(o);
 	if (rc != CS_OK)
 		return rc;
-	/* every output's place checked now, not after a long render */
-	rc = cs_outset_check(o->outputs, o->noutputs, o->no_clobber ? CS_OUT_NO_CLOBBER : 0);
-	if (rc != CS_OK)
-		return rc;
 	cs_cloudrender_settings(o, &r->settings);
 	rc = cs_render_settings_check(&r->settings);
 	if (rc != CS_OK)
@@ -398,19 +458,11 @@ static int check_run(const struct cs_cloudrender_opts *o, struct cs_cloudrender_
 	return check_camera(o);
 }
 
-/* The weather (and the time), then the noise volume. */
+/* The noise volume (the weather is the series', read_series()). */
 static int load_inputs(const struct cs_cloudrender_opts *o, struct cs_cloudrender_result *r,
 		       struct cs_volume *noise)
 {
 	int rc = CS_OK;
-	if (o->wx_path)
-		rc = cs_wx_read(o->wx_path, &r->wx);
-	else
-		cs_wx_default(&r->wx);
-	if (rc != CS_OK)
-		return rc;
-	if (o->have_time)
-		cs_wx_retime(&r->wx, o->time_utc); /* the drift goes with the time */
 	double t0 = now_s();
 	if (o->noise_path) {
 		rc = cs_volume_read_exr(o->noise_path, noise);
@@ -423,12 +475,15 @@ static int load_inputs(const struct cs_cloudrender_opts *o, struct cs_cloudrende
 	return rc;
 }
 
-/* What a run holds besides the scene: the terrain and its colour. */
+/* What a run holds besides the scene: the terrain and its colour, read
+ * once for all the frames, and the heightfield placed around a site. */
 struct ground {
 	struct cs_terrain terrain;
 	struct cs_hfield hf;
 	int have_terrain, have_hf;
+	double hf_lat_deg, hf_lon_deg; /* the site the heightfield is placed around */
 	uint8_t *drape;
+	int drape_w, drape_h;
 	struct cs_cpt *cpt;
 };
 
@@ -441,29 +496,43 @@ static int load_terrain(const struct cs_cloudrender_opts *o, struct cs_cloudrend
 					     : CS_OK;
 	if (o->terrain_color_path && o->terrain_cpt_path)
 		return cs_error(CS_EINVAL, "--terrain-color and --terrain-cpt exclude each other");
-	int rc = cs_terrain_read(o->terrain_path, &g->terrain);
-	if (rc != CS_OK)
-		return rc;
-	g->have_terrain = 1;
-	rc = place_terrain(sc, &r->wx, &g->terrain, &g->hf);
-	if (rc != CS_OK)
-		return rc;
-	g->have_hf = 1;
-	sc->terrain = &g->hf;
-	sc->effects |= CS_FX_TERRAIN;
-	if (o->terrain_color_path) {
-		rc = cs_png_read_rgb8(o->terrain_color_path, &g->drape, &sc->terrain_color_w,
-				      &sc->terrain_color_h);
+	int rc = CS_OK;
+	if (!g->have_terrain) { /* the first frame: the files */
+		rc = cs_terrain_read(o->terrain_path, &g->terrain);
 		if (rc != CS_OK)
 			return rc;
+		g->have_terrain = 1;
+		if (o->terrain_color_path) {
+			rc = cs_png_read_rgb8(o->terrain_color_path, &g->drape, &g->drape_w,
+					      &g->drape_h);
+			if (rc != CS_OK)
+				return rc;
+		}
+		if (o->terrain_cpt_path) {
+			if ((g->cpt = malloc(sizeof *g->cpt)) == NULL)
+				return cs_error(CS_ENOMEM, "out of memory");
+			CS_TRY(cs_cpt_read(o->terrain_cpt_path, g->cpt));
+		}
+	}
+	if (!g->have_hf || g->hf_lat_deg != r->wx.site.lat_deg ||
+	    g->hf_lon_deg != r->wx.site.lon_deg) { /* the world is centred on the site */
+		if (g->have_hf)
+			cs_hfield_free(&g->hf);
+		g->have_hf = 0;
+		rc = place_terrain(sc, &r->wx, &g->terrain, &g->hf);
+		if (rc != CS_OK)
+			return rc;
+		g->have_hf = 1;
+		g->hf_lat_deg = r->wx.site.lat_deg, g->hf_lon_deg = r->wx.site.lon_deg;
+	}
+	sc->terrain = &g->hf;
+	sc->effects |= CS_FX_TERRAIN;
+	if (g->drape) {
 		sc->terrain_color = g->drape;
+		sc->terrain_color_w = g->drape_w, sc->terrain_color_h = g->drape_h;
 	}
-	if (o->terrain_cpt_path) {
-		if ((g->cpt = malloc(sizeof *g->cpt)) == NULL)
-			return cs_error(CS_ENOMEM, "out of memory");
-		CS_TRY(cs_cpt_read(o->terrain_cpt_path, g->cpt));
+	if (g->cpt)
 		sc->terrain_cpt = g->cpt;
-	}
 	if (g->terrain.water && cs_terrain_water_count(&g->terrain) > 0) {
 		sc->terrain_water = g->terrain.water;
 		sc->water_mss = cs_water_slope_variance(r->wx.wind_speed_m_s);
@@ -605,65 +674,111 @@ static int render_and_write(const struct cs_cloudrender_opts *o, struct cs_cloud
 	return rc;
 }
 
-int cs_cloudrender_run(const struct cs_cloudrender_opts *o, struct cs_cloudrender_result *r)
+/* What the frames of a run share: the view, the noise, the terrain, the
+ * scene and the frame buffer, made once. */
+struct cs_cr_session {
+	const struct cs_view *view;
+	struct cs_volume noise;
+	struct ground g;
+	struct cs_scene *sc;
+	float *px;
+};
+
+int cs_cr_session_open(const struct cs_cloudrender_opts *o, struct cs_cloudrender_result *r,
+		       struct cs_cr_session **out)
 {
-	memset(r, 0, sizeof *r);
+	*out = NULL;
 	const struct cs_view *view;
 	int rc = check_run(o, r, &view);
 	if (rc != CS_OK)
 		return rc;
-	struct cs_volume noise;
-	memset(&noise, 0, sizeof noise);
-	rc = load_inputs(o, r, &noise);
-	if (rc != CS_OK) {
-		cs_volume_free(&noise);
+	struct cs_cr_session *s = calloc(1, sizeof *s);
+	if (s == NULL)
+		return cs_error(CS_ENOMEM, "out of memory");
+	s->view = view;
+	*out = s;
+	return CS_OK;
+}
+
+int cs_cr_session_load(struct cs_cr_session *s, const struct cs_cloudrender_opts *o,
+		       struct cs_cloudrender_result *r)
+{
+	int rc = load_inputs(o, r, &s->noise);
+	if (rc != CS_OK)
 		return rc;
-	}
-	double t0 = now_s();
-	struct ground g;
-	memset(&g, 0, sizeof g);
-	struct cs_scene *sc = malloc(sizeof *sc);
-	float *px = malloc((size_t)o->width * o->height * 5 * sizeof(float));
-	struct cs_camera cam;
-	if (sc == NULL || px == NULL)
-		rc = cs_error(CS_ENOMEM, "out of memory for a %dx%d image", o->width, o->height);
-	if (rc == CS_OK && (rc = cs_scene_build(sc, &r->wx, r->wx.time_utc, &noise)) == CS_OK)
-		r->scene = sc;
-	if (rc == CS_OK && r->settings.haze_steps == 0) /* asked for their mean only */
+	s->sc = malloc(sizeof *s->sc);
+	s->px = malloc((size_t)o->width * o->height * 5 * sizeof(float));
+	if (s->sc == NULL || s->px == NULL)
+		return cs_error(CS_ENOMEM, "out of memory for a %dx%d image", o->width, o->height);
+	return CS_OK;
+}
+
+/* The scene of r->wx, with its terrain, and the camera. */
+static int frame_scene(struct cs_cr_session *s, const struct cs_cloudrender_opts *o,
+		       struct cs_cloudrender_result *r, struct cs_camera *cam)
+{
+	struct cs_scene *sc = s->sc;
+	r->scene = NULL;
+	int rc = cs_scene_build(sc, &r->wx, r->wx.time_utc, &s->noise);
+	if (rc != CS_OK)
+		return rc;
+	r->scene = sc;
+	if (r->settings.haze_steps == 0) /* asked for their mean only */
 		sc->effects &= ~(unsigned)CS_FX_SHAFTS;
-	if (rc == CS_OK && o->no_haze) { /* the air clear; the fog stays */
+	if (o->no_haze) { /* the air clear; the fog stays */
 		sc->haze_beta0_per_m = 0.0;
 		sc->effects &= ~(unsigned)CS_FX_SHAFTS;
 	}
+	rc = load_terrain(o, r, sc, &s->g);
 	if (rc == CS_OK)
-		rc = load_terrain(o, r, sc, &g);
-	if (rc == CS_OK)
-		rc = place_camera(o, r, sc, view, &g, &cam);
+		rc = place_camera(o, r, sc, s->view, &s->g, cam);
+	return rc;
+}
+
+int cs_cr_session_look(struct cs_cr_session *s, const struct cs_cloudrender_opts *o,
+		       struct cs_cloudrender_result *r)
+{
+	struct cs_camera cam;
+	return frame_scene(s, o, r, &cam);
+}
+
+int cs_cr_session_frame(struct cs_cr_session *s, const struct cs_cloudrender_opts *o,
+			struct cs_cloudrender_result *r)
+{
+	double t0 = now_s();
+	struct cs_camera cam;
+	int rc = frame_scene(s, o, r, &cam);
 	r->t_scene_s = now_s() - t0;
 	if (rc == CS_OK && o->ready)
 		o->ready(o->ready_user, r);
 	if (rc == CS_OK)
-		rc = render_and_write(o, r, sc, &cam, px);
-	free(px);
-	free(g.drape);
-	free(g.cpt);
-	if (g.have_hf)
-		cs_hfield_free(&g.hf);
-	if (g.have_terrain)
-		cs_terrain_free(&g.terrain);
-	if (r->scene) { /* what it pointed to is gone: terrain, colour, noise */
-		r->scene->terrain = NULL;
-		r->scene->terrain_color = NULL;
-		r->scene->terrain_water = NULL;
-		r->scene->terrain_cpt = NULL;
-		r->scene->noise = NULL;
-	}
-	if (rc != CS_OK) {
-		free(sc);
-		r->scene = NULL;
-	}
-	cs_volume_free(&noise);
+		rc = render_and_write(o, r, s->sc, &cam, s->px);
 	return rc;
+}
+
+void cs_cr_session_close(struct cs_cr_session *s, struct cs_cloudrender_result *r)
+{
+	if (s == NULL)
+		return;
+	free(s->px);
+	free(s->g.drape);
+	free(s->g.cpt);
+	if (s->g.have_hf)
+		cs_hfield_free(&s->g.hf);
+	if (s->g.have_terrain)
+		cs_terrain_free(&s->g.terrain);
+	if (r->scene == s->sc && s->sc) { /* the result keeps the last scene, not
+					   * what it pointed to: terrain, colour, noise */
+		s->sc->terrain = NULL;
+		s->sc->terrain_color = NULL;
+		s->sc->terrain_water = NULL;
+		s->sc->terrain_cpt = NULL;
+		s->sc->noise = NULL;
+	} else {
+		free(s->sc);
+	}
+	cs_volume_free(&s->noise);
+	free(s);
 }
 
 void cs_cloudrender_result_free(struct cs_cloudrender_result *r)

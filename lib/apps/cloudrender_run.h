@@ -9,6 +9,7 @@
 #define CS_RENDER_MAX_OUTPUTS 4
 
 struct cs_cloudrender_result;
+struct cs_cloudrender_frame;
 /* The formats of an output: chosen by the name's extension, or as GDAL's
  * -of names them. */
 enum cs_out_format { CS_FMT_NONE, CS_FMT_PNG, CS_FMT_EXR, CS_FMT_TIFF, CS_FMT_JPEG };
@@ -78,6 +79,37 @@ struct cs_cloudrender_opts {
 	 * rendered, with the result so far (for cloudrender -v), or NULL. */
 	void (*ready)(void *user, const struct cs_cloudrender_result *r);
 	void *ready_user;
+	/* A series (cloudrender(1), SERIES): every state of wx_path is a
+	 * frame, numbered start_number + its index (0 for the first state),
+	 * and each output name is a pattern for that number
+	 * (core/framename.h).  A single state with a literal name is the one
+	 * frame it always was. */
+	long long start_number;   /* >= 0; default 0 */
+	long long frames_from;    /* the frames rendered: from <= number < to; */
+	long long frames_to;      /* -1: from the first, to the last */
+	int skip_existing;        /* an output that exists is not written again,
+				   * a frame whose outputs all exist not rendered */
+	int caption;              /* stamp the time and the weather in a corner */
+	/* Called as each frame of a run starts, ends or is skipped (for the
+	 * progress label, reports, --stats), or NULL.  The progress callback
+	 * gets the fraction of the whole run, not of the frame. */
+	void (*frame)(void *user, const struct cs_cloudrender_frame *f,
+		      const struct cs_cloudrender_result *r);
+	void *frame_user;
+};
+
+/* A frame of a run, as the frame callback sees it. */
+enum cs_frame_stage { CS_FRAME_START, CS_FRAME_DONE, CS_FRAME_SKIPPED };
+struct cs_cloudrender_frame {
+	enum cs_frame_stage stage;
+	int index;                /* the state's index in the series, 0.. */
+	long long number;         /* the number in its names */
+	int states;               /* states in the series */
+	int nth, count;           /* the nth (1..) of the count frames to render
+				   * (skipped frames not counted) */
+	int noutputs;             /* the outputs written (skip_existing: the missing) */
+	char outputs[CS_RENDER_MAX_OUTPUTS][4096];
+	double wall_s;            /* CS_FRAME_DONE: seconds the frame took */
 };
 
 /* What a run produced, for the program's report (--stats, warnings). */
@@ -127,6 +159,16 @@ void cs_cloudrender_settings(const struct cs_cloudrender_opts *o,
 int cs_cloudrender_run(const struct cs_cloudrender_opts *o,
 		       struct cs_cloudrender_result *r);
 void cs_cloudrender_result_free(struct cs_cloudrender_result *r);
+
+/* The frame's description (version, time, camera, quality and settings,
+ * the weather's essentials) as one JSON object, written into PNG text and
+ * EXR attributes; *json malloc'ed for the caller.  CS_ENOMEM. */
+int cs_cloudrender_meta_json(const struct cs_cloudrender_opts *o,
+			     const struct cs_cloudrender_result *r, char **json);
+/* The caption of a frame (--caption): the time, the site, the layers and
+ * the weather, lines separated by '\n', into buf. */
+void cs_cloudrender_caption_text(const struct cs_cloudrender_result *r, char *buf,
+				 size_t size);
 
 /* The format a file name's extension means (.png, .exr, .tif, .tiff, .jpg,
  * .jpeg; any case); "-" is PNG; CS_FMT_NONE for any other. */

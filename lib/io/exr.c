@@ -92,6 +92,8 @@ static int set_attr(exr_context_t f, const struct cs_exr_attr *a)
 		return exr_attr_set_string(f, 0, a->name, a->s);
 	case CS_EXR_DOUBLE:
 		return exr_attr_set_double(f, 0, a->name, a->d);
+	case CS_EXR_FLOAT:
+		return exr_attr_set_float(f, 0, a->name, (float)a->d);
 	case CS_EXR_V3I: {
 		exr_attr_v3i_t v = {.x = a->i[0], .y = a->i[1], .z = a->i[2]};
 		return exr_attr_set_v3i(f, 0, a->name, &v);

@@ -18,14 +18,14 @@ struct cs_exr_channel {
 	size_t stride;      /* floats from one pixel to the next */
 };
 
-enum cs_exr_attr_type { CS_EXR_INT, CS_EXR_STRING, CS_EXR_V3I, CS_EXR_DOUBLE };
+enum cs_exr_attr_type { CS_EXR_INT, CS_EXR_STRING, CS_EXR_V3I, CS_EXR_DOUBLE, CS_EXR_FLOAT };
 
 struct cs_exr_attr {
 	const char *name;
 	enum cs_exr_attr_type type;
 	int i[3];           /* CS_EXR_INT: i[0]; CS_EXR_V3I: all three */
 	const char *s;      /* CS_EXR_STRING */
-	double d;           /* CS_EXR_DOUBLE */
+	double d;           /* CS_EXR_DOUBLE, CS_EXR_FLOAT (rounded to float) */
 };
 
 /* Writes a single-part scanline image, ZIP-compressed, with the given

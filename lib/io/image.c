@@ -76,35 +76,54 @@ static void png16_warning(png_structp png, png_const_charp msg)
 	(void)msg;
 }
 
-/* The body of cs_png16_write_to(), on a stream; 0 or a message in why. */
-static int png16_stream(FILE *fp, int width, int height, int channels,
-			const uint16_t *pixels, char why[200])
+/* The body of cs_png16_write_to() and cs_png_write_text_to(), on a
+ * stream: 8 or 16 bits a sample, text chunks (iTXt where flagged); 0 or a
+ * message in why. */
+static int png_stream(FILE *fp, int width, int height, int channels, int bits,
+		      const void *pixels, const struct cs_png_text *text, int ntext,
+		      char why[200])
 {
 	static const int types[5] = {0, PNG_COLOR_TYPE_GRAY, 0, PNG_COLOR_TYPE_RGB,
 				     PNG_COLOR_TYPE_RGB_ALPHA};
 	png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, why,
 						  png16_error, png16_warning);
 	png_infop info = png ? png_create_info_struct(png) : NULL;
-	size_t rowlen = (size_t)width * channels * 2;
+	size_t rowlen = (size_t)width * channels * (size_t)(bits / 8);
 	unsigned char *volatile row = malloc(rowlen);
-	if (png == NULL || info == NULL || row == NULL) {
+	png_text *volatile chunks = ntext > 0 ? calloc((size_t)ntext, sizeof *chunks) : NULL;
+	if (png == NULL || info == NULL || row == NULL || (ntext > 0 && chunks == NULL)) {
 		snprintf(why, 200, "out of memory");
 		png_destroy_write_struct(&png, &info);
 		free(row);
+		free(chunks);
 		return -1;
 	}
 	if (setjmp(png_jmpbuf(png))) {
 		png_destroy_write_struct(&png, &info);
 		free(row);
+		free(chunks);
 		return -1;
 	}
 	png_init_io(png, fp);
-	png_set_IHDR(png, info, (png_uint_32)width, (png_uint_32)height, 16, types[channels],
+	png_set_IHDR(png, info, (png_uint_32)width, (png_uint_32)height, bits, types[channels],
 		     PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
 	png_set_sRGB_gAMA_and_cHRM(png, info, PNG_sRGB_INTENT_PERCEPTUAL);
+	for (int i = 0; i < ntext; i++) {
+		chunks[i].compression = text[i].itxt ? PNG_ITXT_COMPRESSION_NONE
+						     : PNG_TEXT_COMPRESSION_NONE;
+		chunks[i].key = (png_charp)text[i].key;
+		chunks[i].text = (png_charp)text[i].text;
+		chunks[i].text_length = strlen(text[i].text);
+	}
+	if (ntext > 0)
+		png_set_text(png, info, chunks, ntext);
 	png_write_info(png, info);
 	for (int y = 0; y < height; y++) {
-		const uint16_t *src = pixels + (size_t)y * width * channels;
+		if (bits == 8) {
+			png_write_row(png, (png_const_bytep)pixels + (size_t)y * rowlen);
+			continue;
+		}
+		const uint16_t *src = (const uint16_t *)pixels + (size_t)y * width * channels;
 		for (size_t i = 0; i < (size_t)width * channels; i++) { /* big-endian */
 			row[2 * i] = (unsigned char)(src[i] >> 8);
 			row[2 * i + 1] = (unsigned char)(src[i] & 0xff);
@@ -114,15 +133,19 @@ static int png16_stream(FILE *fp, int width, int height, int channels,
 	png_write_end(png, NULL);
 	png_destroy_write_struct(&png, &info);
 	free(row);
+	free(chunks);
 	return 0;
 }
 
-int cs_png16_write_to(struct cs_outfile *of, const char *name, int width,
-		      int height, int channels, const uint16_t *pixels)
+/* cs_png16_write_to() and cs_png_write_text_to(): checks, the stream. */
+static int png_write_any(struct cs_outfile *of, const char *name, int width, int height,
+			 int channels, int bits, const void *pixels,
+			 const struct cs_png_text *text, int ntext)
 {
-	if (width < 1 || height < 1 || channels < 1 || channels > 4 || channels == 2)
-		return cs_error(CS_EINVAL, "cannot write a %dx%d PNG with %d channels",
-				width, height, channels);
+	if (width < 1 || height < 1 || channels < 1 || channels > 4 || channels == 2 ||
+	    (bits != 8 && bits != 16))
+		return cs_error(CS_EINVAL, "cannot write a %dx%d PNG with %d channels of %d bits",
+				width, height, channels, bits);
 	int fd = dup(of->fd);
 	FILE *fp = fd >= 0 ? fdopen(fd, "wb") : NULL;
 	if (fp == NULL) {
@@ -131,12 +154,25 @@ int cs_png16_write_to(struct cs_outfile *of, const char *name, int width,
 		return cs_error(CS_EIO, "%s: cannot open stream", name);
 	}
 	char why[200] = "";
-	int bad = png16_stream(fp, width, height, channels, pixels, why);
+	int bad = png_stream(fp, width, height, channels, bits, pixels, text, ntext, why);
 	int closed = fclose(fp) == 0;
 	if (bad || !closed)
 		return cs_error(CS_EIO, "%s: cannot write PNG: %s", name,
 				bad ? why : "write failed");
 	return CS_OK;
+}
+
+int cs_png_write_text_to(struct cs_outfile *of, const char *name, int width, int height,
+			 int channels, int bits, const void *pixels,
+			 const struct cs_png_text *text, int ntext)
+{
+	return png_write_any(of, name, width, height, channels, bits, pixels, text, ntext);
+}
+
+int cs_png16_write_to(struct cs_outfile *of, const char *name, int width,
+		      int height, int channels, const uint16_t *pixels)
+{
+	return png_write_any(of, name, width, height, channels, 16, pixels, NULL, 0);
 }
 
 /* The most bytes of an image's pixel data a PNG of len bytes can hold:

@@ -24,6 +24,21 @@ int cs_png_write_to(struct cs_outfile *of, const char *name, int width,
 int cs_png16_write_to(struct cs_outfile *of, const char *name, int width,
 		      int height, int channels, const uint16_t *pixels);
 
+/* A text chunk: tEXt (Latin-1 text), or iTXt (UTF-8) when itxt; neither
+ * compressed.  key: 1..79 printable Latin-1 bytes (PNG's keywords). */
+struct cs_png_text {
+	const char *key;
+	const char *text;
+	int itxt;
+};
+
+/* A PNG of 8 or 16 bits a sample (pixels: uint8_t or uint16_t), 1, 3 or 4
+ * channels, sRGB-encoded, with ntext text chunks before the pixels, into
+ * an open output. */
+int cs_png_write_text_to(struct cs_outfile *of, const char *name, int width, int height,
+			 int channels, int bits, const void *pixels,
+			 const struct cs_png_text *text, int ntext);
+
 /* Reads a PNG as 8-bit sRGB RGB (any PNG: grey, palette and alpha are
  * converted); *rgb is malloc'ed for the caller. */
 int cs_png_read_rgb8(const char *path, uint8_t **rgb, int *width, int *height);

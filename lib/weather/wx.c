@@ -413,26 +413,18 @@ static int syntax_error(const char *what, const char *s, size_t len, size_t at)
 			at + 1 >= len ? " (end of input)" : "");
 }
 
-/* lines: JSON Lines, so text after the first object's line is ignored. */
-static int parse_text(const char *json, size_t len, struct cs_wx *wx,
-		      int lines)
+/* The state whose JSON starts at json[at] (past any blank): lines: JSON
+ * Lines, so text after the object's line is ignored, and *next (when not
+ * NULL) is where the text after that line starts. */
+static int parse_object(const char *json, size_t len, size_t at, struct cs_wx *wx,
+			int lines, size_t *next)
 {
-	if (json == NULL || wx == NULL)
-		return cs_error(CS_EINVAL, "cs_wx_parse: no input or no state");
-	const char *nul = memchr(json, '\0', len), *end = NULL;
-	if (nul != NULL)
-		return cs_error(CS_EDATA, "NUL byte at byte offset %zu",
-				(size_t)(nul - json));
-	size_t at = 0;
-	while (at < len && strchr(" \t\r\n", json[at]))
-		at++;
-	if (at == len)
-		return cs_error(CS_EDATA, "empty input: no JSON object");
+	const char *end = NULL;
 	/* return_parse_end, not cJSON_GetErrorPtr(): that one is a global */
-	cJSON *root = cJSON_ParseWithLengthOpts(json, len, &end, 0);
+	cJSON *root = cJSON_ParseWithLengthOpts(json + at, len - at, &end, 0);
 	if (root == NULL)
 		return syntax_error("malformed JSON", json, len,
-				    end ? (size_t)(end - json) : 0);
+				    end ? (size_t)(end - json) : at);
 	at = (size_t)(end - json);
 	while (at < len && strchr(lines ? " \t\r" : " \t\r\n", json[at]))
 		at++;
@@ -441,6 +433,8 @@ static int parse_text(const char *json, size_t len, struct cs_wx *wx,
 		return syntax_error("unexpected text after the JSON object",
 				    json, len, at);
 	}
+	if (next != NULL)
+		*next = at < len ? at + 1 : len;
 	struct cs_wx w;
 	memset(&w, 0, sizeof w);
 	int rc = parse_root(root, &w);
@@ -464,6 +458,32 @@ static int parse_text(const char *json, size_t len, struct cs_wx *wx,
 	if (rc == CS_OK)
 		*wx = w;
 	return rc;
+}
+
+/* Where the first state of json starts, after checking for NUL bytes and
+ * an empty text. */
+static int text_start(const char *json, size_t len, size_t *at)
+{
+	const char *nul = memchr(json, '\0', len);
+	if (nul != NULL)
+		return cs_error(CS_EDATA, "NUL byte at byte offset %zu",
+				(size_t)(nul - json));
+	*at = 0;
+	while (*at < len && strchr(" \t\r\n", json[*at]))
+		(*at)++;
+	if (*at == len)
+		return cs_error(CS_EDATA, "empty input: no JSON object");
+	return CS_OK;
+}
+
+static int parse_text(const char *json, size_t len, struct cs_wx *wx,
+		      int lines)
+{
+	if (json == NULL || wx == NULL)
+		return cs_error(CS_EINVAL, "cs_wx_parse: no input or no state");
+	size_t at;
+	CS_TRY(text_start(json, len, &at));
+	return parse_object(json, len, at, wx, lines, NULL);
 }
 
 int cs_wx_parse(const char *json, size_t len, struct cs_wx *wx)
@@ -492,6 +512,99 @@ int cs_wx_read(const char *path, struct cs_wx *wx)
 			      strcmp(path, "-") == 0 ? "standard input" : path,
 			      cs_errmsg());
 	return rc;
+}
+
+/* ---- series ------------------------------------------------------------- */
+
+/* The line of byte at (1 for the first). */
+static long line_of(const char *text, size_t at)
+{
+	long line = 1;
+	for (size_t i = 0; i < at; i++)
+		line += text[i] == '\n';
+	return line;
+}
+
+/* Takes text (malloc'ed, len bytes) into s and finds every state in it. */
+static int series_scan(struct cs_wx_series *s, char *text, size_t len, const char *name)
+{
+	memset(s, 0, sizeof *s);
+	s->text = text;
+	s->len = len;
+	size_t at, cap = 0;
+	int rc = text_start(text, len, &at);
+	struct cs_wx w;
+	while (rc == CS_OK && at < len) {
+		if (s->n == CS_WX_SERIES_MAX) {
+			rc = cs_error(CS_EDATA, "more than %d states", CS_WX_SERIES_MAX);
+			break;
+		}
+		if ((size_t)s->n == cap) {
+			size_t *ns = realloc(s->start, (cap = cap ? 2 * cap : 64) * sizeof *ns);
+			if (ns == NULL) {
+				rc = cs_error(CS_ENOMEM, "out of memory reading the states");
+				break;
+			}
+			s->start = ns;
+		}
+		s->start[s->n] = at;
+		size_t next;
+		rc = parse_object(text, len, at, &w, 1, &next);
+		if (rc != CS_OK) { /* the first state's error is a single state's */
+			if (s->n > 0)
+				rc = cs_error(rc, "state %d (line %ld): %s", s->n + 1,
+					      line_of(text, at), cs_errmsg());
+			break;
+		}
+		s->n++;
+		at = next;
+		while (at < len && strchr(" \t\r\n", text[at]))
+			at++;
+	}
+	if (rc != CS_OK) {
+		rc = cs_error(rc, "%s: %s", name, cs_errmsg());
+		cs_wx_series_free(s);
+	}
+	return rc;
+}
+
+int cs_wx_series_parse(const char *json, size_t len, struct cs_wx_series *s)
+{
+	if (json == NULL || s == NULL)
+		return cs_error(CS_EINVAL, "cs_wx_series_parse: no input or no series");
+	char *copy = malloc(len ? len : 1);
+	if (copy == NULL)
+		return cs_error(CS_ENOMEM, "out of memory reading the states");
+	memcpy(copy, json, len);
+	return series_scan(s, copy, len, "input");
+}
+
+int cs_wx_series_read(const char *path, struct cs_wx_series *s)
+{
+	unsigned char *data;
+	size_t len;
+	if (path == NULL || s == NULL)
+		return cs_error(CS_EINVAL, "cs_wx_series_read: no path or no series");
+	memset(s, 0, sizeof *s);
+	int rc = cs_read_all(path, CS_WX_SERIES_MAX_BYTES, &data, &len);
+	if (rc != CS_OK)
+		return rc;
+	return series_scan(s, (char *)data, len,
+			   strcmp(path, "-") == 0 ? "standard input" : path);
+}
+
+int cs_wx_series_get(const struct cs_wx_series *s, int i, struct cs_wx *wx)
+{
+	if (s == NULL || wx == NULL || i < 0 || i >= s->n)
+		return cs_error(CS_EINVAL, "cs_wx_series_get: no state %d", i + 1);
+	return parse_object(s->text, s->len, s->start[i], wx, 1, NULL);
+}
+
+void cs_wx_series_free(struct cs_wx_series *s)
+{
+	free(s->text);
+	free(s->start);
+	memset(s, 0, sizeof *s);
 }
 
 /* ---- writing ------------------------------------------------------------ */

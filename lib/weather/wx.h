@@ -125,6 +125,31 @@ int cs_wx_parse_lines(const char *json, size_t len, struct cs_wx *wx);
  * Error messages start with the file name ("standard input" for "-"). */
 int cs_wx_read(const char *path, struct cs_wx *wx);
 
+/* A series of states: a JSON Lines file (one state a line, blank lines
+ * allowed), or states each spread over lines (wxinterp --pretty) one
+ * after the other.  Held as text: every state is checked when the series
+ * is read, and parsed again when asked for. */
+#define CS_WX_SERIES_MAX 10000000
+#define CS_WX_SERIES_MAX_BYTES ((size_t)1 << 30)
+struct cs_wx_series {
+	char *text;
+	size_t len;
+	size_t *start;    /* where state i starts in text */
+	int n;            /* states, >= 1 */
+};
+
+/* Reads every state of a file ("-" = stdin) of at most
+ * CS_WX_SERIES_MAX_BYTES.  Errors name the file, and the state after the
+ * first: "day.jsonl: state 3 (line 3): layers[0].coverage: 1.5 is outside
+ * 0..1" (as cs_wx_read() words the first state's errors).  Free with
+ * cs_wx_series_free() (nothing to free after an error). */
+int cs_wx_series_read(const char *path, struct cs_wx_series *s);
+/* The same from len bytes in memory (copied); messages say "input". */
+int cs_wx_series_parse(const char *json, size_t len, struct cs_wx_series *s);
+/* State i (0 for the first) of a series. */
+int cs_wx_series_get(const struct cs_wx_series *s, int i, struct cs_wx *wx);
+void cs_wx_series_free(struct cs_wx_series *s);
+
 /* Checks ranges and consistency (what cs_wx_parse() checks after parsing). */
 int cs_wx_validate(const struct cs_wx *wx);
 

@@ -72,7 +72,7 @@ begin cloudrender_views_and_explicit_camera
 run "$CR" --list-views; expect_rc 0; expect_out gurten; expect_out bantiger
 run "$CR" --view gurten -o "$T/g.png" $FAST; expect_rc 0
 run "$CR" --view bantiger -o "$T/b.png" $FAST; expect_rc 0
-cmp -s "$T/g.png" "$T/b.png" && bad "two views gave the same image"
+same_pixels "$T/g.png" "$T/b.png" && bad "two views gave the same image"
 run "$CR" --camera 46.95,7.44,3000 --look 90,-10 --fov 40 -o "$T/c.png" $FAST; expect_rc 0
 # the centre ray of that camera under a clear sky meets the ground (a sphere
 # of radius R + 540 m) where geometry says: R = 6371 km, 2460 m up, 10 deg down
@@ -96,7 +96,7 @@ for o in "--exposure 2" "--steps 5" "--light-steps 1" "--ms-octaves 1" "--no-amb
 	# shellcheck disable=SC2086
 	run "$CR" -o "$T/o.png" $FAST $o
 	expect_rc 0
-	cmp -s "$T/base.png" "$T/o.png" && bad "$o did not change the image"
+	same_pixels "$T/base.png" "$T/o.png" && bad "$o did not change the image"
 done
 end
 
@@ -172,7 +172,7 @@ if "$TOP/scripts/make-bern-dem" -r 400 "$T/dem.tif" >/dev/null 2>&1 &&
 	grep -q '"terrain_cells":0,' "$T/err" && bad "no terrain cell was visited"
 	run "$CR" --view gurten -o "$T/flat.png" $FAST
 	expect_rc 0
-	cmp -s "$T/g.png" "$T/flat.png" && bad "the terrain changed nothing"
+	same_pixels "$T/g.png" "$T/flat.png" && bad "the terrain changed nothing"
 	# inside the Gurten (858 m) at 700 m
 	run "$CR" --terrain "$T/bern.exr" --camera 46.91722,7.44361,700 -o "$T/in.png" $FAST
 	expect_rc 2; expect_err "below the terrain"; expect_no_file "$T/in.png"

@@ -39,3 +39,14 @@ plan() { echo "plan $1"; }
 fail_case() { echo "FAIL $1: $2"; }
 # skip NAME WHY: the case cannot run here (e.g. the shared data is absent)
 skip() { echo "skip $1: $2"; }
+# same_pixels A B: the two images hold the same pixels (PNG: the samples as
+# pngtopnm decodes them; EXR: R G B A Z exactly), whatever their text chunks
+# or attributes say; for "cmp -s A B && bad ..." where the outputs' metadata
+# (cloudrender writes its settings) differs anyway.
+same_pixels() {
+	case $1 in
+	*.exr) "$HELPERS/exrpixels" "$1" R G B A Z >"$T/.px1" && "$HELPERS/exrpixels" "$2" R G B A Z >"$T/.px2" ;;
+	*) pngtopnm "$1" >"$T/.px1" && pngtopnm "$2" >"$T/.px2" ;;
+	esac || { bad "cannot read the pixels of $1 or $2"; return 2; }
+	cmp -s "$T/.px1" "$T/.px2"
+}

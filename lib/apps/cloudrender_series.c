@@ -1,0 +1,276 @@
+/* cloudrender over a series of weather states: the frames' names, the
+ * slice, the frames already there, and one frame after the other over what
+ * they share (cloudrender_session.h). */
+#include "apps/cloudrender_run.h"
+#include "apps/cloudrender_session.h"
+
+#include "core/err.h"
+#include "core/fileio.h"
+#include "core/framename.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <time.h>
+
+static double now_s(void)
+{
+	struct timespec ts;
+	clock_gettime(CLOCK_MONOTONIC, &ts);
+	return (double)ts.tv_sec + ts.tv_nsec * 1e-9;
+}
+
+/* The weather: every state of the file, or the built-in one. */
+struct states {
+	struct cs_wx_series series;
+	int from_file;
+	int n;
+};
+
+static int get_state(const struct states *st, int i, struct cs_wx *wx)
+{
+	if (!st->from_file) {
+		cs_wx_default(wx);
+		return CS_OK;
+	}
+	return cs_wx_series_get(&st->series, i, wx);
+}
+
+/* The options every frame shares, checked against the series: the
+ * patterns, what a single frame allows, the slice.  [*first, *last) are
+ * the indices of the states the slice renders. */
+static int check_patterns(const struct cs_cloudrender_opts *o)
+{
+	for (int i = 0; i < o->noutputs; i++)
+		if (cs_framename_check(o->outputs[i]) < 0)
+			return cs_error(CS_EINVAL, "-o %s", cs_errmsg());
+	if (o->start_number < 0)
+		return cs_error(CS_EINVAL, "the start number %lld is negative", o->start_number);
+	/* the first frame's places now, before any input is read */
+	long long first = o->frames_from >= 0 ? o->frames_from : o->start_number;
+	char names[CS_RENDER_MAX_OUTPUTS][4096];
+	const char *p[CS_RENDER_MAX_OUTPUTS];
+	for (int i = 0; i < o->noutputs && i < CS_RENDER_MAX_OUTPUTS; i++) {
+		CS_TRY(cs_framename_format(o->outputs[i], first, names[i], sizeof names[i]));
+		p[i] = names[i];
+	}
+	return cs_outset_check(p, o->noutputs < CS_RENDER_MAX_OUTPUTS ? o->noutputs
+								       : CS_RENDER_MAX_OUTPUTS,
+			       o->no_clobber && !o->skip_existing ? CS_OUT_NO_CLOBBER : 0);
+}
+
+static int plan(const struct cs_cloudrender_opts *o, int n, int *first, int *last)
+{
+	long long lo = o->start_number, hi = o->start_number + n; /* the series' numbers */
+	long long from = o->frames_from >= 0 ? o->frames_from : lo;
+	long long to = o->frames_to >= 0 ? o->frames_to : hi;
+	if (to > hi)
+		to = hi; /* a slice past the end ends with the series */
+	if (from < lo || from >= to)
+		return cs_error(CS_EINVAL, "frames %lld:%lld select none of the series' %d "
+				"state%s (frames %lld:%lld)", from,
+				o->frames_to >= 0 ? o->frames_to : hi, n, n == 1 ? "" : "s",
+				lo, hi);
+	*first = (int)(from - lo), *last = (int)(to - lo);
+	int frames = *last - *first;
+	if (frames > 1 && o->have_time)
+		return cs_error(CS_EINVAL, "--time sets the time of one state: the series has "
+				"%d states (each frame takes its state's time)", n);
+	for (int i = 0; frames > 1 && i < o->noutputs; i++)
+		if (strcmp(o->outputs[i], "-") == 0)
+			return cs_error(CS_EINVAL, "-o -: standard output takes one frame, and "
+					"there are %d: name the frames with a number, e.g. "
+					"-o frames/%%05d.png", frames);
+	if (frames > 1)
+		for (int i = 0; i < o->noutputs; i++)
+			if (cs_framename_check(o->outputs[i]) == 0)
+				return cs_error(CS_EINVAL, "-o %s: %d frames need a frame number "
+						"in the name, e.g. -o frames/%%05d.png (%%%% for "
+						"a literal percent)", o->outputs[i], frames);
+	return CS_OK;
+}
+
+/* The names of frame number; with skip_existing only those not there. */
+static int frame_names(const struct cs_cloudrender_opts *o, long long number,
+		       struct cs_cloudrender_frame *f, enum cs_out_format *formats)
+{
+	f->noutputs = 0;
+	for (int i = 0; i < o->noutputs; i++) {
+		char *name = f->outputs[f->noutputs];
+		CS_TRY(cs_framename_format(o->outputs[i], number, name, sizeof f->outputs[0]));
+		struct stat st;
+		if (o->skip_existing && strcmp(name, "-") != 0 && stat(name, &st) == 0)
+			continue;
+		formats[f->noutputs++] = o->formats[i];
+	}
+	return CS_OK;
+}
+
+/* The frames to render, checked before the first one is: every name's
+ * place (cs_outset_check), the frames all there counted out. */
+static int check_frames(const struct cs_cloudrender_opts *o, int first, int last,
+			int *count)
+{
+	struct cs_cloudrender_frame *f = malloc(sizeof *f);
+	if (f == NULL)
+		return cs_error(CS_ENOMEM, "out of memory");
+	enum cs_out_format formats[CS_RENDER_MAX_OUTPUTS];
+	int rc = CS_OK;
+	*count = 0;
+	for (int i = first; i < last && rc == CS_OK; i++) {
+		rc = frame_names(o, o->start_number + i, f, formats);
+		if (rc != CS_OK || f->noutputs == 0)
+			continue;
+		const char *names[CS_RENDER_MAX_OUTPUTS];
+		for (int k = 0; k < f->noutputs; k++)
+			names[k] = f->outputs[k];
+		rc = cs_outset_check(names, f->noutputs, o->no_clobber ? CS_OUT_NO_CLOBBER : 0);
+		++*count;
+	}
+	free(f);
+	return rc;
+}
+
+/* A series of more than one state keeps the camera still: the default
+ * view (no --view, no --look) is the first state's, whatever the slice. */
+static int hold_look(struct cs_cr_session *s, const struct states *st,
+		     struct cs_cloudrender_opts *fo, struct cs_cloudrender_result *r,
+		     char *why, size_t why_size)
+{
+	why[0] = '\0';
+	if (st->n < 2 || fo->have_look || fo->view)
+		return CS_OK;
+	CS_TRY(get_state(st, 0, &r->wx));
+	CS_TRY(cs_cr_session_look(s, fo, r));
+	fo->have_look = 1;
+	fo->look_az_deg = r->look_az_deg, fo->look_el_deg = r->look_el_deg;
+	snprintf(why, why_size, "the series' first state's %.130s", r->look_why);
+	return CS_OK;
+}
+
+/* The progress of one frame as a part of the run's. */
+struct run_progress {
+	cs_progress_fn fn;
+	void *user;
+	double done, count;
+};
+
+static int run_progress(void *user, double fraction)
+{
+	struct run_progress *p = user;
+	return p->fn ? p->fn(p->user, (p->done + fraction) / p->count) : 0;
+}
+
+/* The ready callback of a held look: the reason said first. */
+struct held_ready {
+	const struct cs_cloudrender_opts *o;
+	struct cs_cloudrender_result *r;
+	const char *why;
+};
+
+static void held_ready(void *user, const struct cs_cloudrender_result *r)
+{
+	struct held_ready *h = user;
+	(void)r;
+	snprintf(h->r->look_why, sizeof h->r->look_why, "%s", h->why);
+	h->o->ready(h->o->ready_user, h->r);
+}
+
+static void tell(const struct cs_cloudrender_opts *o, struct cs_cloudrender_frame *f,
+		 enum cs_frame_stage stage, const struct cs_cloudrender_result *r)
+{
+	f->stage = stage;
+	if (o->frame)
+		o->frame(o->frame_user, f, r);
+}
+
+/* Every frame of [first, last) in turn. */
+static int run_frames(struct cs_cr_session *s, const struct cs_cloudrender_opts *o,
+		      const struct states *st, int first, int last, int count,
+		      struct cs_cloudrender_result *r)
+{
+	struct cs_cloudrender_opts fo = *o;
+	char held[sizeof r->look_why] = "";
+	if (count > 0)
+		CS_TRY(hold_look(s, st, &fo, r, held, sizeof held));
+	struct run_progress prog = {o->progress, o->progress_user, 0.0, count > 0 ? count : 1};
+	fo.progress = run_progress;
+	fo.progress_user = &prog;
+	struct held_ready hr = {o, r, held};
+	if (held[0] && o->ready) {
+		fo.ready = held_ready;
+		fo.ready_user = &hr;
+	}
+	struct cs_cloudrender_frame *f = malloc(sizeof *f);
+	if (f == NULL)
+		return cs_error(CS_ENOMEM, "out of memory");
+	const char *names[CS_RENDER_MAX_OUTPUTS];
+	int rc = CS_OK;
+	for (int i = first; i < last && rc == CS_OK; i++) {
+		memset(f, 0, sizeof *f);
+		f->index = i, f->number = o->start_number + i, f->states = st->n;
+		f->count = count;
+		rc = frame_names(o, f->number, f, fo.formats);
+		if (rc != CS_OK)
+			break;
+		if (f->noutputs == 0) {
+			tell(o, f, CS_FRAME_SKIPPED, r);
+			continue;
+		}
+		for (int k = 0; k < f->noutputs; k++)
+			names[k] = f->outputs[k];
+		memcpy(fo.outputs, names, sizeof names);
+		fo.noutputs = f->noutputs;
+		f->nth = (int)prog.done + 1;
+		if ((rc = get_state(st, i, &r->wx)) != CS_OK)
+			break;
+		if (o->have_time)
+			cs_wx_retime(&r->wx, o->time_utc); /* the drift goes with the time */
+		if (prog.done > 0.0)
+			r->t_noise_s = 0.0; /* made once: the first frame's cost */
+		tell(o, f, CS_FRAME_START, r);
+		double t0 = now_s();
+		rc = cs_cr_session_frame(s, &fo, r);
+		if (rc == CS_OK && held[0])
+			snprintf(r->look_why, sizeof r->look_why, "%s", held);
+		f->wall_s = now_s() - t0;
+		if (rc == CS_OK)
+			tell(o, f, CS_FRAME_DONE, r);
+		else if (st->n > 1)
+			rc = cs_error(rc, "frame %lld (state %d): %s", f->number, i + 1, cs_errmsg());
+		prog.done += 1.0;
+	}
+	free(f);
+	return rc;
+}
+
+int cs_cloudrender_run(const struct cs_cloudrender_opts *o, struct cs_cloudrender_result *r)
+{
+	memset(r, 0, sizeof *r);
+	struct cs_cr_session *s = NULL;
+	struct states st;
+	memset(&st, 0, sizeof st);
+	st.n = 1;
+	int first = 0, last = 1, count = 0;
+	int rc = cs_cr_session_open(o, r, &s);
+	if (rc == CS_OK)
+		rc = check_patterns(o); /* before any file */
+	if (rc == CS_OK && o->wx_path) {
+		rc = cs_wx_series_read(o->wx_path, &st.series);
+		st.from_file = rc == CS_OK;
+		st.n = st.series.n;
+	}
+	if (rc == CS_OK)
+		rc = plan(o, st.n, &first, &last);
+	if (rc == CS_OK)
+		rc = check_frames(o, first, last, &count);
+	if (rc == CS_OK && count > 0)
+		rc = cs_cr_session_load(s, o, r);
+	if (rc == CS_OK)
+		rc = run_frames(s, o, &st, first, last, count, r);
+	cs_cr_session_close(s, r);
+	if (st.from_file)
+		cs_wx_series_free(&st.series);
+	return rc;
+}
