@@ -68,6 +68,11 @@ struct cs_cloudrender_opts {
 	 * rendered, with the result so far (for cloudrender -v), or NULL. */
 	void (*ready)(void *user, const struct cs_cloudrender_result *r);
 	void *ready_user;
+	/* The GPU renderer (render/device.h): CS_DEVICE_CPU (default) or
+	 * CS_DEVICE_CUDA; device_bench > 0 renders the frame that many more
+	 * times on the GPU, warm, timed by CUDA events (result.device_frame_ms). */
+	int device;
+	int device_bench;
 };
 
 /* What a run produced, for the program's report (--stats, warnings). */
@@ -99,6 +104,10 @@ struct cs_cloudrender_result {
 	 * pixels' mean luminance, median and 95th percentile over the pixels
 	 * with light (-1 otherwise) */
 	double ref_rse_median, ref_rse_p95;
+	/* --device cuda: the device, the kernel's time of the frame, and with
+	 * device_bench the mean time of one warm frame (ms, CUDA events) */
+	char device_name[160];
+	double device_kernel_ms, device_frame_ms;
 };
 
 /* Defaults: built-in weather, in-memory noise, the default camera at the
