@@ -12,7 +12,9 @@
  * maxima, colour, water and palette as arrays) and rendered as often as
  * asked.  Arithmetic is cs_real as in the C build (double): the images
  * differ from the CPU's only by the order of floating-point operations the
- * compilers choose (fused multiply-adds, libm against CUDA's maths). */
+ * compilers choose (fused multiply-adds, libm against CUDA's maths).  The
+ * noise lookup is the one device-only piece: volume.c's, with its index
+ * arithmetic made cheap for a GPU (below). */
 #include <ctype.h>
 #include <math.h>
 #include <stddef.h>
@@ -30,7 +32,107 @@ extern "C" {
 #include "render/pixel.h"
 
 #include "io/cpt.c"
+/* volume.c's samplers under other names: the device's own follow */
+#define cs_volume_sample cs_volume_sample_host
+#define cs_volume_sample4 cs_volume_sample4_host
 #include "noise/volume.c"
+#undef cs_volume_sample
+#undef cs_volume_sample4
+
+/* The noise volume's samplers (noise/volume.h) as the device runs them:
+ * the same lookup as volume.c's (voxel centres at (i + 0.5) / n, every
+ * axis wrapped, trilinear in float with the same weights, the same
+ * numbers), with the wrap done by a mask on a 64-bit integer (the sizes
+ * are powers of two; any other size by %) instead of volume.c's
+ * divisions, which a GPU emulates in long instruction sequences.  The
+ * host copies are volume.c's. */
+struct dev_corners {
+	unsigned off[8]; /* voxel index of each corner; bit 0 = +x, 1 = +y, 2 = +z */
+	float tx, ty, tz;
+};
+
+CS_HD static inline unsigned dev_wrap(double f, int n)
+{
+	/* f is a whole number below 2^51 in size: |u| < 2^40, n <= 1024 */
+	long long i = (long long)f;
+	if ((n & (n - 1)) == 0)
+		return (unsigned)(i & (n - 1));
+	long long m = i % n;
+	return (unsigned)(m < 0 ? m + n : m);
+}
+
+CS_HD static inline void dev_corners(const struct cs_volume *v, double u, double vv, double w,
+				     struct dev_corners *c)
+{
+	u = fabs(u) < 0x1p40 ? u : fmod(u, 1.0);
+	vv = fabs(vv) < 0x1p40 ? vv : fmod(vv, 1.0);
+	w = fabs(w) < 0x1p40 ? w : fmod(w, 1.0);
+	double gx = u * v->nx - 0.5, gy = vv * v->ny - 0.5, gz = w * v->nz - 0.5;
+	double fx = floor(gx), fy = floor(gy), fz = floor(gz);
+	c->tx = (float)(gx - fx), c->ty = (float)(gy - fy), c->tz = (float)(gz - fz);
+	unsigned x0 = dev_wrap(fx, v->nx), y0 = dev_wrap(fy, v->ny), z0 = dev_wrap(fz, v->nz);
+	unsigned x1 = x0 + 1 == (unsigned)v->nx ? 0 : x0 + 1;
+	unsigned y1 = y0 + 1 == (unsigned)v->ny ? 0 : y0 + 1;
+	unsigned z1 = z0 + 1 == (unsigned)v->nz ? 0 : z0 + 1;
+	unsigned xs[2] = {x0, x1}, ys[2] = {y0 * v->nx, y1 * v->nx},
+		 zs[2] = {z0 * v->nx * v->ny, z1 * v->nx * v->ny};
+	for (int k = 0; k < 8; k++)
+		c->off[k] = zs[k >> 2] + ys[(k >> 1) & 1] + xs[k & 1];
+}
+
+CS_HD static inline float dev_lerp3(const float d[8], const struct dev_corners *c)
+{
+	float c00 = d[0] + c->tx * (d[1] - d[0]);
+	float c10 = d[2] + c->tx * (d[3] - d[2]);
+	float c01 = d[4] + c->tx * (d[5] - d[4]);
+	float c11 = d[6] + c->tx * (d[7] - d[6]);
+	float c0 = c00 + c->ty * (c10 - c00);
+	float c1 = c01 + c->ty * (c11 - c01);
+	return c0 + c->tz * (c1 - c0);
+}
+
+CS_HD void cs_volume_sample4(const struct cs_volume *v, double u, double vv, double w,
+			     float out[4])
+{
+#ifdef __CUDA_ARCH__
+	if (!isfinite(u) || !isfinite(vv) || !isfinite(w)) {
+		out[0] = out[1] = out[2] = out[3] = 0.0f;
+		return;
+	}
+	struct dev_corners c;
+	dev_corners(v, u, vv, w, &c);
+	const float4 *d4 = (const float4 *)v->data;
+	float r[8], g[8], b[8], a[8];
+	for (int k = 0; k < 8; k++) {
+		float4 q = __ldg(d4 + c.off[k]);
+		r[k] = q.x, g[k] = q.y, b[k] = q.z, a[k] = q.w;
+	}
+	out[0] = dev_lerp3(r, &c);
+	out[1] = dev_lerp3(g, &c);
+	out[2] = dev_lerp3(b, &c);
+	out[3] = dev_lerp3(a, &c);
+#else
+	cs_volume_sample4_host(v, u, vv, w, out);
+#endif
+}
+
+CS_HD float cs_volume_sample(const struct cs_volume *v, int channel, double u, double vv,
+			     double w)
+{
+#ifdef __CUDA_ARCH__
+	if (!isfinite(u) || !isfinite(vv) || !isfinite(w))
+		return 0.0f;
+	struct dev_corners c;
+	dev_corners(v, u, vv, w, &c);
+	const float *d = v->data + (channel & 3);
+	float q[8];
+	for (int k = 0; k < 8; k++)
+		q[k] = __ldg(d + (size_t)c.off[k] * 4);
+	return dev_lerp3(q, &c);
+#else
+	return cs_volume_sample_host(v, channel, u, vv, w);
+#endif
+}
 
 #include "render/camera.c"
 #include "render/cloud.c"
@@ -55,7 +157,13 @@ struct dev_scene {
 };
 
 /* The thread block, and the blocks a multiprocessor should hold at once
- * (__launch_bounds__: the registers a thread may use follow from it). */
+ * (__launch_bounds__: the registers a thread may use follow from it).
+ * The kernel is bound by latency, not by a unit's throughput, and more
+ * warps hide more of it: on an H200 at 1920x1080 (scripts/gpu-check's benchmark) 8 blocks of 128
+ * threads (64 registers, the rest spilled) ran low at 63 and medium at 31
+ * frames/s, against 54/27 with 6 blocks (80 registers), 48/23 with 4
+ * (128) and 44/21 with 1 (255); 10 and 12 blocks (48, 40 registers) gave
+ * 65/32 and 65/33, 16 (32 registers) 51/26. */
 #ifndef CS_CUDA_BLOCK_W
 #define CS_CUDA_BLOCK_W 16
 #endif
@@ -63,7 +171,7 @@ struct dev_scene {
 #define CS_CUDA_BLOCK_H 8
 #endif
 #ifndef CS_CUDA_MIN_BLOCKS
-#define CS_CUDA_MIN_BLOCKS 1
+#define CS_CUDA_MIN_BLOCKS 8
 #endif
 enum { NSTATS = 6, BLOCK_W = CS_CUDA_BLOCK_W, BLOCK_H = CS_CUDA_BLOCK_H };
 
