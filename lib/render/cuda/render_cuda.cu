@@ -45,7 +45,10 @@ extern "C" {
  * numbers), with the wrap done by a mask on a 64-bit integer (the sizes
  * are powers of two; any other size by %) instead of volume.c's
  * divisions, which a GPU emulates in long instruction sequences.  The
- * host copies are volume.c's. */
+ * host copies are volume.c's.  The floats are read as they are: the
+ * volume stored as halves (exact for noisebake's volumes) measured 4 %
+ * slower on an H200 (1080p low 60.8 against 63.0 frames/s, medium 30.3
+ * against 31.5): the kernel is not bound by the bytes it reads. */
 struct dev_corners {
 	unsigned off[8]; /* voxel index of each corner; bit 0 = +x, 1 = +y, 2 = +z */
 	float tx, ty, tz;
