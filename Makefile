@@ -12,6 +12,12 @@
 #   make fuzz FUZZ_SECONDS=N  libFuzzer targets (tests/fuzz/) built with clang,
 #                     ASan + UBSan, in build-fuzz/; each run N s (default 10)
 #   make bench        benchmarks (not part of check)
+#   make CUDA=1       also the GPU renderer (cloudrender --device cuda), built by
+#                     nvcc (NVCC=, found on the PATH or at /usr/local/cuda/bin) into
+#                     build-cuda/; without CUDA=1 the GPU interface is a stub
+#                     that says why (README: "The GPU renderer")
+#   make check-gpu    on a machine with a GPU: CUDA=1, then scripts/gpu-check
+#                     (CPU against GPU renders of tests/scenes, 1080p frames/s)
 #   make study        the accuracy study: error against the reference integrator
 #                     and time, per scene and setting (not part of check)
 #   make mutate       the suite's mutation score (scripts/mutate, nice -n 19;
@@ -67,6 +73,33 @@ else
 B         := build
 SANFLAGS  :=
 endif
+# The GPU renderer (lib/render/cuda/): only with CUDA=1, into build-cuda/.
+# Not by default although nvcc may be there: the unity build takes a minute
+# of nvcc, its objects would link the CUDA runtime into every test program
+# (and under ASan and TSan), and CI has no GPU to run it.
+CUDA      ?= 0
+NVCC      ?= $(or $(shell command -v nvcc 2>/dev/null),$(wildcard /usr/local/cuda/bin/nvcc))
+NVCC_ARCH ?= -gencode arch=compute_90,code=sm_90 -gencode arch=compute_90,code=compute_90
+CUDA_LIB  ?= $(if $(NVCC),$(firstword $(wildcard $(dir $(NVCC))../lib64 $(dir $(NVCC))../lib)))
+# what render_cuda.o keeps global (the rest of the unity build's host code
+# is made local, so that it never meets the C objects at link time)
+CUDA_API  := cs_device_available cs_cuda_scene_new cs_cuda_scene_free cs_cuda_render cs_cuda_bench
+ifeq ($(CUDA),1)
+ifeq ($(NVCC),)
+$(error CUDA=1 but nvcc is not on the PATH nor at /usr/local/cuda/bin/nvcc: give NVCC=)
+endif
+ifneq ($(SAN)$(FUZZ),)
+$(error CUDA=1 does not combine with SAN or FUZZ)
+endif
+B         := build-cuda
+DEVICE_OBJ = $(B)/lib/render/cuda/render_cuda.o
+CUDA_LIBS  = -L$(CUDA_LIB) -lcudart_static -ldl -lrt -lstdc++
+else
+DEVICE_OBJ = $(B)/lib/render/cuda/device_none.o
+CUDA_LIBS  =
+CUDA_WHY  := $(if $(NVCC),built without CUDA: this build was made without CUDA=1 (nvcc is at $(NVCC)); \
+		build with make CUDA=1,built without CUDA: nvcc was not found at build time)
+endif
 # programs the tool tests run (scripts/deps installs them: gdal-bin, netpbm, jq,
 # openexr, man-db, ffmpeg, python3, munge, slurmctld, slurmd, slurm-client)
 TEST_TOOLS := gdal_translate gdalinfo gdallocationinfo gdalwarp pamenlarge pnmcat pnmpad \
@@ -76,10 +109,10 @@ PKG_CFLAGS = $(shell pkg-config --cflags $(PKGS))
 PKG_LIBS   = $(shell pkg-config --libs $(PKGS))
 ALL_CFLAGS = -std=c17 -D_POSIX_C_SOURCE=200809L -DCS_VERSION='"$(VERSION)"' \
              $(WARN) $(CFLAGS) $(SANFLAGS) -pthread -iquote lib -iquote tools $(PKG_CFLAGS) -MMD -MP
-LDLIBS     = $(PKG_LIBS) -lm -pthread
+LDLIBS     = $(if $(filter 1,$(CUDA)),-Wl$(comma)--as-needed) $(PKG_LIBS) $(CUDA_LIBS) -lm -pthread
 
 LIB_SRC   := $(wildcard lib/*/*.c)
-LIB_OBJ   := $(LIB_SRC:lib/%.c=$(B)/lib/%.o)
+LIB_OBJ   := $(LIB_SRC:lib/%.c=$(B)/lib/%.o) $(DEVICE_OBJ)
 CLI_OBJ   := $(B)/tools/cli.o
 BINS      := $(PROGRAMS:%=$(B)/bin/%)
 UNIT_SRC  := $(wildcard tests/unit/test_*.c)
@@ -96,6 +129,7 @@ FUZZ_BINS := $(FUZZ_SRC:tests/fuzz/%.c=$(B)/fuzz/%)
 BENCH_SRC := $(wildcard bench/*.c)
 BENCH_BINS := $(BENCH_SRC:bench/%.c=$(B)/bench/%)
 
+.PHONY: check-gpu
 .PHONY: all check check-all check-run tests bench study mutate demo install uninstall deps have-deps clean \
 	fuzz fuzz-build
 all: $(B)/libcloudscape.a $(BINS)
@@ -103,6 +137,20 @@ all: $(B)/libcloudscape.a $(BINS)
 $(B)/lib/%.o: lib/%.c
 	@mkdir -p $(@D)
 	$(CC) $(ALL_CFLAGS) -c $< -o $@
+# the GPU renderer's one translation unit (CUDA=1); nvcc's and the host
+# compiler's -Wall warnings are errors (not -Wextra: C designated initializers
+# compiled as C++ would warn of every member left out),
+# but 20091 (a CS_CONST table read in the host copy of a CS_HD function: that
+# copy is never called, the CPU renders with the C objects)
+$(B)/lib/render/cuda/render_cuda.o: lib/render/cuda/render_cuda.cu
+	@mkdir -p $(@D)
+	$(NVCC) -std=c++17 -O3 $(NVCC_ARCH) -D_POSIX_C_SOURCE=200809L -DCS_VERSION='"$(VERSION)"' \
+		-I lib -Werror all-warnings -diag-suppress 20091 -Xcompiler -Wall \
+		-MMD -MP -MT $@ -MF $(@:.o=.d) \
+		-c $< -o $@.tmp
+	objcopy $(CUDA_API:%=-G %) $@.tmp $@
+	@rm -f $@.tmp
+$(B)/lib/render/cuda/device_none.o: ALL_CFLAGS += -DCS_CUDA_WHY='"$(CUDA_WHY)"'
 $(B)/tools/%.o: tools/%.c
 	@mkdir -p $(@D)
 	$(CC) $(ALL_CFLAGS) -c $< -o $@
@@ -164,6 +212,12 @@ have-deps:
 
 deps:
 	@scripts/deps
+
+# the GPU renderer against the CPU's, and its speed (scripts/gpu-check), on a
+# machine with a GPU (CI has none: never part of check)
+check-gpu: have-deps
+	@$(MAKE) --no-print-directory CUDA=1 all build-cuda/bench/imgerr
+	@scripts/gpu-check --build build-cuda $(GPU_CHECK_ARGS)
 
 # the accuracy study (scripts/accuracy-study): STUDY_ARGS=--full for 1280x720
 study: have-deps all $(BENCH_BINS)
@@ -244,7 +298,7 @@ uninstall:
 		$(addprefix $(DESTDIR)$(BASHCOMPDIR)/,$(PROGRAMS) $(SCRIPTS))
 
 clean:
-	rm -rf build build-san build-tsan build-fuzz out
+	rm -rf build build-san build-tsan build-fuzz build-cuda out
 
 -include $(LIB_OBJ:.o=.d) $(CLI_OBJ:.o=.d) $(PROGRAMS:%=$(B)/tools/%.d) \
 	$(UNIT_SRC:tests/unit/%.c=$(B)/tests/%.d) $(HELP_SRC:tests/helpers/%.c=$(B)/tests/helpers/%.d) \

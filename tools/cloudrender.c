@@ -4,6 +4,7 @@
 #include "apps/cloudrender_run.h"
 #include "io/skyclass.h"
 #include "core/err.h"
+#include "render/device.h"
 #include "render/scene.h"
 #include "core/time.h"
 
@@ -204,6 +205,13 @@ static void usage(void)
 	       "      --exposure EV|auto PNG exposure in stops, -20..20 (default 0), or auto:\n"
 	       "                         from the image's mean luminance (twilight, night)\n"
 	       "  -t, --threads N        worker threads, 1..256 (default: all processors)\n"
+	       "      --device D         cpu (default): the CPU's threads; cuda: the same\n"
+	       "                         integrator on the first CUDA GPU (a build made with\n"
+	       "                         make CUDA=1; the march only, not the reference);\n"
+	       "                         where there is none, it says why and exits 1\n"
+	       "      --device-bench N   with --device cuda: render the frame N more times\n"
+	       "                         on the GPU and print the mean time of one (kernel\n"
+	       "                         only, by CUDA events) and frames per second\n"
 	       "      --stats            print a JSON summary on standard error, with the\n"
 	       "                         ground irradiance (GHI, DNI, DHI in W/m2) at the\n"
 	       "                         camera and over 10 km around the site\n"
@@ -458,7 +466,21 @@ enum {
 	OPT_PROJECTION, OPT_HAZE_STEPS, OPT_TERRAIN_CPT, OPT_INTEGRATOR, OPT_SPP, OPT_MAX_BOUNCES,
 	OPT_NO_HAZE, OPT_MARCH, OPT_LIGHT_MARCH, OPT_MAX_STEPS, OPT_MIN_T, OPT_OUTPUT_FORMAT,
 	OPT_PNG16, OPT_FLOAT, OPT_JPEG_QUALITY, OPT_NO_CLOBBER,
+	OPT_DEVICE, OPT_DEVICE_BENCH, /* the GPU renderer */
 };
+
+/* --device cuda: the GPU (with -v) and the benchmark's figures. */
+static void report_device(const struct cs_cloudrender_opts *o, const struct cs_cloudrender_result *r)
+{
+	if (o->device != CS_DEVICE_CUDA)
+		return;
+	if (cli_verbose)
+		cli_err("rendered on %s: kernel %.3f ms", r->device_name, r->device_kernel_ms);
+	if (o->device_bench > 0)
+		cli_err("device benchmark: %dx%d, %d warm frames: %.3f ms a frame, %.1f frames/s "
+			"(%s)", o->width, o->height, o->device_bench, r->device_frame_ms,
+			r->device_frame_ms > 0.0 ? 1000.0 / r->device_frame_ms : 0.0, r->device_name);
+}
 
 int main(int argc, char **argv)
 {
@@ -511,6 +533,8 @@ int main(int argc, char **argv)
 		{"help", no_argument, NULL, 'h'},
 		{"version", no_argument, NULL, OPT_VERSION},
 		SERIES_LONGOPTS
+		{"device", required_argument, NULL, OPT_DEVICE},
+		{"device-bench", required_argument, NULL, OPT_DEVICE_BENCH},
 		{NULL, 0, NULL, 0},
 	};
 	struct cs_cloudrender_opts o;
@@ -692,6 +716,17 @@ int main(int argc, char **argv)
 			usage();
 			return EXIT_OK;
 		case OPT_VERSION: printf("cloudrender (cloudscape) %s\n", CS_VERSION); return EXIT_OK;
+		case OPT_DEVICE:
+			if (strcmp(optarg, "cpu") == 0)
+				o.device = CS_DEVICE_CPU;
+			else if (strcmp(optarg, "cuda") == 0)
+				o.device = CS_DEVICE_CUDA;
+			else
+				cli_usage_error("--device: '%s' is not cpu or cuda", optarg);
+			break;
+		case OPT_DEVICE_BENCH:
+			o.device_bench = (int)cli_long("--device-bench", optarg, 1, 100000);
+			break;
 		default:
 			if (series_option(opt, optarg, &o))
 				break;
@@ -754,6 +789,7 @@ int main(int argc, char **argv)
 		cli_err("warning: the camera is %.0f km from the terrain's centre", r.camera_terrain_km);
 	if (cli_verbose && rep.rendered > 0)
 		report_times(&r);
+	report_device(&o, &r);
 	cs_cloudrender_result_free(&r);
 	return EXIT_OK;
 }

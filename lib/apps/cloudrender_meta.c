@@ -6,6 +6,7 @@
 #include "core/fmt.h"
 #include "core/time.h"
 #include "render/scene.h"
+#include "weather/viewfile.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -92,9 +93,10 @@ int cs_cloudrender_meta_json(const struct cs_cloudrender_opts *o,
 		N(r->cam_lon_deg, 6), N(r->cam_alt_m, 1), N(r->look_az_deg, 3),
 		N(r->look_el_deg, 3), N(r->fov_deg, 3),
 		(unsigned)o->projection < 3 ? proj[o->projection] : "?");
-	if (o->view) {
+	if (o->view) { /* the view's own name, however --view spelt it */
+		const struct cs_view *v = cs_viewset_find(o->views, o->view);
 		fputs(",\"view\":", f);
-		put_string(f, o->view);
+		put_string(f, v ? v->name : o->view);
 	}
 	fprintf(f, "},\"sun\":{\"azimuth_deg\":%s,\"elevation_deg\":%s}",
 		N(r->sun_azimuth_deg, 3), N(r->sun_elevation_deg, 3));

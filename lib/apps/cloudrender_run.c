@@ -7,6 +7,7 @@
 #include "core/err.h"
 #include "core/geo.h"
 #include "io/exr.h"
+#include "render/device.h"
 #include "io/image.h"
 #include "io/caption.h"
 #include "io/cpt.h"
@@ -649,12 +650,43 @@ static int render_reference(const struct cs_cloudrender_opts *o, struct cs_cloud
 	return rc;
 }
 
+/* The frame on the GPU (render/device.h): the scene uploaded, rendered,
+ * copied back; with device_bench, that many warm frames timed. */
+static int render_device(const struct cs_cloudrender_opts *o, struct cs_cloudrender_result *r,
+			 const struct cs_scene *sc, const struct cs_camera *cam, float *px)
+{
+	struct cs_cuda_scene *d;
+	int rc = cs_cuda_scene_new(sc, &d);
+	if (rc == CS_OK)
+		rc = cs_cuda_render(d, cam, &r->settings, px, &r->stats, &r->device_kernel_ms);
+	if (rc == CS_OK && o->device_bench > 0)
+		rc = cs_cuda_bench(d, cam, &r->settings, o->device_bench, &r->device_frame_ms);
+	cs_cuda_scene_free(d);
+	return rc;
+}
+
+/* --device: the reference integrator is CPU-only; a GPU that is not there
+ * is a runtime error (exit 1) that says why, checked before any work. */
+static int check_device(const struct cs_cloudrender_opts *o, struct cs_cloudrender_result *r)
+{
+	if (o->device != CS_DEVICE_CUDA)
+		return o->device_bench > 0 ? cs_error(CS_EINVAL, "--device-bench needs --device cuda")
+					   : CS_OK;
+	if (o->reference)
+		return cs_error(CS_EINVAL, "--device cuda: the reference integrator runs on the "
+				"CPU only (use --integrator march)");
+	if (!cs_device_available(r->device_name, sizeof r->device_name))
+		return cs_error(CS_EIO, "--device cuda: %s", r->device_name);
+	return CS_OK;
+}
+
 /* The frame, what is measured on it, and the outputs. */
 static int render_and_write(const struct cs_cloudrender_opts *o, struct cs_cloudrender_result *r,
 			    const struct cs_scene *sc, const struct cs_camera *cam, float *px)
 {
 	double t0 = now_s();
 	int rc = o->reference ? render_reference(o, r, sc, cam, px)
+		 : o->device == CS_DEVICE_CUDA ? render_device(o, r, sc, cam, px)
 			      : cs_render_image(sc, cam, &r->settings, o->threads, o->progress,
 						o->progress_user, px, &r->stats);
 	r->t_render_s = now_s() - t0;
@@ -690,6 +722,8 @@ int cs_cr_session_open(const struct cs_cloudrender_opts *o, struct cs_cloudrende
 	*out = NULL;
 	const struct cs_view *view;
 	int rc = check_run(o, r, &view);
+	if (rc == CS_OK)
+		rc = check_device(o, r);
 	if (rc != CS_OK)
 		return rc;
 	struct cs_cr_session *s = calloc(1, sizeof *s);

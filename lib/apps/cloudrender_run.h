@@ -96,6 +96,11 @@ struct cs_cloudrender_opts {
 	void (*frame)(void *user, const struct cs_cloudrender_frame *f,
 		      const struct cs_cloudrender_result *r);
 	void *frame_user;
+	/* The GPU renderer (render/device.h): CS_DEVICE_CPU (default) or
+	 * CS_DEVICE_CUDA; device_bench > 0 renders the frame that many more
+	 * times on the GPU, warm, timed by CUDA events (result.device_frame_ms). */
+	int device;
+	int device_bench;
 };
 
 /* A frame of a run, as the frame callback sees it. */
@@ -141,6 +146,10 @@ struct cs_cloudrender_result {
 	 * pixels' mean luminance, median and 95th percentile over the pixels
 	 * with light (-1 otherwise) */
 	double ref_rse_median, ref_rse_p95;
+	/* --device cuda: the device, the kernel's time of the frame, and with
+	 * device_bench the mean time of one warm frame (ms, CUDA events) */
+	char device_name[160];
+	double device_kernel_ms, device_frame_ms;
 };
 
 /* Defaults: built-in weather, in-memory noise, the default camera at the

@@ -125,7 +125,7 @@ int cs_cpt_read(const char *path, struct cs_cpt *p)
 	unsigned char *data;
 	size_t len;
 	CS_TRY(cs_read_all(path, 1 << 22, &data, &len));
-	char *text = malloc(len + 1);
+	char *text = (char *)malloc(len + 1);
 	if (text == NULL) {
 		free(data);
 		return cs_error(CS_ENOMEM, "out of memory");

@@ -96,7 +96,7 @@ int cs_volume_new(struct cs_volume *v, int nx, int nz)
 		return cs_error(CS_EINVAL, "volume size %dx%dx%d out of range 1..%d",
 				nx, nx, nz, CS_VOLUME_MAX_DIM);
 	size_t n = (size_t)nx * (size_t)nx * (size_t)nz * 4u;
-	v->data = calloc(n, sizeof(float));
+	v->data = (float *)calloc(n, sizeof(float));
 	if (v->data == NULL)
 		return cs_error(CS_ENOMEM, "out of memory for a %dx%dx%d volume",
 				nx, nx, nz);
@@ -143,7 +143,7 @@ struct bake_job {
 static void bake_slice(void *user, int z, int worker)
 {
 	(void)worker;
-	struct bake_job *job = user;
+	struct bake_job *job = (struct bake_job *)user;
 	struct cs_volume *v = job->v;
 	for (int y = 0; y < v->ny; y++)
 		for (int x = 0; x < v->nx; x++)

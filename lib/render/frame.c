@@ -2,9 +2,9 @@
  * per pixel with its jitter from the pixel's hash, statistics gathered per
  * task and summed per worker (no counters shared between threads). */
 #include "render/render.h"
+#include "render/pixel.h"
 
 #include "core/err.h"
-#include "core/hash.h"
 
 #include <stdalign.h>
 #include <stdlib.h>
@@ -43,24 +43,9 @@ static void render_rows(void *user, int task, int worker)
 	int r0 = task * ROWS_PER_TASK;
 	int r1 = r0 + ROWS_PER_TASK < cam->height ? r0 + ROWS_PER_TASK : cam->height;
 	for (int j = r0; j < r1; j++) {
-		for (int i = 0; i < cam->width; i++) {
-			double u = 0.5;
-			if (job->s->jitter > 0.0) {
-				uint32_t h = cs_hash3i(i, j, 0x6a697474, job->s->seed);
-				u = 0.5 + job->s->jitter * (cs_hash_unit(h) - 0.5);
-			}
-			struct cs_ray_result r = {{0.0, 0.0, 0.0}, 1.0, CS_SKY_DEPTH_M};
-			cs_v3 d;
-			if (cs_camera_ray(cam, i, j, &d))
-				cs_render_ray(job->sc, job->s, cam->pos, d, u, &st, &r);
-			float *px = job->out + ((size_t)j * cam->width + i) * 5;
-			px[0] = (float)r.rgb[0];
-			px[1] = (float)r.rgb[1];
-			px[2] = (float)r.rgb[2];
-			px[3] = (float)(1.0 - r.transmittance);
-			px[4] = (float)r.depth_m;
-			st.pixels++;
-		}
+		for (int i = 0; i < cam->width; i++)
+			cs_render_pixel(job->sc, cam, job->s, i, j, &st,
+					job->out + ((size_t)j * cam->width + i) * 5);
 	}
 	stats_add(&job->stats[worker].s, &st);
 }

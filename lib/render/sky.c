@@ -25,17 +25,17 @@ static const double SHAPE_ELEV = 2.0 * DEG;
 
 /* Rayleigh optical depth at 680 / 550 / 440 nm (R, G, B), aerosol
  * Angstrom exponent 1.3 relative to 550 nm. */
-static const double TAU_R[3] = {0.0411, 0.0973, 0.2428};
+static CS_CONST const double TAU_R[3] = {0.0411, 0.0973, 0.2428};
 static const double LAMBDA[3] = {680.0, 550.0, 440.0};
 
 /* XYZ -> linear sRGB and its luminance row, from the Rec. 709 primaries and
  * D65 (0.3127, 0.3290) to full double precision (inverse of each other). */
-static const double XYZ_TO_RGB[3][3] = {
+static CS_CONST const double XYZ_TO_RGB[3][3] = {
 	{3.2409699419045, -1.5373831775701, -0.4986107602930},
 	{-0.9692436362809, 1.8759675015077, 0.0415550574072},
 	{0.0556300796970, -0.2039769588890, 1.0569715142429},
 };
-static const double Y_ROW[3] = {0.2126390058715, 0.7151686787678,
+static CS_CONST const double Y_ROW[3] = {0.2126390058715, 0.7151686787678,
 				0.0721923153607};
 
 CS_HD static double clampd(double v, double lo, double hi)
@@ -52,7 +52,7 @@ CS_HD static double perez(const double c[5], double cos_theta, double gamma,
 }
 
 /* xyY -> linear sRGB; negative (out of gamut) or NaN channels become 0. */
-static void xyY_to_rgb(double x, double y, double Y, double rgb[3])
+CS_HD static void xyY_to_rgb(double x, double y, double Y, double rgb[3])
 {
 	double xyz[3] = {x / y * Y, Y, (1.0 - x - y) / y * Y};
 	for (int i = 0; i < 3; i++) {
@@ -76,7 +76,7 @@ static double air_mass(double elev)
  * between sunset and -12 deg).  With Yz(2 deg, T=2.5) = 2 kcd/m² the zenith
  * reads ~0.8 kcd/m² at sunset, ~4 cd/m² at -6 deg, ~0.015 cd/m² at -12 deg,
  * and sinks under the night floor near -15 deg. */
-static double twilight_decades(double d)
+CS_HD static double twilight_decades(double d)
 {
 	return 0.42 * d * d / (d + 2.0);
 }

@@ -48,7 +48,7 @@ int cs_hfield_init(struct cs_hfield *f, const float *z, int w, int h,
 	f->earth_radius_m = earth_radius_m;
 	f->bw = (w - 2) / BLOCK + 1;
 	f->bh = (h - 2) / BLOCK + 1;
-	f->block_max = malloc((size_t)f->bw * f->bh * sizeof *f->block_max);
+	f->block_max = (float *)malloc((size_t)f->bw * f->bh * sizeof *f->block_max);
 	if (f->block_max == NULL)
 		return cs_error(CS_ENOMEM, "out of memory for the terrain");
 	f->min_m = INFINITY, f->max_m = -INFINITY;

@@ -1,0 +1,434 @@
+/* render_cuda.cu - the renderer on a CUDA GPU (render/device.h): the same
+ * integrator as the CPU's, compiled from the same C sources by nvcc.
+ *
+ * One translation unit (a unity build) includes the C files whose CS_HD
+ * functions a ray calls, inside extern "C" so that what they call outside
+ * (cs_error...) is the C library's; the Makefile keeps only this file's
+ * interface global in the object (objcopy -G), so its host copies of those
+ * functions never meet the C objects' at link time.  The kernel runs one
+ * thread a pixel through cs_render_pixel (pixel.h), the function the CPU
+ * pool calls.  The scene is copied to device memory once (layers, sky and
+ * deck tables by value; the noise volume, the terrain's heights, block
+ * maxima, colour, water and palette as arrays) and rendered as often as
+ * asked.  Arithmetic is cs_real as in the C build (double): the images
+ * differ from the CPU's only by the order of floating-point operations the
+ * compilers choose (fused multiply-adds, libm against CUDA's maths).  The
+ * noise lookup is the one device-only piece: volume.c's, with its index
+ * arithmetic made cheap for a GPU (below). */
+#include <ctype.h>
+#include <math.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <strings.h>
+
+#include <cuda_runtime.h>
+
+extern "C" {
+#include "core/err.h"
+#include "render/device.h"
+#include "render/pixel.h"
+
+#include "io/cpt.c"
+/* volume.c's samplers under other names: the device's own follow */
+#define cs_volume_sample cs_volume_sample_host
+#define cs_volume_sample4 cs_volume_sample4_host
+#include "noise/volume.c"
+#undef cs_volume_sample
+#undef cs_volume_sample4
+
+/* The noise volume's samplers (noise/volume.h) as the device runs them:
+ * the same lookup as volume.c's (voxel centres at (i + 0.5) / n, every
+ * axis wrapped, trilinear in float with the same weights, the same
+ * numbers), with the wrap done by a mask on a 64-bit integer (the sizes
+ * are powers of two; any other size by %) instead of volume.c's
+ * divisions, which a GPU emulates in long instruction sequences.  The
+ * host copies are volume.c's.  The floats are read as they are: the
+ * volume stored as halves (exact for noisebake's volumes) measured 4 %
+ * slower on an H200 (1080p low 60.8 against 63.0 frames/s, medium 30.3
+ * against 31.5): the kernel is not bound by the bytes it reads. */
+struct dev_corners {
+	unsigned off[8]; /* voxel index of each corner; bit 0 = +x, 1 = +y, 2 = +z */
+	float tx, ty, tz;
+};
+
+CS_HD static inline unsigned dev_wrap(double f, int n)
+{
+	/* f is a whole number below 2^51 in size: |u| < 2^40, n <= 1024 */
+	long long i = (long long)f;
+	if ((n & (n - 1)) == 0)
+		return (unsigned)(i & (n - 1));
+	long long m = i % n;
+	return (unsigned)(m < 0 ? m + n : m);
+}
+
+CS_HD static inline void dev_corners(const struct cs_volume *v, double u, double vv, double w,
+				     struct dev_corners *c)
+{
+	u = fabs(u) < 0x1p40 ? u : fmod(u, 1.0);
+	vv = fabs(vv) < 0x1p40 ? vv : fmod(vv, 1.0);
+	w = fabs(w) < 0x1p40 ? w : fmod(w, 1.0);
+	double gx = u * v->nx - 0.5, gy = vv * v->ny - 0.5, gz = w * v->nz - 0.5;
+	double fx = floor(gx), fy = floor(gy), fz = floor(gz);
+	c->tx = (float)(gx - fx), c->ty = (float)(gy - fy), c->tz = (float)(gz - fz);
+	unsigned x0 = dev_wrap(fx, v->nx), y0 = dev_wrap(fy, v->ny), z0 = dev_wrap(fz, v->nz);
+	unsigned x1 = x0 + 1 == (unsigned)v->nx ? 0 : x0 + 1;
+	unsigned y1 = y0 + 1 == (unsigned)v->ny ? 0 : y0 + 1;
+	unsigned z1 = z0 + 1 == (unsigned)v->nz ? 0 : z0 + 1;
+	unsigned xs[2] = {x0, x1}, ys[2] = {y0 * v->nx, y1 * v->nx},
+		 zs[2] = {z0 * v->nx * v->ny, z1 * v->nx * v->ny};
+	for (int k = 0; k < 8; k++)
+		c->off[k] = zs[k >> 2] + ys[(k >> 1) & 1] + xs[k & 1];
+}
+
+CS_HD static inline float dev_lerp3(const float d[8], const struct dev_corners *c)
+{
+	float c00 = d[0] + c->tx * (d[1] - d[0]);
+	float c10 = d[2] + c->tx * (d[3] - d[2]);
+	float c01 = d[4] + c->tx * (d[5] - d[4]);
+	float c11 = d[6] + c->tx * (d[7] - d[6]);
+	float c0 = c00 + c->ty * (c10 - c00);
+	float c1 = c01 + c->ty * (c11 - c01);
+	return c0 + c->tz * (c1 - c0);
+}
+
+CS_HD void cs_volume_sample4(const struct cs_volume *v, double u, double vv, double w,
+			     float out[4])
+{
+#ifdef __CUDA_ARCH__
+	if (!isfinite(u) || !isfinite(vv) || !isfinite(w)) {
+		out[0] = out[1] = out[2] = out[3] = 0.0f;
+		return;
+	}
+	struct dev_corners c;
+	dev_corners(v, u, vv, w, &c);
+	const float4 *d4 = (const float4 *)v->data;
+	float r[8], g[8], b[8], a[8];
+	for (int k = 0; k < 8; k++) {
+		float4 q = __ldg(d4 + c.off[k]);
+		r[k] = q.x, g[k] = q.y, b[k] = q.z, a[k] = q.w;
+	}
+	out[0] = dev_lerp3(r, &c);
+	out[1] = dev_lerp3(g, &c);
+	out[2] = dev_lerp3(b, &c);
+	out[3] = dev_lerp3(a, &c);
+#else
+	cs_volume_sample4_host(v, u, vv, w, out);
+#endif
+}
+
+CS_HD float cs_volume_sample(const struct cs_volume *v, int channel, double u, double vv,
+			     double w)
+{
+#ifdef __CUDA_ARCH__
+	if (!isfinite(u) || !isfinite(vv) || !isfinite(w))
+		return 0.0f;
+	struct dev_corners c;
+	dev_corners(v, u, vv, w, &c);
+	const float *d = v->data + (channel & 3);
+	float q[8];
+	for (int k = 0; k < 8; k++)
+		q[k] = __ldg(d + (size_t)c.off[k] * 4);
+	return dev_lerp3(q, &c);
+#else
+	return cs_volume_sample_host(v, channel, u, vv, w);
+#endif
+}
+
+#include "render/camera.c"
+#include "render/cloud.c"
+#include "render/deck.c"
+#include "render/ground.c"
+#include "render/haze.c"
+#include "render/integrator.c"
+#include "render/light_march.c"
+#include "render/night.c"
+#include "render/sky.c"
+#include "render/water.c"
+#include "terrain/heightfield.c"
+}
+
+/* The scene as the device reads it: the pointers of sc lead to the
+ * members below or to device arrays. */
+struct dev_scene {
+	struct cs_scene sc;
+	struct cs_hfield hf;
+	struct cs_volume noise;
+	struct cs_cpt cpt;
+};
+
+/* The thread block, and the blocks a multiprocessor should hold at once
+ * (__launch_bounds__: the registers a thread may use follow from it).
+ * The kernel is bound by latency, not by a unit's throughput, and more
+ * warps hide more of it: on an H200 at 1920x1080 (scripts/gpu-check's benchmark) 8 blocks of 128
+ * threads (64 registers, the rest spilled) ran low at 63 and medium at 31
+ * frames/s, against 54/27 with 6 blocks (80 registers), 48/23 with 4
+ * (128) and 44/21 with 1 (255); 10 and 12 blocks (48, 40 registers) gave
+ * 65/32 and 65/33, 16 (32 registers) 51/26. */
+#ifndef CS_CUDA_BLOCK_W
+#define CS_CUDA_BLOCK_W 16
+#endif
+#ifndef CS_CUDA_BLOCK_H
+#define CS_CUDA_BLOCK_H 8
+#endif
+#ifndef CS_CUDA_MIN_BLOCKS
+#define CS_CUDA_MIN_BLOCKS 8
+#endif
+enum { NSTATS = 6, BLOCK_W = CS_CUDA_BLOCK_W, BLOCK_H = CS_CUDA_BLOCK_H };
+
+struct cs_cuda_scene {
+	struct dev_scene *d;       /* device */
+	void *arrays[5];           /* device: noise, heights, block maxima, water, colour */
+	unsigned long long *stats; /* device: NSTATS counters */
+	float *frame;              /* device: 5 floats a pixel */
+	size_t frame_px;
+	cudaEvent_t ev[2];
+	int have_ev;
+};
+
+static int cuda_error(cudaError_t e, const char *what)
+{
+	return cs_error(CS_EIO, "CUDA: %s: %s", what, cudaGetErrorString(e));
+}
+
+/* One thread a pixel; the statistics summed per warp, then atomically. */
+__global__ void __launch_bounds__(BLOCK_W * BLOCK_H, CS_CUDA_MIN_BLOCKS)
+render_kernel(const struct dev_scene *ds, struct cs_camera cam, struct cs_render_settings s,
+	      float *out, unsigned long long *stats)
+{
+	int i = blockIdx.x * blockDim.x + threadIdx.x;
+	int j = blockIdx.y * blockDim.y + threadIdx.y;
+	struct cs_render_stats st;
+	memset(&st, 0, sizeof st);
+	if (i < cam.width && j < cam.height)
+		cs_render_pixel(&ds->sc, &cam, &s, i, j, &st,
+				out + ((size_t)j * cam.width + i) * 5);
+	if (stats == NULL)
+		return;
+	unsigned long long v[NSTATS] = {st.pixels, st.density_samples, st.light_samples,
+					st.rays_terminated_early, st.layer_crossings,
+					st.terrain_cells};
+	for (int k = 0; k < NSTATS; k++) {
+		for (int off = 16; off > 0; off /= 2)
+			v[k] += __shfl_down_sync(0xffffffffu, v[k], off);
+		if ((threadIdx.x + threadIdx.y * blockDim.x) % 32 == 0 && v[k] != 0)
+			atomicAdd(&stats[k], v[k]);
+	}
+}
+
+extern "C" int cs_device_available(char *why, size_t n)
+{
+	int count = 0;
+	cudaError_t e = cudaGetDeviceCount(&count);
+	if (e != cudaSuccess || count < 1) {
+		if (n > 0)
+			snprintf(why, n, "no CUDA device: %s",
+				 e != cudaSuccess ? cudaGetErrorString(e) : "the runtime found none");
+		return 0;
+	}
+	cudaDeviceProp p;
+	e = cudaGetDeviceProperties(&p, 0);
+	if (e != cudaSuccess) {
+		if (n > 0)
+			snprintf(why, n, "no CUDA device: %s", cudaGetErrorString(e));
+		return 0;
+	}
+	if (n > 0)
+		snprintf(why, n, "%.100s, compute capability %d.%d, %.0f MiB", p.name, p.major,
+			 p.minor, (double)p.totalGlobalMem / (1024.0 * 1024.0));
+	return 1;
+}
+
+/* Copies n bytes of host data into a new device array, *dst. */
+static int upload(void **dst, const void *src, size_t n, const char *what)
+{
+	cudaError_t e = cudaMalloc(dst, n);
+	if (e != cudaSuccess)
+		return cuda_error(e, what);
+	e = cudaMemcpy(*dst, src, n, cudaMemcpyHostToDevice);
+	return e == cudaSuccess ? CS_OK : cuda_error(e, what);
+}
+
+static int scene_upload(struct cs_cuda_scene *c, const struct cs_scene *sc)
+{
+	char why[256];
+	if (!cs_device_available(why, sizeof why))
+		return cs_error(CS_EIO, "%s", why);
+	cudaError_t e = cudaMalloc((void **)&c->d, sizeof *c->d);
+	if (e != cudaSuccess)
+		return cuda_error(e, "device memory for the scene");
+	struct dev_scene *h = (struct dev_scene *)calloc(1, sizeof *h);
+	if (h == NULL)
+		return cs_error(CS_ENOMEM, "out of memory");
+	h->sc = *sc;
+	int rc = CS_OK;
+	if (sc->noise) {
+		const struct cs_volume *v = sc->noise;
+		h->noise = *v;
+		rc = upload(&c->arrays[0], v->data, (size_t)v->nx * v->ny * v->nz * 4 * sizeof(float),
+			    "uploading the noise volume");
+		h->noise.data = (float *)c->arrays[0];
+		h->sc.noise = &c->d->noise;
+	}
+	if (rc == CS_OK && sc->terrain) {
+		const struct cs_hfield *f = sc->terrain;
+		h->hf = *f;
+		rc = upload(&c->arrays[1], f->z, (size_t)f->w * f->h * sizeof(float),
+			    "uploading the terrain");
+		if (rc == CS_OK)
+			rc = upload(&c->arrays[2], f->block_max, (size_t)f->bw * f->bh * sizeof(float),
+				    "uploading the terrain's block maxima");
+		h->hf.z = (const float *)c->arrays[1];
+		h->hf.block_max = (float *)c->arrays[2];
+		h->sc.terrain = &c->d->hf;
+		if (rc == CS_OK && sc->terrain_water) {
+			rc = upload(&c->arrays[3], sc->terrain_water,
+				    (size_t)f->w * f->h * sizeof(float), "uploading the terrain's water");
+			h->sc.terrain_water = (const float *)c->arrays[3];
+		}
+	} else {
+		h->sc.terrain = NULL;
+		h->sc.terrain_water = NULL;
+	}
+	if (rc == CS_OK && sc->terrain_color) {
+		rc = upload(&c->arrays[4], sc->terrain_color,
+			    (size_t)sc->terrain_color_w * sc->terrain_color_h * 3,
+			    "uploading the terrain's colour");
+		h->sc.terrain_color = (const uint8_t *)c->arrays[4];
+	}
+	if (sc->terrain_cpt) {
+		h->cpt = *sc->terrain_cpt;
+		h->sc.terrain_cpt = &c->d->cpt;
+	}
+	if (rc == CS_OK && (e = cudaMemcpy(c->d, h, sizeof *h, cudaMemcpyHostToDevice)) != cudaSuccess)
+		rc = cuda_error(e, "uploading the scene");
+	free(h);
+	if (rc == CS_OK && (e = cudaMalloc((void **)&c->stats, NSTATS * sizeof *c->stats)) != cudaSuccess)
+		rc = cuda_error(e, "device memory for the statistics");
+	if (rc == CS_OK && (e = cudaEventCreate(&c->ev[0])) == cudaSuccess) {
+		if ((e = cudaEventCreate(&c->ev[1])) == cudaSuccess)
+			c->have_ev = 1;
+		else
+			cudaEventDestroy(c->ev[0]);
+	}
+	if (rc == CS_OK && e != cudaSuccess)
+		rc = cuda_error(e, "creating events");
+	return rc;
+}
+
+extern "C" int cs_cuda_scene_new(const struct cs_scene *sc, struct cs_cuda_scene **out)
+{
+	struct cs_cuda_scene *c = (struct cs_cuda_scene *)calloc(1, sizeof *c);
+	*out = NULL;
+	if (c == NULL)
+		return cs_error(CS_ENOMEM, "out of memory");
+	int rc = scene_upload(c, sc);
+	if (rc != CS_OK) {
+		cs_cuda_scene_free(c);
+		return rc;
+	}
+	*out = c;
+	return CS_OK;
+}
+
+extern "C" void cs_cuda_scene_free(struct cs_cuda_scene *c)
+{
+	if (c == NULL)
+		return;
+	for (int k = 0; k < 5; k++)
+		cudaFree(c->arrays[k]);
+	cudaFree(c->d);
+	cudaFree(c->stats);
+	cudaFree(c->frame);
+	if (c->have_ev) {
+		cudaEventDestroy(c->ev[0]);
+		cudaEventDestroy(c->ev[1]);
+	}
+	free(c);
+}
+
+/* The device frame at least as large as cam's. */
+static int frame_alloc(struct cs_cuda_scene *c, const struct cs_camera *cam)
+{
+	size_t n = (size_t)cam->width * cam->height;
+	if (n <= c->frame_px)
+		return CS_OK;
+	cudaFree(c->frame);
+	c->frame = NULL;
+	c->frame_px = 0;
+	cudaError_t e = cudaMalloc((void **)&c->frame, n * 5 * sizeof(float));
+	if (e != cudaSuccess)
+		return cuda_error(e, "device memory for the frame");
+	c->frame_px = n;
+	return CS_OK;
+}
+
+/* Launches the kernel n times between the two events; the mean ms. */
+static int launch(struct cs_cuda_scene *c, const struct cs_camera *cam,
+		  const struct cs_render_settings *s, int n, unsigned long long *stats,
+		  double *ms)
+{
+	int rc = cs_render_settings_check(s);
+	if (rc != CS_OK)
+		return rc;
+	if ((rc = frame_alloc(c, cam)) != CS_OK)
+		return rc;
+	dim3 block(BLOCK_W, BLOCK_H);
+	dim3 grid((cam->width + BLOCK_W - 1) / BLOCK_W, (cam->height + BLOCK_H - 1) / BLOCK_H);
+	cudaEventRecord(c->ev[0]);
+	for (int k = 0; k < n; k++)
+		render_kernel<<<grid, block>>>(c->d, *cam, *s, c->frame, stats);
+	cudaError_t e = cudaGetLastError();
+	if (e != cudaSuccess)
+		return cuda_error(e, "launching the render kernel");
+	cudaEventRecord(c->ev[1]);
+	if ((e = cudaEventSynchronize(c->ev[1])) != cudaSuccess)
+		return cuda_error(e, "rendering");
+	float t = 0.0f;
+	if ((e = cudaEventElapsedTime(&t, c->ev[0], c->ev[1])) != cudaSuccess)
+		return cuda_error(e, "timing the kernel");
+	*ms = (double)t / n;
+	return CS_OK;
+}
+
+extern "C" int cs_cuda_render(struct cs_cuda_scene *c, const struct cs_camera *cam,
+			      const struct cs_render_settings *s, float *out,
+			      struct cs_render_stats *stats, double *kernel_ms)
+{
+	cudaError_t e = cudaMemset(c->stats, 0, NSTATS * sizeof *c->stats);
+	if (e != cudaSuccess)
+		return cuda_error(e, "clearing the statistics");
+	double ms = 0.0;
+	int rc = launch(c, cam, s, 1, c->stats, &ms);
+	if (rc != CS_OK)
+		return rc;
+	if (kernel_ms)
+		*kernel_ms = ms;
+	size_t n = (size_t)cam->width * cam->height * 5 * sizeof(float);
+	if ((e = cudaMemcpy(out, c->frame, n, cudaMemcpyDeviceToHost)) != cudaSuccess)
+		return cuda_error(e, "copying the frame back");
+	unsigned long long v[NSTATS];
+	if ((e = cudaMemcpy(v, c->stats, sizeof v, cudaMemcpyDeviceToHost)) != cudaSuccess)
+		return cuda_error(e, "copying the statistics back");
+	stats->pixels = v[0];
+	stats->density_samples = v[1];
+	stats->light_samples = v[2];
+	stats->rays_terminated_early = v[3];
+	stats->layer_crossings = v[4];
+	stats->terrain_cells = v[5];
+	return CS_OK;
+}
+
+extern "C" int cs_cuda_bench(struct cs_cuda_scene *c, const struct cs_camera *cam,
+			     const struct cs_render_settings *s, int n, double *frame_ms)
+{
+	if (n < 1)
+		return cs_error(CS_EINVAL, "benchmark of %d frames: at least 1", n);
+	double ms = 0.0;
+	int rc = launch(c, cam, s, 1, NULL, &ms); /* warm-up */
+	if (rc == CS_OK)
+		rc = launch(c, cam, s, n, NULL, frame_ms);
+	return rc;
+}
