@@ -83,7 +83,7 @@ NVCC_ARCH ?= -gencode arch=compute_90,code=sm_90 -gencode arch=compute_90,code=c
 CUDA_LIB  ?= $(if $(NVCC),$(firstword $(wildcard $(dir $(NVCC))../lib64 $(dir $(NVCC))../lib)))
 # what render_cuda.o keeps global (the rest of the unity build's host code
 # is made local, so that it never meets the C objects at link time)
-CUDA_API  := cs_device_available cs_cuda_scene_new cs_cuda_scene_free cs_cuda_render cs_cuda_bench
+CUDA_API  := cs_device_available cs_cuda_scene_new cs_cuda_scene_update cs_cuda_scene_free cs_cuda_render cs_cuda_bench
 ifeq ($(CUDA),1)
 ifeq ($(NVCC),)
 $(error CUDA=1 but nvcc is not on the PATH nor at /usr/local/cuda/bin/nvcc: give NVCC=)

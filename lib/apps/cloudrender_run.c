@@ -483,6 +483,7 @@ struct ground {
 	struct cs_hfield hf;
 	int have_terrain, have_hf;
 	double hf_lat_deg, hf_lon_deg; /* the site the heightfield is placed around */
+	int hf_placed;                 /* how often it was (a GPU's copy is stale) */
 	uint8_t *drape;
 	int drape_w, drape_h;
 	struct cs_cpt *cpt;
@@ -525,6 +526,7 @@ static int load_terrain(const struct cs_cloudrender_opts *o, struct cs_cloudrend
 			return rc;
 		g->have_hf = 1;
 		g->hf_lat_deg = r->wx.site.lat_deg, g->hf_lon_deg = r->wx.site.lon_deg;
+		g->hf_placed++;
 	}
 	sc->terrain = &g->hf;
 	sc->effects |= CS_FX_TERRAIN;
@@ -650,18 +652,24 @@ static int render_reference(const struct cs_cloudrender_opts *o, struct cs_cloud
 	return rc;
 }
 
-/* The frame on the GPU (render/device.h): the scene uploaded, rendered,
- * copied back; with device_bench, that many warm frames timed. */
+/* The frame on the GPU (render/device.h), rendered and copied back; with
+ * device_bench, that many warm frames timed.  The scene stays on the device
+ * for the frames of a series (*gpu): its noise and terrain travel once,
+ * again only when the terrain was placed anew (fresh); each frame sends
+ * its own layers, sky and sun. */
 static int render_device(const struct cs_cloudrender_opts *o, struct cs_cloudrender_result *r,
-			 const struct cs_scene *sc, const struct cs_camera *cam, float *px)
+			 struct cs_cuda_scene **gpu, int fresh, const struct cs_scene *sc,
+			 const struct cs_camera *cam, float *px)
 {
-	struct cs_cuda_scene *d;
-	int rc = cs_cuda_scene_new(sc, &d);
+	if (*gpu && fresh) {
+		cs_cuda_scene_free(*gpu);
+		*gpu = NULL;
+	}
+	int rc = *gpu ? cs_cuda_scene_update(*gpu, sc) : cs_cuda_scene_new(sc, gpu);
 	if (rc == CS_OK)
-		rc = cs_cuda_render(d, cam, &r->settings, px, &r->stats, &r->device_kernel_ms);
+		rc = cs_cuda_render(*gpu, cam, &r->settings, px, &r->stats, &r->device_kernel_ms);
 	if (rc == CS_OK && o->device_bench > 0)
-		rc = cs_cuda_bench(d, cam, &r->settings, o->device_bench, &r->device_frame_ms);
-	cs_cuda_scene_free(d);
+		rc = cs_cuda_bench(*gpu, cam, &r->settings, o->device_bench, &r->device_frame_ms);
 	return rc;
 }
 
@@ -682,11 +690,12 @@ static int check_device(const struct cs_cloudrender_opts *o, struct cs_cloudrend
 
 /* The frame, what is measured on it, and the outputs. */
 static int render_and_write(const struct cs_cloudrender_opts *o, struct cs_cloudrender_result *r,
-			    const struct cs_scene *sc, const struct cs_camera *cam, float *px)
+			    struct cs_cuda_scene **gpu, int gpu_fresh, const struct cs_scene *sc,
+			    const struct cs_camera *cam, float *px)
 {
 	double t0 = now_s();
 	int rc = o->reference ? render_reference(o, r, sc, cam, px)
-		 : o->device == CS_DEVICE_CUDA ? render_device(o, r, sc, cam, px)
+		 : o->device == CS_DEVICE_CUDA ? render_device(o, r, gpu, gpu_fresh, sc, cam, px)
 			      : cs_render_image(sc, cam, &r->settings, o->threads, o->progress,
 						o->progress_user, px, &r->stats);
 	r->t_render_s = now_s() - t0;
@@ -714,6 +723,8 @@ struct cs_cr_session {
 	struct ground g;
 	struct cs_scene *sc;
 	float *px;
+	struct cs_cuda_scene *gpu;     /* --device cuda: the scene on the device */
+	int gpu_hf_placed;             /* g.hf_placed when it was uploaded */
 };
 
 int cs_cr_session_open(const struct cs_cloudrender_opts *o, struct cs_cloudrender_result *r,
@@ -785,8 +796,11 @@ int cs_cr_session_frame(struct cs_cr_session *s, const struct cs_cloudrender_opt
 	r->t_scene_s = now_s() - t0;
 	if (rc == CS_OK && o->ready)
 		o->ready(o->ready_user, r);
-	if (rc == CS_OK)
-		rc = render_and_write(o, r, s->sc, &cam, s->px);
+	if (rc == CS_OK) {
+		int fresh = s->gpu_hf_placed != s->g.hf_placed;
+		s->gpu_hf_placed = s->g.hf_placed;
+		rc = render_and_write(o, r, &s->gpu, fresh, s->sc, &cam, s->px);
+	}
 	return rc;
 }
 
@@ -794,6 +808,7 @@ void cs_cr_session_close(struct cs_cr_session *s, struct cs_cloudrender_result *
 {
 	if (s == NULL)
 		return;
+	cs_cuda_scene_free(s->gpu);
 	free(s->px);
 	free(s->g.drape);
 	free(s->g.cpt);

@@ -28,6 +28,12 @@ struct cs_cuda_scene;
 
 /* Uploads sc; CS_EIO with the CUDA error when the device refuses. */
 int cs_cuda_scene_new(const struct cs_scene *sc, struct cs_cuda_scene **out);
+/* The next frame of a series: sc's struct (layers, sky, sun, effects) sent
+ * again; its noise, terrain, water and colour only where sc points at other
+ * host arrays than before (the caller makes a new scene when an array it
+ * keeps changed its contents). */
+int cs_cuda_scene_update(struct cs_cuda_scene *d, const struct cs_scene *sc);
+/* NULL is ignored. */
 void cs_cuda_scene_free(struct cs_cuda_scene *d);
 
 /* Renders the frame on the device into out (host memory, 5 floats a pixel

@@ -24,6 +24,12 @@ int cs_cuda_scene_new(const struct cs_scene *sc, struct cs_cuda_scene **out)
 	return cs_error(CS_EINVAL, "%s", CS_CUDA_WHY);
 }
 
+int cs_cuda_scene_update(struct cs_cuda_scene *d, const struct cs_scene *sc)
+{
+	(void)d, (void)sc;
+	return cs_error(CS_EINVAL, "%s", CS_CUDA_WHY);
+}
+
 void cs_cuda_scene_free(struct cs_cuda_scene *d)
 {
 	(void)d;

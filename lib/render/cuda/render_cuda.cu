@@ -181,6 +181,7 @@ enum { NSTATS = 6, BLOCK_W = CS_CUDA_BLOCK_W, BLOCK_H = CS_CUDA_BLOCK_H };
 struct cs_cuda_scene {
 	struct dev_scene *d;       /* device */
 	void *arrays[5];           /* device: noise, heights, block maxima, water, colour */
+	const void *src[5];        /* the host arrays they were copied from */
 	unsigned long long *stats; /* device: NSTATS counters */
 	float *frame;              /* device: 5 floats a pixel */
 	size_t frame_px;
@@ -241,24 +242,31 @@ extern "C" int cs_device_available(char *why, size_t n)
 	return 1;
 }
 
-/* Copies n bytes of host data into a new device array, *dst. */
-static int upload(void **dst, const void *src, size_t n, const char *what)
+/* Array k of the device scene holds n bytes of the host's src: copied
+ * unless it already is (a series keeps its noise and terrain; only what a
+ * frame changes travels again). */
+static int upload(struct cs_cuda_scene *c, int k, const void *src, size_t n, const char *what)
 {
-	cudaError_t e = cudaMalloc(dst, n);
+	if (c->arrays[k] != NULL && c->src[k] == src)
+		return CS_OK;
+	cudaFree(c->arrays[k]);
+	c->arrays[k] = NULL;
+	c->src[k] = NULL;
+	cudaError_t e = cudaMalloc(&c->arrays[k], n);
 	if (e != cudaSuccess)
 		return cuda_error(e, what);
-	e = cudaMemcpy(*dst, src, n, cudaMemcpyHostToDevice);
-	return e == cudaSuccess ? CS_OK : cuda_error(e, what);
+	e = cudaMemcpy(c->arrays[k], src, n, cudaMemcpyHostToDevice);
+	if (e != cudaSuccess)
+		return cuda_error(e, what);
+	c->src[k] = src;
+	return CS_OK;
 }
 
-static int scene_upload(struct cs_cuda_scene *c, const struct cs_scene *sc)
+/* The scene's struct on the device, pointing at the device arrays (each
+ * uploaded once for as long as the host's array stays the same). */
+static int scene_struct(struct cs_cuda_scene *c, const struct cs_scene *sc)
 {
-	char why[256];
-	if (!cs_device_available(why, sizeof why))
-		return cs_error(CS_EIO, "%s", why);
-	cudaError_t e = cudaMalloc((void **)&c->d, sizeof *c->d);
-	if (e != cudaSuccess)
-		return cuda_error(e, "device memory for the scene");
+	cudaError_t e;
 	struct dev_scene *h = (struct dev_scene *)calloc(1, sizeof *h);
 	if (h == NULL)
 		return cs_error(CS_ENOMEM, "out of memory");
@@ -267,7 +275,7 @@ static int scene_upload(struct cs_cuda_scene *c, const struct cs_scene *sc)
 	if (sc->noise) {
 		const struct cs_volume *v = sc->noise;
 		h->noise = *v;
-		rc = upload(&c->arrays[0], v->data, (size_t)v->nx * v->ny * v->nz * 4 * sizeof(float),
+		rc = upload(c, 0, v->data, (size_t)v->nx * v->ny * v->nz * 4 * sizeof(float),
 			    "uploading the noise volume");
 		h->noise.data = (float *)c->arrays[0];
 		h->sc.noise = &c->d->noise;
@@ -275,17 +283,16 @@ static int scene_upload(struct cs_cuda_scene *c, const struct cs_scene *sc)
 	if (rc == CS_OK && sc->terrain) {
 		const struct cs_hfield *f = sc->terrain;
 		h->hf = *f;
-		rc = upload(&c->arrays[1], f->z, (size_t)f->w * f->h * sizeof(float),
-			    "uploading the terrain");
+		rc = upload(c, 1, f->z, (size_t)f->w * f->h * sizeof(float), "uploading the terrain");
 		if (rc == CS_OK)
-			rc = upload(&c->arrays[2], f->block_max, (size_t)f->bw * f->bh * sizeof(float),
+			rc = upload(c, 2, f->block_max, (size_t)f->bw * f->bh * sizeof(float),
 				    "uploading the terrain's block maxima");
 		h->hf.z = (const float *)c->arrays[1];
 		h->hf.block_max = (float *)c->arrays[2];
 		h->sc.terrain = &c->d->hf;
 		if (rc == CS_OK && sc->terrain_water) {
-			rc = upload(&c->arrays[3], sc->terrain_water,
-				    (size_t)f->w * f->h * sizeof(float), "uploading the terrain's water");
+			rc = upload(c, 3, sc->terrain_water, (size_t)f->w * f->h * sizeof(float),
+				    "uploading the terrain's water");
 			h->sc.terrain_water = (const float *)c->arrays[3];
 		}
 	} else {
@@ -293,7 +300,7 @@ static int scene_upload(struct cs_cuda_scene *c, const struct cs_scene *sc)
 		h->sc.terrain_water = NULL;
 	}
 	if (rc == CS_OK && sc->terrain_color) {
-		rc = upload(&c->arrays[4], sc->terrain_color,
+		rc = upload(c, 4, sc->terrain_color,
 			    (size_t)sc->terrain_color_w * sc->terrain_color_h * 3,
 			    "uploading the terrain's colour");
 		h->sc.terrain_color = (const uint8_t *)c->arrays[4];
@@ -305,6 +312,18 @@ static int scene_upload(struct cs_cuda_scene *c, const struct cs_scene *sc)
 	if (rc == CS_OK && (e = cudaMemcpy(c->d, h, sizeof *h, cudaMemcpyHostToDevice)) != cudaSuccess)
 		rc = cuda_error(e, "uploading the scene");
 	free(h);
+	return rc;
+}
+
+static int scene_upload(struct cs_cuda_scene *c, const struct cs_scene *sc)
+{
+	char why[256];
+	if (!cs_device_available(why, sizeof why))
+		return cs_error(CS_EIO, "%s", why);
+	cudaError_t e = cudaMalloc((void **)&c->d, sizeof *c->d);
+	if (e != cudaSuccess)
+		return cuda_error(e, "device memory for the scene");
+	int rc = scene_struct(c, sc);
 	if (rc == CS_OK && (e = cudaMalloc((void **)&c->stats, NSTATS * sizeof *c->stats)) != cudaSuccess)
 		rc = cuda_error(e, "device memory for the statistics");
 	if (rc == CS_OK && (e = cudaEventCreate(&c->ev[0])) == cudaSuccess) {
@@ -331,6 +350,11 @@ extern "C" int cs_cuda_scene_new(const struct cs_scene *sc, struct cs_cuda_scene
 	}
 	*out = c;
 	return CS_OK;
+}
+
+extern "C" int cs_cuda_scene_update(struct cs_cuda_scene *c, const struct cs_scene *sc)
+{
+	return scene_struct(c, sc);
 }
 
 extern "C" void cs_cuda_scene_free(struct cs_cuda_scene *c)
