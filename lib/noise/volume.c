@@ -177,37 +177,44 @@ CS_HD static inline int wrapi(long i, int n)
 /* The eight voxels around (u, v, w) and the trilinear weights: voxel
  * centres are at (i + 0.5) / n, as baked, and every axis wraps. */
 struct corners {
-	size_t off[8]; /* float offsets of the voxels' channel 0; bit 0 = +x, 1 = +y, 2 = +z */
+	uint32_t off[8]; /* float offsets of the voxels' channel 0; bit 0 = +x, 1 = +y, 2 = +z */
 	float tx, ty, tz;
 };
 
-CS_HD static void corners(const struct cs_volume *v, double u, double vv, double w,
-		    struct corners *c)
+/* The lattice index of voxel coordinate g (floor taken) wrapped into
+ * [0, n).  Sizes are powers of two in every volume noisebake makes and
+ * cloudrender bakes: then the wrap is a mask (the reduction below gives
+ * the same integer, without its divisions). */
+CS_HD static inline long lattice(double f, int n)
 {
-	/* a coordinate this large has no fraction left that a double can
-	 * tell; fmod (exact) keeps u * nx finite and the casts below defined
-	 * up to 1e308, while ordinary coordinates keep their bits */
-	u = fabs(u) < 0x1p40 ? u : fmod(u, 1.0);
-	vv = fabs(vv) < 0x1p40 ? vv : fmod(vv, 1.0);
-	w = fabs(w) < 0x1p40 ? w : fmod(w, 1.0);
-	double gx = u * v->nx - 0.5, gy = vv * v->ny - 0.5, gz = w * v->nz - 0.5;
+	if ((n & (n - 1)) == 0)
+		return (long)f & (n - 1);
+	/* reduce first so the conversion to long is defined for any finite input */
+	return wrapi((long)(f - n * floor(f / n)), n);
+}
+
+/* u, vv, w finite and below 2^40 in magnitude (the callers see to it). */
+CS_HD static inline void corners(const struct cs_volume *v, double u, double vv,
+				 double w, struct corners *c)
+{
+	int nx = v->nx, ny = v->ny, nz = v->nz;
+	double gx = u * nx - 0.5, gy = vv * ny - 0.5, gz = w * nz - 0.5;
 	double fx = floor(gx), fy = floor(gy), fz = floor(gz);
 	c->tx = (float)(gx - fx), c->ty = (float)(gy - fy), c->tz = (float)(gz - fz);
-	/* reduce first so the conversion to long is defined for any finite input */
-	long ix = (long)(fx - v->nx * floor(fx / v->nx));
-	long iy = (long)(fy - v->ny * floor(fy / v->ny));
-	long iz = (long)(fz - v->nz * floor(fz / v->nz));
-	size_t xs[2] = {(size_t)wrapi(ix, v->nx), (size_t)wrapi(ix + 1, v->nx)};
-	size_t ys[2] = {(size_t)wrapi(iy, v->ny), (size_t)wrapi(iy + 1, v->ny)};
-	size_t zs[2] = {(size_t)wrapi(iz, v->nz), (size_t)wrapi(iz + 1, v->nz)};
-	size_t sy = (size_t)v->nx, sz = (size_t)v->nx * v->ny;
-	for (int k = 0; k < 8; k++)
-		c->off[k] = (zs[k >> 2] * sz + ys[(k >> 1) & 1] * sy + xs[k & 1]) * 4;
+	long ix = lattice(fx, nx), iy = lattice(fy, ny), iz = lattice(fz, nz);
+	uint32_t x0 = (uint32_t)ix, x1 = ix + 1 < nx ? (uint32_t)ix + 1 : 0;
+	uint32_t sy = (uint32_t)nx, sz = (uint32_t)nx * (uint32_t)ny;
+	uint32_t y0 = (uint32_t)iy * sy, y1 = (iy + 1 < ny ? (uint32_t)iy + 1 : 0) * sy;
+	uint32_t z0 = (uint32_t)iz * sz, z1 = (iz + 1 < nz ? (uint32_t)iz + 1 : 0) * sz;
+	c->off[0] = (z0 + y0 + x0) * 4, c->off[1] = (z0 + y0 + x1) * 4;
+	c->off[2] = (z0 + y1 + x0) * 4, c->off[3] = (z0 + y1 + x1) * 4;
+	c->off[4] = (z1 + y0 + x0) * 4, c->off[5] = (z1 + y0 + x1) * 4;
+	c->off[6] = (z1 + y1 + x0) * 4, c->off[7] = (z1 + y1 + x1) * 4;
 }
 
 CS_HD static inline float trilinear(const float *d, const struct corners *c)
 {
-	const size_t *o = c->off;
+	const uint32_t *o = c->off;
 	float c00 = d[o[0]] + c->tx * (d[o[1]] - d[o[0]]);
 	float c10 = d[o[2]] + c->tx * (d[o[3]] - d[o[2]]);
 	float c01 = d[o[4]] + c->tx * (d[o[5]] - d[o[4]]);
@@ -217,10 +224,27 @@ CS_HD static inline float trilinear(const float *d, const struct corners *c)
 	return c0 + c->tz * (c1 - c0);
 }
 
+/* Brings (u, vv, w) where corners() takes them: 0 when a coordinate is
+ * not finite (the sample is then 0).  A coordinate of 2^40 or more has no
+ * fraction left that a double can tell; fmod (exact) keeps u * nx finite
+ * and the casts defined up to 1e308, while ordinary coordinates keep
+ * their bits.  One test covers the usual case. */
+CS_HD static inline int reduce(double *u, double *vv, double *w)
+{
+	if (fabs(*u) < 0x1p40 && fabs(*vv) < 0x1p40 && fabs(*w) < 0x1p40)
+		return 1;
+	if (!isfinite(*u) || !isfinite(*vv) || !isfinite(*w))
+		return 0;
+	*u = fabs(*u) < 0x1p40 ? *u : fmod(*u, 1.0);
+	*vv = fabs(*vv) < 0x1p40 ? *vv : fmod(*vv, 1.0);
+	*w = fabs(*w) < 0x1p40 ? *w : fmod(*w, 1.0);
+	return 1;
+}
+
 CS_HD void cs_volume_sample4(const struct cs_volume *v, double u, double vv,
 		       double w, float out[4])
 {
-	if (!isfinite(u) || !isfinite(vv) || !isfinite(w)) {
+	if (!reduce(&u, &vv, &w)) {
 		out[0] = out[1] = out[2] = out[3] = 0.0f;
 		return;
 	}
@@ -233,9 +257,10 @@ CS_HD void cs_volume_sample4(const struct cs_volume *v, double u, double vv,
 CS_HD float cs_volume_sample(const struct cs_volume *v, int channel, double u,
 		       double vv, double w)
 {
-	if (!isfinite(u) || !isfinite(vv) || !isfinite(w))
+	if (!reduce(&u, &vv, &w))
 		return 0.0f;
 	struct corners c;
 	corners(v, u, vv, w, &c);
 	return trilinear(v->data + (channel & 3), &c);
 }
+
