@@ -345,21 +345,12 @@ static void worley_gather(const struct cs_lattice_lut *t, int X, int Y, int Z,
 	w->key[0] = X, w->key[1] = Y, w->key[2] = Z;
 }
 
-double cs_worley3p_lut(const struct cs_lattice_lut *t, struct cs_worley_cache *w,
-		       double x, double y, double z)
+/* The least squared distance from (fx, fy, fz) to the 27 gathered
+ * points: the same squared distances, computed the same way
+ * ((ex^2 + ey^2) + ez^2), give the same minimum in whatever order it is
+ * taken. */
+static double nearest27_base(const struct cs_worley_cache *w, double fx, double fy, double fz)
 {
-	const int *period = t->period;
-	double fx, fy, fz;
-	int X = split(x, period[0], &fx);
-	int Y = split(y, period[1], &fy);
-	int Z = split(z, period[2], &fz);
-	if (w->key[0] != X || w->key[1] != Y || w->key[2] != Z)
-		worley_gather(t, X, Y, Z, w);
-	/* the 27 cells around: cs_worley3p() searches them (skipping only
-	 * cells that cannot be nearer) and goes further only when the nearest
-	 * point among them is farther than 1 cell; the same squared distances,
-	 * computed the same way ((ex^2 + ey^2) + ez^2), give the same minimum,
-	 * in whatever order it is taken */
 	const double *cx = w->c[0], *cy = w->c[1], *cz = w->c[2];
 	double best;
 	int k = 0;
@@ -391,10 +382,79 @@ double cs_worley3p_lut(const struct cs_lattice_lut *t, struct cs_worley_cache *w
 		double d2 = ex * ex + ey * ey + ez * ez;
 		best = d2 < best ? d2 : best;
 	}
+	return best;
+}
+
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
+#include <immintrin.h>
+/* The same, four points at a time with AVX2 (no FMA: the same roundings),
+ * on a CPU that has it. */
+__attribute__((target("avx2"))) static double nearest27_avx2(const struct cs_worley_cache *w,
+							     double fx, double fy, double fz)
+{
+	const double *cx = w->c[0], *cy = w->c[1], *cz = w->c[2];
+	__m256d vx = _mm256_set1_pd(fx), vy = _mm256_set1_pd(fy), vz = _mm256_set1_pd(fz);
+	__m256d b0 = _mm256_set1_pd(INFINITY), b1 = b0;
+	int k = 0;
+	for (; k + 8 <= 27; k += 8) {
+		__m256d ex = _mm256_sub_pd(_mm256_loadu_pd(cx + k), vx);
+		__m256d ey = _mm256_sub_pd(_mm256_loadu_pd(cy + k), vy);
+		__m256d ez = _mm256_sub_pd(_mm256_loadu_pd(cz + k), vz);
+		__m256d d = _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(ex, ex), _mm256_mul_pd(ey, ey)),
+					  _mm256_mul_pd(ez, ez));
+		b0 = _mm256_min_pd(d, b0);
+		ex = _mm256_sub_pd(_mm256_loadu_pd(cx + k + 4), vx);
+		ey = _mm256_sub_pd(_mm256_loadu_pd(cy + k + 4), vy);
+		ez = _mm256_sub_pd(_mm256_loadu_pd(cz + k + 4), vz);
+		d = _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(ex, ex), _mm256_mul_pd(ey, ey)),
+				  _mm256_mul_pd(ez, ez));
+		b1 = _mm256_min_pd(d, b1);
+	}
+	b0 = _mm256_min_pd(b0, b1);
+	__m128d h = _mm_min_pd(_mm256_castpd256_pd128(b0), _mm256_extractf128_pd(b0, 1));
+	double best = _mm_cvtsd_f64(_mm_min_sd(h, _mm_unpackhi_pd(h, h)));
+	for (; k < 27; k++) {
+		double ex = cx[k] - fx, ey = cy[k] - fy, ez = cz[k] - fz;
+		double d2 = ex * ex + ey * ey + ez * ez;
+		best = d2 < best ? d2 : best;
+	}
+	return best;
+}
+
+static double nearest27(const struct cs_worley_cache *w, double fx, double fy, double fz)
+{
+	/* the same result either way: any x86-64 runs this binary */
+	return __builtin_cpu_supports("avx2") ? nearest27_avx2(w, fx, fy, fz)
+					      : nearest27_base(w, fx, fy, fz);
+}
+#else
+static double nearest27(const struct cs_worley_cache *w, double fx, double fy, double fz)
+{
+	return nearest27_base(w, fx, fy, fz);
+}
+#endif
+
+double cs_worley3p_lut(const struct cs_lattice_lut *t, struct cs_worley_cache *w,
+		       double x, double y, double z)
+{
+	const int *period = t->period;
+	double fx, fy, fz;
+	int X = split(x, period[0], &fx);
+	int Y = split(y, period[1], &fy);
+	int Z = split(z, period[2], &fz);
+	if (w->key[0] != X || w->key[1] != Y || w->key[2] != Z)
+		worley_gather(t, X, Y, Z, w);
+	/* the 27 cells around: cs_worley3p() searches them (skipping only
+	 * cells that cannot be nearer) and goes further only when the nearest
+	 * point among them is farther than 1 cell; the same squared distances,
+	 * computed the same way ((ex^2 + ey^2) + ez^2), give the same minimum,
+	 * in whatever order it is taken */
+	double best = nearest27(w, fx, fy, fz);
 	if (best > 1.0)
 		return cs_worley3p(x, y, z, period, t->seed);
 	return sqrt(best);
 }
+
 
 double cs_perlin3p_lut(const struct cs_lattice_lut *t, double x, double y, double z)
 {
