@@ -232,7 +232,7 @@ fuzz: have-deps
 fuzz-build: all $(FUZZ_BINS)
 
 bench: have-deps
-	@$(MAKE) --no-print-directory all
+	@$(MAKE) --no-print-directory all $(BENCH_BINS)
 	@scripts/bench $(B)
 
 mutate: have-deps

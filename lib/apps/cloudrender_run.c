@@ -21,6 +21,7 @@
 #include "terrain/terrain.h"
 #include "astro/sun.h"
 #include "core/time.h"
+#include "noise/cache.h"
 #include "noise/volume.h"
 
 #include <ctype.h>
@@ -468,9 +469,10 @@ static int load_inputs(const struct cs_cloudrender_opts *o, struct cs_cloudrende
 	if (o->noise_path) {
 		rc = cs_volume_read_exr(o->noise_path, noise);
 	} else {
+		int hit;
 		rc = cs_volume_new(noise, o->noise_size, o->noise_size);
-		if (rc == CS_OK)
-			rc = cs_volume_bake(noise, o->threads, NULL, NULL);
+		if (rc == CS_OK) /* from the cache when an earlier run baked it */
+			rc = cs_noise_cache_bake(noise, o->threads, &hit);
 	}
 	r->t_noise_s = now_s() - t0;
 	return rc;

@@ -4,6 +4,11 @@
 #include "core/hash.h"
 
 #include <math.h>
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+#include <stdlib.h>
+#include <string.h>
 
 /* Perlin's permutation table from his reference ImprovedNoise.java. */
 static const uint8_t perm[256] = {
@@ -90,6 +95,13 @@ double cs_perlin3(double x, double y, double z)
  * where the conversion to int is defined. */
 static inline int split(double x, int period, double *frac)
 {
+	if (period > 0 && x >= 0.0 && x < period * 0.999) {
+		/* already in range (a baked voxel's coordinate): the reduction
+		 * below would subtract period * 0, without its division */
+		double f = floor(x);
+		*frac = x - f;
+		return (int)f;
+	}
 	if (period > 0) {
 		x -= (double)period * floor(x / (double)period);
 		if (!(x >= 0.0 && x <= (double)period)) /* was NaN or infinite */
@@ -259,6 +271,207 @@ double cs_perlin_worley3p(double x, double y, double z, const int period[3],
 	p = p < 0.0 ? 0.0 : p > 1.0 ? 1.0 : p;
 	double w = cs_worley_fbm3p(x, y, z, period, seed ^ 0x5bd1e995u, worley);
 	return (p - w + 1.0) / (2.0 - w);
+}
+
+int cs_lattice_lut_new(struct cs_lattice_lut *t, const int period[3], uint32_t seed,
+		       int worley)
+{
+	memset(t, 0, sizeof *t);
+	long n = 1;
+	for (int a = 0; a < 3; a++) {
+		if (period[a] < 1 || period[a] > CS_LATTICE_LUT_MAX_CELLS)
+			return cs_error(CS_EINVAL, "lattice period %d out of range", period[a]);
+		n *= period[a];
+		if (n > CS_LATTICE_LUT_MAX_CELLS)
+			return cs_error(CS_EINVAL, "lattice of more than %ld cells",
+					(long)CS_LATTICE_LUT_MAX_CELLS);
+		t->period[a] = period[a];
+	}
+	t->seed = seed;
+	if (worley)
+		t->feat = malloc((size_t)n * 3 * sizeof *t->feat);
+	else
+		t->grad = malloc((size_t)n);
+	if (t->feat == NULL && t->grad == NULL)
+		return cs_error(CS_ENOMEM, "out of memory for a noise table");
+	size_t i = 0;
+	for (int z = 0; z < period[2]; z++)
+		for (int y = 0; y < period[1]; y++)
+			for (int x = 0; x < period[0]; x++, i++) {
+				if (worley)
+					cs_worley_feature(x, y, z, period, seed, t->feat + 3 * i);
+				else
+					t->grad[i] = (uint8_t)(cs_hash3i(x, y, z, seed) & 15u);
+			}
+	return CS_OK;
+}
+
+void cs_lattice_lut_free(struct cs_lattice_lut *t)
+{
+	free(t->feat);
+	free(t->grad);
+	memset(t, 0, sizeof *t);
+}
+
+/* Cell index i - 1, i, i + 1 wrapped into [0, n) (i already is). */
+static inline void neighbours(int i, int n, int out[3])
+{
+	out[0] = i > 0 ? i - 1 : n - 1;
+	out[1] = i;
+	out[2] = i + 1 < n ? i + 1 : 0;
+}
+
+/* Gathers the feature points of the 27 cells around (X, Y, Z), as the
+ * offsets dx + p[0] etc. that cs_worley3p()'s feature_d2 forms. */
+static void worley_gather(const struct cs_lattice_lut *t, int X, int Y, int Z,
+			  struct cs_worley_cache *w)
+{
+	const int *period = t->period;
+	int xs[3], ys[3], zs[3];
+	neighbours(X, period[0], xs);
+	neighbours(Y, period[1], ys);
+	neighbours(Z, period[2], zs);
+	int k = 0;
+	for (int dz = -1; dz <= 1; dz++)
+		for (int dy = -1; dy <= 1; dy++) {
+			const double *row = t->feat + 3 * ((size_t)zs[dz + 1] * period[1] + (size_t)ys[dy + 1]) * period[0];
+			for (int dx = -1; dx <= 1; dx++, k++) {
+				const double *p = row + 3 * xs[dx + 1];
+				w->c[0][k] = dx + p[0];
+				w->c[1][k] = dy + p[1];
+				w->c[2][k] = dz + p[2];
+			}
+		}
+	w->key[0] = X, w->key[1] = Y, w->key[2] = Z;
+}
+
+/* The least squared distance from (fx, fy, fz) to the 27 gathered
+ * points: the same squared distances, computed the same way
+ * ((ex^2 + ey^2) + ez^2), give the same minimum in whatever order it is
+ * taken. */
+static double nearest27_base(const struct cs_worley_cache *w, double fx, double fy, double fz)
+{
+	const double *cx = w->c[0], *cy = w->c[1], *cz = w->c[2];
+	double best;
+	int k = 0;
+#if defined(__SSE2__)
+	__m128d vx = _mm_set1_pd(fx), vy = _mm_set1_pd(fy), vz = _mm_set1_pd(fz);
+	__m128d b0 = _mm_set1_pd(INFINITY), b1 = b0;
+	for (; k + 4 <= 27; k += 4) {
+		__m128d ex = _mm_sub_pd(_mm_loadu_pd(cx + k), vx);
+		__m128d ey = _mm_sub_pd(_mm_loadu_pd(cy + k), vy);
+		__m128d ez = _mm_sub_pd(_mm_loadu_pd(cz + k), vz);
+		__m128d d = _mm_add_pd(_mm_add_pd(_mm_mul_pd(ex, ex), _mm_mul_pd(ey, ey)),
+				       _mm_mul_pd(ez, ez));
+		b0 = _mm_min_pd(d, b0);
+		ex = _mm_sub_pd(_mm_loadu_pd(cx + k + 2), vx);
+		ey = _mm_sub_pd(_mm_loadu_pd(cy + k + 2), vy);
+		ez = _mm_sub_pd(_mm_loadu_pd(cz + k + 2), vz);
+		d = _mm_add_pd(_mm_add_pd(_mm_mul_pd(ex, ex), _mm_mul_pd(ey, ey)),
+			       _mm_mul_pd(ez, ez));
+		b1 = _mm_min_pd(d, b1);
+	}
+	b0 = _mm_min_pd(b0, b1);
+	b0 = _mm_min_sd(b0, _mm_unpackhi_pd(b0, b0));
+	best = _mm_cvtsd_f64(b0);
+#else
+	best = INFINITY;
+#endif
+	for (; k < 27; k++) {
+		double ex = cx[k] - fx, ey = cy[k] - fy, ez = cz[k] - fz;
+		double d2 = ex * ex + ey * ey + ez * ez;
+		best = d2 < best ? d2 : best;
+	}
+	return best;
+}
+
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
+#include <immintrin.h>
+/* The same, four points at a time with AVX2 (no FMA: the same roundings),
+ * on a CPU that has it. */
+__attribute__((target("avx2"))) static double nearest27_avx2(const struct cs_worley_cache *w,
+							     double fx, double fy, double fz)
+{
+	const double *cx = w->c[0], *cy = w->c[1], *cz = w->c[2];
+	__m256d vx = _mm256_set1_pd(fx), vy = _mm256_set1_pd(fy), vz = _mm256_set1_pd(fz);
+	__m256d b0 = _mm256_set1_pd(INFINITY), b1 = b0;
+	int k = 0;
+	for (; k + 8 <= 27; k += 8) {
+		__m256d ex = _mm256_sub_pd(_mm256_loadu_pd(cx + k), vx);
+		__m256d ey = _mm256_sub_pd(_mm256_loadu_pd(cy + k), vy);
+		__m256d ez = _mm256_sub_pd(_mm256_loadu_pd(cz + k), vz);
+		__m256d d = _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(ex, ex), _mm256_mul_pd(ey, ey)),
+					  _mm256_mul_pd(ez, ez));
+		b0 = _mm256_min_pd(d, b0);
+		ex = _mm256_sub_pd(_mm256_loadu_pd(cx + k + 4), vx);
+		ey = _mm256_sub_pd(_mm256_loadu_pd(cy + k + 4), vy);
+		ez = _mm256_sub_pd(_mm256_loadu_pd(cz + k + 4), vz);
+		d = _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(ex, ex), _mm256_mul_pd(ey, ey)),
+				  _mm256_mul_pd(ez, ez));
+		b1 = _mm256_min_pd(d, b1);
+	}
+	b0 = _mm256_min_pd(b0, b1);
+	__m128d h = _mm_min_pd(_mm256_castpd256_pd128(b0), _mm256_extractf128_pd(b0, 1));
+	double best = _mm_cvtsd_f64(_mm_min_sd(h, _mm_unpackhi_pd(h, h)));
+	for (; k < 27; k++) {
+		double ex = cx[k] - fx, ey = cy[k] - fy, ez = cz[k] - fz;
+		double d2 = ex * ex + ey * ey + ez * ez;
+		best = d2 < best ? d2 : best;
+	}
+	return best;
+}
+
+static double nearest27(const struct cs_worley_cache *w, double fx, double fy, double fz)
+{
+	/* the same result either way: any x86-64 runs this binary */
+	return __builtin_cpu_supports("avx2") ? nearest27_avx2(w, fx, fy, fz)
+					      : nearest27_base(w, fx, fy, fz);
+}
+#else
+static double nearest27(const struct cs_worley_cache *w, double fx, double fy, double fz)
+{
+	return nearest27_base(w, fx, fy, fz);
+}
+#endif
+
+double cs_worley3p_lut(const struct cs_lattice_lut *t, struct cs_worley_cache *w,
+		       double x, double y, double z)
+{
+	const int *period = t->period;
+	double fx, fy, fz;
+	int X = split(x, period[0], &fx);
+	int Y = split(y, period[1], &fy);
+	int Z = split(z, period[2], &fz);
+	if (w->key[0] != X || w->key[1] != Y || w->key[2] != Z)
+		worley_gather(t, X, Y, Z, w);
+	/* the 27 cells around: cs_worley3p() searches them (skipping only
+	 * cells that cannot be nearer) and goes further only when the nearest
+	 * point among them is farther than 1 cell; the same squared distances,
+	 * computed the same way ((ex^2 + ey^2) + ez^2), give the same minimum,
+	 * in whatever order it is taken */
+	double best = nearest27(w, fx, fy, fz);
+	if (best > 1.0)
+		return cs_worley3p(x, y, z, period, t->seed);
+	return sqrt(best);
+}
+
+
+double cs_perlin3p_lut(const struct cs_lattice_lut *t, double x, double y, double z)
+{
+	const int *period = t->period;
+	double fx, fy, fz;
+	int X = split(x, period[0], &fx);
+	int Y = split(y, period[1], &fy);
+	int Z = split(z, period[2], &fz);
+	int x1 = X + 1 < period[0] ? X + 1 : 0, y1 = Y + 1 < period[1] ? Y + 1 : 0;
+	int z1 = Z + 1 < period[2] ? Z + 1 : 0;
+	size_t sy = (size_t)period[0], sz = sy * (size_t)period[1];
+	const uint8_t *g = t->grad;
+	int h[8] = {g[Z * sz + Y * sy + X],   g[Z * sz + Y * sy + x1],
+		    g[Z * sz + y1 * sy + X],  g[Z * sz + y1 * sy + x1],
+		    g[z1 * sz + Y * sy + X],  g[z1 * sz + Y * sy + x1],
+		    g[z1 * sz + y1 * sy + X], g[z1 * sz + y1 * sy + x1]};
+	return perlin_cell(fx, fy, fz, h);
 }
 
 int cs_fbm_check(const struct cs_fbm *fbm)

@@ -62,6 +62,36 @@ double cs_perlin_worley3p(double x, double y, double z, const int period[3],
 			  uint32_t seed, const struct cs_fbm *perlin,
 			  const struct cs_fbm *worley);
 
+/* The lattice of one periodic octave as tables, for baking: every cell's
+ * Worley feature point or Perlin gradient hash computed once instead of at
+ * every lookup.  The _lut functions return exactly (bit for bit) what
+ * cs_worley3p() and cs_perlin3p() return for the same period and seed. */
+struct cs_lattice_lut {
+	int period[3];   /* cells per axis, each >= 1 */
+	uint32_t seed;
+	double *feat;    /* Worley: 3 per cell, x fastest; or NULL */
+	uint8_t *grad;   /* Perlin: gradient hash & 15 per cell; or NULL */
+};
+/* The largest lattice tabulated (cells); larger ones are left to the direct
+ * functions. */
+#define CS_LATTICE_LUT_MAX_CELLS (1L << 21)
+
+/* Tabulates the lattice of period (each >= 1) and seed, for Worley
+ * (worley != 0) or Perlin noise.  0, CS_EINVAL (too large) or CS_ENOMEM. */
+int cs_lattice_lut_new(struct cs_lattice_lut *t, const int period[3], uint32_t seed,
+		       int worley);
+void cs_lattice_lut_free(struct cs_lattice_lut *t);
+/* The 27 feature points around the last cell looked up (neighbouring
+ * lookups mostly share it); key[0] = -1 (no cell)
+ * before the first use.  One per table and thread. */
+struct cs_worley_cache {
+	int key[3];
+	double c[3][28]; /* per axis: cell offset + feature coordinate */
+};
+double cs_worley3p_lut(const struct cs_lattice_lut *t, struct cs_worley_cache *cache,
+		       double x, double y, double z);
+double cs_perlin3p_lut(const struct cs_lattice_lut *t, double x, double y, double z);
+
 /* Validates an fBm description; 0 or CS_EINVAL with a message. */
 int cs_fbm_check(const struct cs_fbm *fbm);
 

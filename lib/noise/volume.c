@@ -112,42 +112,103 @@ void cs_volume_free(struct cs_volume *v)
 	memset(v, 0, sizeof *v);
 }
 
+/* One octave of one channel's lattice: tabulated where it is small enough
+ * (cs_lattice_lut), else looked up directly; the same value either way. */
+struct octave {
+	int period[3];
+	uint32_t seed;
+	int worley, tabulated;
+	struct cs_lattice_lut lut;
+};
+
+static double octave_noise(const struct octave *o, struct cs_worley_cache *wc,
+			   double x, double y, double z)
+{
+	if (o->worley) {
+		double f1 = o->tabulated ? cs_worley3p_lut(&o->lut, wc, x, y, z)
+					 : cs_worley3p(x, y, z, o->period, o->seed);
+		return 1.0 - (f1 < 1.0 ? f1 : 1.0);
+	}
+	return o->tabulated ? cs_perlin3p_lut(&o->lut, x, y, z)
+			    : cs_perlin3p(x, y, z, o->period, o->seed);
+}
+
+/* The fractal sum of noise.c's fbm3p over the octaves o[0..n-1], term by
+ * term as it does it, so the bits are the same. */
+static double fbm(const struct octave *o, struct cs_worley_cache *wc, int n, double gain,
+		  double x, double y, double z)
+{
+	double sum = 0.0, norm = 0.0, amp = 1.0;
+	long freq = 1;
+	for (int i = 0; i < n; i++) {
+		double fx = x * (double)freq, fy = y * (double)freq, fz = z * (double)freq;
+		sum += amp * octave_noise(&o[i], wc ? &wc[i] : NULL, fx, fy, fz);
+		norm += amp;
+		amp *= gain;
+		freq *= 2; /* the recipe's lacunarity */
+	}
+	return sum / norm;
+}
+
+enum { MAX_OCT = 12 };
+struct bake_job {
+	struct cs_volume *v;
+	int period[4][3];
+	/* channel c's octaves: [c][0] the Worley fBm, [0][1] R's Perlin fBm */
+	struct octave oct[4][2][MAX_OCT];
+};
+
+/* Sets up n octaves of a channel from base period p and seed (seed + i
+ * for octave i, period p 2^i: noise.c's fbm3p). */
+static void octaves_init(struct octave *o, int n, const int p[3], uint32_t seed, int worley)
+{
+	for (int i = 0; i < n; i++) {
+		memset(&o[i], 0, sizeof o[i]);
+		for (int a = 0; a < 3; a++)
+			o[i].period[a] = (int)(p[a] * (1L << i));
+		o[i].seed = seed + (uint32_t)i;
+		o[i].worley = worley;
+		o[i].tabulated = cs_lattice_lut_new(&o[i].lut, o[i].period, o[i].seed, worley) == CS_OK;
+	}
+}
+
 /* One voxel's four channels.  Voxel centres sit at (i + 0.5) / n of the
- * period so that no channel is sampled exactly on its lattice. */
-static void bake_voxel(const struct cs_volume *v, const int period[4][3],
+ * period so that no channel is sampled exactly on its lattice.  What
+ * cs_perlin_worley3p() and cs_worley_fbm3p() give, from the tables. */
+static void bake_voxel(const struct bake_job *job, struct cs_worley_cache wc[4][MAX_OCT],
 		       int x, int y, int z, float out[4])
 {
+	const struct cs_volume *v = job->v;
 	const struct cs_noise_recipe *r = &v->recipe;
 	double u = (x + 0.5) / v->nx, w = (y + 0.5) / v->ny, t = (z + 0.5) / v->nz;
 	for (int c = 0; c < 4; c++) {
-		const int *p = period[c];
+		const int *p = job->period[c];
 		double px = u * p[0], py = w * p[1], pz = t * p[2];
-		/* one independent stream per channel, fixed by the recipe seed */
-		uint32_t seed = cs_hash3i((int32_t)r->seed, c, 0, 0x6e6f6973u);
-		struct cs_fbm f = {r->octaves[c], 2, r->gain};
 		if (c == 0) {
-			struct cs_fbm wf = {r->worley_octaves, 2, r->gain};
-			out[c] = (float)cs_perlin_worley3p(px, py, pz, p, seed,
-							   &f, &wf);
+			double pf = fbm(job->oct[0][1], NULL, r->octaves[0], r->gain, px, py, pz);
+			pf = pf < -1.0 ? -1.0 : pf > 1.0 ? 1.0 : pf;
+			double pp = 0.5 + 0.5 * pf;
+			pp = pp < 0.0 ? 0.0 : pp > 1.0 ? 1.0 : pp;
+			double wf = fbm(job->oct[0][0], wc[0], r->worley_octaves, r->gain, px, py, pz);
+			out[c] = (float)((pp - wf + 1.0) / (2.0 - wf));
 		} else {
-			out[c] = (float)cs_worley_fbm3p(px, py, pz, p, seed, &f);
+			out[c] = (float)fbm(job->oct[c][0], wc[c], r->octaves[c], r->gain, px, py, pz);
 		}
 	}
 }
 
-struct bake_job {
-	struct cs_volume *v;
-	int period[4][3];
-};
-
 static void bake_slice(void *user, int z, int worker)
 {
 	(void)worker;
-	struct bake_job *job = (struct bake_job *)user;
+	const struct bake_job *job = (const struct bake_job *)user;
 	struct cs_volume *v = job->v;
+	struct cs_worley_cache wc[4][MAX_OCT];
+	for (int c = 0; c < 4; c++)
+		for (int i = 0; i < MAX_OCT; i++)
+			wc[c][i].key[0] = -1; /* no cell yet */
 	for (int y = 0; y < v->ny; y++)
 		for (int x = 0; x < v->nx; x++)
-			bake_voxel(v, (const int(*)[3])job->period, x, y, z,
+			bake_voxel(job, wc, x, y, z,
 				   v->data + (((size_t)z * v->ny + y) * v->nx + x) * 4);
 }
 
@@ -159,10 +220,30 @@ int cs_volume_bake(struct cs_volume *v, int nthreads, cs_progress_fn progress,
 		return rc;
 	if (v->data == NULL)
 		return cs_error(CS_EINVAL, "volume is not allocated");
-	struct bake_job job = {.v = v};
+	struct bake_job *job = calloc(1, sizeof *job);
+	if (job == NULL)
+		return cs_error(CS_ENOMEM, "out of memory");
+	job->v = v;
+	const struct cs_noise_recipe *r = &v->recipe;
+	for (int c = 0; c < 4; c++) {
+		cs_noise_period(r, c, v->nx, v->nz, job->period[c]);
+		/* one independent stream per channel, fixed by the recipe seed */
+		uint32_t seed = cs_hash3i((int32_t)r->seed, c, 0, 0x6e6f6973u);
+		if (c == 0) {
+			octaves_init(job->oct[0][1], r->octaves[0], job->period[0], seed, 0);
+			/* the Worley part of R: noise.c's seed ^ 0x5bd1e995 */
+			octaves_init(job->oct[0][0], r->worley_octaves, job->period[0],
+				     seed ^ 0x5bd1e995u, 1);
+		} else {
+			octaves_init(job->oct[c][0], r->octaves[c], job->period[c], seed, 1);
+		}
+	}
+	rc = cs_pool_run(v->nz, nthreads, bake_slice, job, progress, user, NULL);
 	for (int c = 0; c < 4; c++)
-		cs_noise_period(&v->recipe, c, v->nx, v->nz, job.period[c]);
-	rc = cs_pool_run(v->nz, nthreads, bake_slice, &job, progress, user, NULL);
+		for (int k = 0; k < 2; k++)
+			for (int i = 0; i < MAX_OCT; i++)
+				cs_lattice_lut_free(&job->oct[c][k][i].lut);
+	free(job);
 	if (rc == CS_ECANCELED)
 		return cs_error(CS_ECANCELED, "baking cancelled");
 	return rc;
@@ -177,37 +258,44 @@ CS_HD static inline int wrapi(long i, int n)
 /* The eight voxels around (u, v, w) and the trilinear weights: voxel
  * centres are at (i + 0.5) / n, as baked, and every axis wraps. */
 struct corners {
-	size_t off[8]; /* float offsets of the voxels' channel 0; bit 0 = +x, 1 = +y, 2 = +z */
+	uint32_t off[8]; /* float offsets of the voxels' channel 0; bit 0 = +x, 1 = +y, 2 = +z */
 	float tx, ty, tz;
 };
 
-CS_HD static void corners(const struct cs_volume *v, double u, double vv, double w,
-		    struct corners *c)
+/* The lattice index of voxel coordinate g (floor taken) wrapped into
+ * [0, n).  Sizes are powers of two in every volume noisebake makes and
+ * cloudrender bakes: then the wrap is a mask (the reduction below gives
+ * the same integer, without its divisions). */
+CS_HD static inline long lattice(double f, int n)
 {
-	/* a coordinate this large has no fraction left that a double can
-	 * tell; fmod (exact) keeps u * nx finite and the casts below defined
-	 * up to 1e308, while ordinary coordinates keep their bits */
-	u = fabs(u) < 0x1p40 ? u : fmod(u, 1.0);
-	vv = fabs(vv) < 0x1p40 ? vv : fmod(vv, 1.0);
-	w = fabs(w) < 0x1p40 ? w : fmod(w, 1.0);
-	double gx = u * v->nx - 0.5, gy = vv * v->ny - 0.5, gz = w * v->nz - 0.5;
+	if ((n & (n - 1)) == 0)
+		return (long)f & (n - 1);
+	/* reduce first so the conversion to long is defined for any finite input */
+	return wrapi((long)(f - n * floor(f / n)), n);
+}
+
+/* u, vv, w finite and below 2^40 in magnitude (the callers see to it). */
+CS_HD static inline void corners(const struct cs_volume *v, double u, double vv,
+				 double w, struct corners *c)
+{
+	int nx = v->nx, ny = v->ny, nz = v->nz;
+	double gx = u * nx - 0.5, gy = vv * ny - 0.5, gz = w * nz - 0.5;
 	double fx = floor(gx), fy = floor(gy), fz = floor(gz);
 	c->tx = (float)(gx - fx), c->ty = (float)(gy - fy), c->tz = (float)(gz - fz);
-	/* reduce first so the conversion to long is defined for any finite input */
-	long ix = (long)(fx - v->nx * floor(fx / v->nx));
-	long iy = (long)(fy - v->ny * floor(fy / v->ny));
-	long iz = (long)(fz - v->nz * floor(fz / v->nz));
-	size_t xs[2] = {(size_t)wrapi(ix, v->nx), (size_t)wrapi(ix + 1, v->nx)};
-	size_t ys[2] = {(size_t)wrapi(iy, v->ny), (size_t)wrapi(iy + 1, v->ny)};
-	size_t zs[2] = {(size_t)wrapi(iz, v->nz), (size_t)wrapi(iz + 1, v->nz)};
-	size_t sy = (size_t)v->nx, sz = (size_t)v->nx * v->ny;
-	for (int k = 0; k < 8; k++)
-		c->off[k] = (zs[k >> 2] * sz + ys[(k >> 1) & 1] * sy + xs[k & 1]) * 4;
+	long ix = lattice(fx, nx), iy = lattice(fy, ny), iz = lattice(fz, nz);
+	uint32_t x0 = (uint32_t)ix, x1 = ix + 1 < nx ? (uint32_t)ix + 1 : 0;
+	uint32_t sy = (uint32_t)nx, sz = (uint32_t)nx * (uint32_t)ny;
+	uint32_t y0 = (uint32_t)iy * sy, y1 = (iy + 1 < ny ? (uint32_t)iy + 1 : 0) * sy;
+	uint32_t z0 = (uint32_t)iz * sz, z1 = (iz + 1 < nz ? (uint32_t)iz + 1 : 0) * sz;
+	c->off[0] = (z0 + y0 + x0) * 4, c->off[1] = (z0 + y0 + x1) * 4;
+	c->off[2] = (z0 + y1 + x0) * 4, c->off[3] = (z0 + y1 + x1) * 4;
+	c->off[4] = (z1 + y0 + x0) * 4, c->off[5] = (z1 + y0 + x1) * 4;
+	c->off[6] = (z1 + y1 + x0) * 4, c->off[7] = (z1 + y1 + x1) * 4;
 }
 
 CS_HD static inline float trilinear(const float *d, const struct corners *c)
 {
-	const size_t *o = c->off;
+	const uint32_t *o = c->off;
 	float c00 = d[o[0]] + c->tx * (d[o[1]] - d[o[0]]);
 	float c10 = d[o[2]] + c->tx * (d[o[3]] - d[o[2]]);
 	float c01 = d[o[4]] + c->tx * (d[o[5]] - d[o[4]]);
@@ -217,10 +305,27 @@ CS_HD static inline float trilinear(const float *d, const struct corners *c)
 	return c0 + c->tz * (c1 - c0);
 }
 
+/* Brings (u, vv, w) where corners() takes them: 0 when a coordinate is
+ * not finite (the sample is then 0).  A coordinate of 2^40 or more has no
+ * fraction left that a double can tell; fmod (exact) keeps u * nx finite
+ * and the casts defined up to 1e308, while ordinary coordinates keep
+ * their bits.  One test covers the usual case. */
+CS_HD static inline int reduce(double *u, double *vv, double *w)
+{
+	if (fabs(*u) < 0x1p40 && fabs(*vv) < 0x1p40 && fabs(*w) < 0x1p40)
+		return 1;
+	if (!isfinite(*u) || !isfinite(*vv) || !isfinite(*w))
+		return 0;
+	*u = fabs(*u) < 0x1p40 ? *u : fmod(*u, 1.0);
+	*vv = fabs(*vv) < 0x1p40 ? *vv : fmod(*vv, 1.0);
+	*w = fabs(*w) < 0x1p40 ? *w : fmod(*w, 1.0);
+	return 1;
+}
+
 CS_HD void cs_volume_sample4(const struct cs_volume *v, double u, double vv,
 		       double w, float out[4])
 {
-	if (!isfinite(u) || !isfinite(vv) || !isfinite(w)) {
+	if (!reduce(&u, &vv, &w)) {
 		out[0] = out[1] = out[2] = out[3] = 0.0f;
 		return;
 	}
@@ -233,9 +338,10 @@ CS_HD void cs_volume_sample4(const struct cs_volume *v, double u, double vv,
 CS_HD float cs_volume_sample(const struct cs_volume *v, int channel, double u,
 		       double vv, double w)
 {
-	if (!isfinite(u) || !isfinite(vv) || !isfinite(w))
+	if (!reduce(&u, &vv, &w))
 		return 0.0f;
 	struct corners c;
 	corners(v, u, vv, w, &c);
 	return trilinear(v->data + (channel & 3), &c);
 }
+

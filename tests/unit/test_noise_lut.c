@@ -1,0 +1,97 @@
+/* The tabulated lattices of noisebake against the direct noise functions
+ * (noise.c's cs_worley3p and cs_perlin3p, which hash every lookup): the
+ * same value, bit for bit, for every period shape a recipe can make. */
+#include "core/hash.h"
+#include "noise/noise.h"
+#include "test.h"
+
+#include <string.h>
+
+static const int periods[][3] = {
+	{1, 1, 1}, {2, 2, 1}, {3, 3, 2}, {4, 4, 4}, {5, 5, 3}, {8, 8, 8}, {16, 16, 5}, {64, 64, 64},
+};
+
+static double coord(uint32_t *k, double span)
+{
+	return span * cs_hash_unit(cs_hash_u32((*k)++ * 0x9e3779b9u + 7u));
+}
+
+/* Points inside the period (the baker's), outside it, negative and huge,
+ * and on cell corners. */
+static void point(uint32_t *k, const int p[3], int i, double xyz[3])
+{
+	for (int a = 0; a < 3; a++) {
+		double x = coord(k, p[a]);
+		if (i % 5 == 1)
+			x = x * 7.0 - 3.0 * p[a];
+		else if (i % 5 == 2)
+			x = -x - 1e7;
+		else if (i % 5 == 3)
+			x = (double)(int)x; /* on the lattice */
+		xyz[a] = x;
+	}
+}
+
+static void worley_lut_equals_direct(void)
+{
+	uint32_t k = 1;
+	long n = 0, far = 0;
+	for (size_t j = 0; j < sizeof periods / sizeof periods[0]; j++) {
+		struct cs_lattice_lut t;
+		uint32_t seed = 1234u + (uint32_t)j;
+		CHECK(cs_lattice_lut_new(&t, periods[j], seed, 1) == 0);
+		struct cs_worley_cache w;
+		w.key[0] = -1;
+		for (int i = 0; i < 20000; i++) {
+			double q[3];
+			point(&k, periods[j], i, q);
+			double a = cs_worley3p_lut(&t, &w, q[0], q[1], q[2]);
+			double b = cs_worley3p(q[0], q[1], q[2], periods[j], seed);
+			CHECK(memcmp(&a, &b, sizeof a) == 0);
+			far += b > 1.0;
+			n++;
+		}
+		cs_lattice_lut_free(&t);
+	}
+	/* the search past the 27 nearest cells was exercised too */
+	printf("  %ld points, %ld with the nearest feature farther than a cell\n", n, far);
+	CHECK(far > 0);
+}
+
+static void perlin_lut_equals_direct(void)
+{
+	uint32_t k = 5;
+	for (size_t j = 0; j < sizeof periods / sizeof periods[0]; j++) {
+		struct cs_lattice_lut t;
+		uint32_t seed = 77u + (uint32_t)j;
+		CHECK(cs_lattice_lut_new(&t, periods[j], seed, 0) == 0);
+		for (int i = 0; i < 20000; i++) {
+			double q[3];
+			point(&k, periods[j], i, q);
+			double a = cs_perlin3p_lut(&t, q[0], q[1], q[2]);
+			double b = cs_perlin3p(q[0], q[1], q[2], periods[j], seed);
+			CHECK(memcmp(&a, &b, sizeof a) == 0);
+		}
+		cs_lattice_lut_free(&t);
+	}
+}
+
+static void oversized_lattice_is_refused(void)
+{
+	struct cs_lattice_lut t;
+	int big[3] = {256, 256, 256};
+	CHECK(cs_lattice_lut_new(&t, big, 0, 1) != 0);
+	CHECK(t.feat == NULL && t.grad == NULL);
+}
+
+static const struct t_case t_cases[] = {
+	CASE(worley_lut_equals_direct),
+	CASE(perlin_lut_equals_direct),
+	CASE(oversized_lattice_is_refused),
+};
+
+int main(void)
+{
+	T_RUN_TABLE(t_cases);
+	TEST_EXIT();
+}
