@@ -220,7 +220,7 @@ int cs_volume_bake(struct cs_volume *v, int nthreads, cs_progress_fn progress,
 		return rc;
 	if (v->data == NULL)
 		return cs_error(CS_EINVAL, "volume is not allocated");
-	struct bake_job *job = calloc(1, sizeof *job);
+	struct bake_job *job = (struct bake_job *)calloc(1, sizeof *job);
 	if (job == NULL)
 		return cs_error(CS_ENOMEM, "out of memory");
 	job->v = v;

@@ -76,7 +76,7 @@ double cs_cloud_aloft_factor(double height_m)
 }
 
 /* v reduced modulo period (when there is one); a non-finite v is 0. */
-static double reduce(double v, double period)
+static double reduce_period(double v, double period)
 {
 	v = isfinite(v) ? v : 0.0;
 	return period > 0.0 ? fmod(v, period) : v;
@@ -112,7 +112,7 @@ void cs_cloud_layer_init(struct cs_cloud_layer *l, const struct cs_wx_layer *wl,
 	 * multiple of the base and detail tiles (whole metres), stretched: the
 	 * field is the same, and the coordinates the per-sample code sees stay
 	 * small, so a float build keeps its precision on any date. */
-	l->offset_along_m = reduce(wind_speed_m_s * factor * time_s, wind_period_m(p));
+	l->offset_along_m = reduce_period(wind_speed_m_s * factor * time_s, wind_period_m(p));
 	l->offset_across_m = 0.0;
 	calibrate(l, noise);
 }
@@ -128,8 +128,8 @@ void cs_cloud_layer_drift(struct cs_cloud_layer *l, double east_m, double north_
 	l->wind_y = cos(axis);
 	double e = factor * east_m, n = factor * north_m;
 	/* the offsets in the field's axes, reduced by its periods there */
-	l->offset_along_m = reduce(e * l->wind_x + n * l->wind_y, wind_period_m(p));
-	l->offset_across_m = reduce(-e * l->wind_y + n * l->wind_x, across_period_m(p));
+	l->offset_along_m = reduce_period(e * l->wind_x + n * l->wind_y, wind_period_m(p));
+	l->offset_across_m = reduce_period(-e * l->wind_y + n * l->wind_x, across_period_m(p));
 }
 
 CS_HD static inline double smooth01(double x)
