@@ -15,6 +15,36 @@
 
 const char *cli_prog = "cloudscape";
 int cli_quiet, cli_verbose;
+volatile sig_atomic_t cli_stop_signal;
+
+static void on_stop_signal(int sig)
+{
+	cli_stop_signal = sig;
+}
+
+void cli_catch_stop_signals(void)
+{
+	static const int sigs[] = {SIGINT, SIGTERM, SIGHUP};
+	for (size_t i = 0; i < sizeof sigs / sizeof sigs[0]; i++) {
+		struct sigaction sa, old;
+		if (sigaction(sigs[i], NULL, &old) != 0 || old.sa_handler == SIG_IGN)
+			continue;
+		memset(&sa, 0, sizeof sa);
+		sa.sa_handler = on_stop_signal;
+		sigemptyset(&sa.sa_mask);
+		/* no SA_RESTART: a read of a terminal stops at the signal */
+		sa.sa_flags = SA_RESETHAND;
+		sigaction(sigs[i], &sa, NULL);
+	}
+}
+
+int cli_die_of_stop_signal(void)
+{
+	int sig = cli_stop_signal;
+	signal(sig, SIG_DFL);
+	raise(sig);
+	return 128 + sig;
+}
 
 static int bar_drawn;
 static int bar_last_pct = -1;

@@ -13,6 +13,20 @@ enum { EXIT_OK = 0, EXIT_DATA = 1, EXIT_USAGE = 2 };
 extern const char *cli_prog; /* set by cli_init() */
 extern int cli_quiet, cli_verbose;
 
+/* The signal that asked to stop (SIGINT, SIGTERM, SIGHUP), 0 if none: a
+ * program hands it to the library as its cancel flag, which is checked
+ * between steps (states, rows, frames), so that no temporary output is
+ * left and no file is half written. */
+#include <signal.h>
+extern volatile sig_atomic_t cli_stop_signal;
+/* Catches the stop signals once (SA_RESETHAND: a second one acts at once),
+ * leaving alone those this process was started ignoring (nohup, a
+ * background job of a shell without job control). */
+void cli_catch_stop_signals(void);
+/* Stopped by a signal: dies of it, so the shell sees 128 + the signal's
+ * number (130 for SIGINT) and a script's loop stops too. */
+int cli_die_of_stop_signal(void);
+
 void cli_init(const char *prog);
 
 /* "prog: message\n" on stderr. */

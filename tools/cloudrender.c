@@ -226,7 +226,9 @@ static void usage(void)
 	       "\n");
 	series_usage();
 	printf("\n"
-	       "Exit status: 0 success, 1 data or runtime error, 2 usage error.\n"
+	       "Exit status: 0 success, 1 data or runtime error, 2 usage error; stopped\n"
+	       "by SIGINT (Ctrl-C), SIGTERM or SIGHUP it finishes the file it is writing,\n"
+	       "starts no other, and dies of the signal (130 for SIGINT in the shell).\n"
 	       "See cloudrender(1) and cloudwx(5).\n");
 }
 
@@ -773,8 +775,16 @@ int main(int argc, char **argv)
 		o.ready = describe;
 		o.ready_user = &o;
 	}
+	o.cancel = &cli_stop_signal;
+	cli_catch_stop_signals();
 	int rc = cs_cloudrender_run(&o, &r);
 	cli_progress_done();
+	if (cli_stop_signal) { /* the frames written are whole; nothing else is left */
+		cli_err("interrupted: %d frames written%s", rep.rendered,
+			rc == CS_OK ? "" : ", the rest not");
+		cs_cloudrender_result_free(&r);
+		return cli_die_of_stop_signal();
+	}
 	if (cli_verbose && rep.rendered + rep.skipped > 1)
 		cli_err("%d frames rendered in %.1f s (%.2f s a frame), %d skipped", rep.rendered,
 			rep.wall_s, rep.rendered ? rep.wall_s / rep.rendered : 0.0, rep.skipped);

@@ -7,7 +7,6 @@
 #include "weather/wxset.h"
 
 #include <getopt.h>
-#include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -64,44 +63,6 @@ static void usage(void)
 	       "by SIGINT (Ctrl-C), SIGTERM or SIGHUP it removes its temporary output and\n"
 	       "dies of the signal (130 for SIGINT in the shell).\n"
 	       "See wxinterp(1), cloudwx(5).\n");
-}
-
-/* The signal that asked to stop (SIGINT, SIGTERM, SIGHUP), 0 if none: the
- * library checks it between states and removes its temporary output. */
-static volatile sig_atomic_t stop_signal;
-
-static void on_signal(int sig)
-{
-	stop_signal = sig;
-}
-
-/* Catches the stop signals once (SA_RESETHAND: a second one acts at once),
- * leaving alone those this process was started ignoring (nohup, a
- * background job of a shell without job control). */
-static void catch_stop_signals(void)
-{
-	static const int sigs[] = {SIGINT, SIGTERM, SIGHUP};
-	for (size_t i = 0; i < sizeof sigs / sizeof sigs[0]; i++) {
-		struct sigaction sa, old;
-		if (sigaction(sigs[i], NULL, &old) != 0 || old.sa_handler == SIG_IGN)
-			continue;
-		memset(&sa, 0, sizeof sa);
-		sa.sa_handler = on_signal;
-		sigemptyset(&sa.sa_mask);
-		/* no SA_RESTART: a read of a terminal stops at the signal */
-		sa.sa_flags = SA_RESETHAND;
-		sigaction(sigs[i], &sa, NULL);
-	}
-}
-
-/* Stopped by a signal: dies of it, so the shell sees 128 + the signal's
- * number (130 for SIGINT) and a script's loop stops too. */
-static int die_of_stop_signal(void)
-{
-	int sig = stop_signal;
-	signal(sig, SIG_DFL);
-	raise(sig);
-	return 128 + sig;
 }
 
 static void print_note(void *user, int level, const char *msg)
@@ -244,14 +205,14 @@ int main(int argc, char **argv)
 		o.pretty = 1;
 
 	o.note = print_note;
-	o.cancel = &stop_signal;
-	catch_stop_signals();
+	o.cancel = &cli_stop_signal;
+	cli_catch_stop_signals();
 	struct cs_wxinterp_result r;
 	int rc = cs_wxinterp_run(&o, &r);
-	if (stop_signal) {
+	if (cli_stop_signal) {
 		cli_err("%s", rc == CS_OK ? "interrupted after the output was "
 			"written" : cs_errmsg());
-		return die_of_stop_signal();
+		return cli_die_of_stop_signal();
 	}
 	if (rc != CS_OK) {
 		cli_err("%s", cs_errmsg());

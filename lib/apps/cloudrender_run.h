@@ -6,6 +6,8 @@
 #include "weather/viewfile.h"
 #include "weather/wx.h"
 
+#include <signal.h>
+
 #define CS_RENDER_MAX_OUTPUTS 4
 
 struct cs_cloudrender_result;
@@ -75,6 +77,11 @@ struct cs_cloudrender_opts {
 	int no_clobber;           /* never replace an existing file */
 	cs_progress_fn progress;
 	void *progress_user;
+	/* The caller's cancel flag (a signal handler's), or NULL: once set, the
+	 * render in progress stops (CS_ECANCELED) and no further frame starts;
+	 * an output being written is finished first, so no file is partial
+	 * and no temporary is left. */
+	const volatile sig_atomic_t *cancel;
 	/* Called once the scene and camera are set, before the frame is
 	 * rendered, with the result so far (for cloudrender -v), or NULL. */
 	void (*ready)(void *user, const struct cs_cloudrender_result *r);

@@ -154,11 +154,14 @@ struct run_progress {
 	cs_progress_fn fn;
 	void *user;
 	double done, count;
+	const volatile sig_atomic_t *cancel;
 };
 
 static int run_progress(void *user, double fraction)
 {
 	struct run_progress *p = user;
+	if (p->cancel && *p->cancel)
+		return 1; /* the render stops: CS_ECANCELED */
 	return p->fn ? p->fn(p->user, (p->done + fraction) / p->count) : 0;
 }
 
@@ -194,7 +197,8 @@ static int run_frames(struct cs_cr_session *s, const struct cs_cloudrender_opts 
 	char held[sizeof r->look_why] = "";
 	if (count > 0)
 		CS_TRY(hold_look(s, st, &fo, r, held, sizeof held));
-	struct run_progress prog = {o->progress, o->progress_user, 0.0, count > 0 ? count : 1};
+	struct run_progress prog = {o->progress, o->progress_user, 0.0, count > 0 ? count : 1,
+				    o->cancel};
 	fo.progress = run_progress;
 	fo.progress_user = &prog;
 	struct held_ready hr = {o, r, held};
@@ -208,6 +212,11 @@ static int run_frames(struct cs_cr_session *s, const struct cs_cloudrender_opts 
 	const char *names[CS_RENDER_MAX_OUTPUTS];
 	int rc = CS_OK;
 	for (int i = first; i < last && rc == CS_OK; i++) {
+		if (o->cancel && *o->cancel) {
+			rc = cs_error(CS_ECANCELED, "interrupted before frame %lld",
+				      o->start_number + i);
+			break;
+		}
 		memset(f, 0, sizeof *f);
 		f->index = i, f->number = o->start_number + i, f->states = st->n;
 		f->count = count;

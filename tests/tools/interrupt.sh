@@ -1,7 +1,7 @@
-# wxinterp stopped by Ctrl-C (SIGINT) or SIGTERM in the middle of a long
+# wxinterp and cloudrender stopped by Ctrl-C (SIGINT) or SIGTERM in the middle of a long
 # series: it removes its temporary output and dies of the signal.
 . "$TOP/tests/tools/lib.sh"
-plan 3
+plan 4
 WI="$BIN/wxinterp"
 # A shell without job control starts background jobs ignoring SIGINT,
 # which wxinterp then leaves ignored, as it should (nohup, batch jobs):
@@ -69,4 +69,32 @@ rc=$?
 expect_rc 130
 expect_only_files "$T/tmp" 0
 [ -s "$T/out/many.jsonl" ] && bad "part of the series reached standard output"
+end
+
+begin cloudrender_ctrl_c_in_a_series_leaves_whole_frames_and_exits_130
+rm -rf "$T/out" # run's standard output goes there
+# 40 states ten minutes apart; tiny frames, each a fraction of a second
+"$WI" --from 2021-06-01T06:00Z --to 2021-06-01T12:30Z --step 10m "$T/days.json" \
+	-o "$T/day.jsonl" || bad "wxinterp could not write the series"
+FR="--size 64x36 --quality low --noise-size 16 -q -t 1 --look 200,10"
+mkdir -p "$T/frames"
+$bg_env "$BIN/cloudrender" --wx "$T/day.jsonl" $FR -o "$T/frames/%03d.png" 2>"$T/err" &
+pid=$!
+i=0
+while [ $i -lt 400 ] && [ ! -e "$T/frames/001.png" ]; do sleep 0.05; i=$((i + 1)); done
+kill -INT $pid
+{ wait $pid; } 2>/dev/null
+rc=$?
+expect_rc 130
+expect_err "cloudrender: interrupted: "
+n=$(ls -A "$T/frames" | wc -l)
+[ "$n" -ge 2 ] && [ "$n" -lt 40 ] || bad "$n files after the interrupt, expected 2..39"
+for f in $(ls -A "$T/frames"); do
+	case $f in [0-9][0-9][0-9].png) ;; *) bad "left behind: $f" ;; esac
+	pngtopnm "$T/frames/$f" >/dev/null 2>&1 || bad "$f is not a whole PNG"
+done
+# the same command with --skip-existing completes the series
+run "$BIN/cloudrender" --wx "$T/day.jsonl" $FR --skip-existing -o "$T/frames/%03d.png"
+expect_rc 0
+expect_only_files "$T/frames" 40
 end
