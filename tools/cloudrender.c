@@ -28,7 +28,7 @@ static void series_usage(void)
 	       "ffmpeg numbers frames: %%d, %%05d (5 digits), %%%% a literal percent; frame\n"
 	       "numbers are the state's index from 0 (--start-number).\n"
 	       "      --frames A:B       only frames A to B-1, by the numbers in the names\n"
-	       "                         (A: to the end, :B from the first, N: frame N)\n"
+	       "                         (A: to the end, :B from the first, N alone: frame N)\n"
 	       "      --start-number N   the first state's frame number (default 0)\n"
 	       "      --skip-existing    write no output that exists; a frame whose outputs\n"
 	       "                         all exist is not rendered (resume a series)\n"
@@ -780,8 +780,7 @@ int main(int argc, char **argv)
 	int rc = cs_cloudrender_run(&o, &r);
 	cli_progress_done();
 	if (cli_stop_signal) { /* the frames written are whole; nothing else is left */
-		cli_err("interrupted: %d frames written%s", rep.rendered,
-			rc == CS_OK ? "" : ", the rest not");
+		cli_err("interrupted: %d frames written whole, no other begun", rep.rendered);
 		cs_cloudrender_result_free(&r);
 		return cli_die_of_stop_signal();
 	}

@@ -158,6 +158,8 @@ int main(int argc, char **argv)
 				cli_usage_error("--max-gap: at least 1h (the step of the data)");
 			break;
 		case OPT_FADE:
+			if (optarg[0] == '-')
+				cli_usage_error("--fade: '%s' is not a duration of 0 or more", optarg);
 			o.fade_s = strcmp(optarg, "0") == 0 ? 0 : duration("--fade", optarg);
 			if (o.fade_s > CS_WX_FADE_MAX_S)
 				cli_usage_error("--fade: at most 6h");

@@ -72,6 +72,14 @@ static void put_weather(FILE *f, const struct cs_wx *wx)
 		N(wx->visibility_m, 0), N(wx->fog_probability, 3));
 	if (!isnan(wx->temperature_c))
 		fprintf(f, ",\"temperature_c\":%s", N(wx->temperature_c, 2));
+	if (wx->drift.known) { /* where the clouds were carried: the frame again */
+		char since[32];
+		cs_time_format(wx->drift.since_utc, since, sizeof since);
+		fprintf(f, ",\"drift\":{\"since_utc\":\"%s\",\"east_m\":%s,", since,
+			N(wx->drift.east_m, 2));
+		fprintf(f, "\"north_m\":%s,\"axis_deg\":%s}", N(wx->drift.north_m, 2),
+			N(wx->drift.axis_deg, 3));
+	}
 	fprintf(f, ",\"far_sites\":%d}", wx->nfar);
 }
 
@@ -101,6 +109,13 @@ int cs_cloudrender_meta_json(const struct cs_cloudrender_opts *o,
 	fprintf(f, "},\"sun\":{\"azimuth_deg\":%s,\"elevation_deg\":%s}",
 		N(r->sun_azimuth_deg, 3), N(r->sun_elevation_deg, 3));
 	put_quality(f, o, r);
+	if (o->noise_path) { /* the noise the clouds are made of */
+		fputs(",\"noise\":{\"file\":", f);
+		put_string(f, strcmp(o->noise_path, "-") == 0 ? "standard input" : o->noise_path);
+	} else {
+		fprintf(f, ",\"noise\":{\"baked_size\":%d", o->noise_size);
+	}
+	fputc('}', f);
 	put_weather(f, &r->wx);
 	fputc('}', f);
 	int bad = ferror(f);

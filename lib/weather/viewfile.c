@@ -50,7 +50,7 @@ static int parse_line(const char *path, int line, char *s, struct cs_viewset *se
 	for (int f = 0; f < NFIELDS; f++) {
 		tok = strtok_r(NULL, " \t\r", &save);
 		if (tok == NULL) {
-			char what[96];
+			char what[192];
 			snprintf(what, sizeof what, "the %s is missing (a view is NAME LAT_DEG "
 				 "LON_DEG ALT_M AZIMUTH_DEG ELEVATION_DEG FOV_DEG)", fields[f].what);
 			return bad(path, line, what, NULL);

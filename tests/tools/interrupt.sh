@@ -86,7 +86,7 @@ kill -INT $pid
 { wait $pid; } 2>/dev/null
 rc=$?
 expect_rc 130
-expect_err "cloudrender: interrupted: "
+expect_err "frames written whole, no other begun"
 n=$(ls -A "$T/frames" | wc -l)
 [ "$n" -ge 2 ] && [ "$n" -lt 40 ] || bad "$n files after the interrupt, expected 2..39"
 for f in $(ls -A "$T/frames"); do

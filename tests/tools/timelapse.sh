@@ -1,8 +1,9 @@
 # scripts/timelapse: frames of a provider file by make, then an H.264 MP4.
-# Each frame is checked against the same time rendered by hand (wxinterp
+# Each frame is checked against the same time rendered by hand, the camera
+# held at the first time's default view (wxinterp
 # --at T | cloudrender), the video with ffprobe (Debian's ffmpeg).
 . "$TOP/tests/tools/lib.sh"
-plan 4
+plan 6
 TL="$TOP/scripts/timelapse"
 WI="$BIN/wxinterp"
 CR="$BIN/cloudrender"
@@ -26,11 +27,16 @@ else
 	run "$TL" "$REAL" 2024-10-13T14:00Z 2024-10-13T14:40Z $ARGS --fps 5 --noise "$T/noise.exr" -o "$T/a" -- $ROPTS
 	expect_rc 0
 	expect_only_files "$T/a/frames" 3
+	# the camera held for the whole video: FROM's default view (as -v says it)
+	look=$("$WI" --at 2024-10-13T14:00Z "$REAL" | "$CR" -v --wx - --noise "$T/noise.exr" \
+		--size 32x18 $ROPTS -o "$T/probe.png" 2>&1 |
+		sed -n 's/.*looking azimuth \([0-9.]*\) deg, elevation \([-0-9.]*\) deg.*/\1,\2/p')
+	[ -n "$look" ] || bad "no camera in cloudrender -v"
 	i=0
 	for t in 14:00 14:20 14:40; do
 		f=$(printf '%s/a/frames/%05d.png' "$T" $i)
 		"$WI" --at "2024-10-13T${t}Z" "$REAL" | "$CR" -q --wx - --noise "$T/noise.exr" \
-			--size 32x18 $ROPTS -o "$T/hand.png" || bad "the hand render of $t failed"
+			--size 32x18 $ROPTS --look "$look" -o "$T/hand.png" || bad "the hand render of $t failed"
 		cmp -s "$f" "$T/hand.png" || bad "frame $i is not 2024-10-13T${t}Z as rendered by hand"
 		i=$((i + 1))
 	done
@@ -104,4 +110,42 @@ run "$TL" "$T/noise.exr" soon 2024-10-13T14:00Z; expect_rc 2; expect_err "FROM: 
 run "$TL" "$T/noise.exr" 2024-10-13T14:00Z 2024-10-13T15:00Z --fps 0; expect_rc 2; expect_err "--fps"
 run "$TL" "$T/absent.json" 2024-10-13T14:00Z 2024-10-13T15:00Z -o "$T/d"; expect_rc 1; expect_err "absent.json"
 run "$TL" --help; expect_rc 0; expect_out "Usage: timelapse"; expect_out "--fps"
+end
+
+begin timelapse_shorter_rerun_and_another_noise_size_remake_what_changed
+if [ ! -f "$REAL" ]; then
+	skip timelapse_shorter_rerun_and_another_noise_size_remake_what_changed "no $REAL (shared data absent)"
+elif [ $have_ffmpeg -eq 0 ]; then
+	skip timelapse_shorter_rerun_and_another_noise_size_remake_what_changed "ffmpeg is not installed"
+else
+	run "$TL" "$REAL" 2024-10-13T14:00Z 2024-10-13T14:40Z $ARGS --fps 5 --noise-size 16 -o "$T/b" -- $ROPTS
+	expect_rc 0
+	# a shorter range in the same folder: the video has its own frames only,
+	# not the earlier run's third one still on disk
+	run "$TL" "$REAL" 2024-10-13T14:00Z 2024-10-13T14:20Z $ARGS --fps 5 --noise-size 16 -o "$T/b" -- $ROPTS
+	expect_rc 0
+	nf=$(ffprobe -v error -count_frames -select_streams v:0 -show_entries stream=nb_read_frames \
+		-of csv=p=0 "$T/b/timelapse.mp4")
+	[ "$nf" = 2 ] || bad "the video of 2 times has $nf frames"
+	exrheader "$T/b/noise.exr" | grep -q 'cloudscapeVolumeSize.*(16 16 16)' || bad "the noise is not 16^3"
+	run "$TL" "$REAL" 2024-10-13T14:00Z 2024-10-13T14:20Z $ARGS --fps 5 --noise-size 32 -o "$T/b" -- $ROPTS
+	expect_rc 0
+	exrheader "$T/b/noise.exr" | grep -q 'cloudscapeVolumeSize.*(32 32 32)' ||
+		bad "--noise-size 32 kept the old noise: $(exrheader "$T/b/noise.exr" | grep VolumeSize)"
+fi
+end
+
+begin slurm_timelapse_stops_with_sbatch_s_status_when_it_refuses
+if [ ! -f "$REAL" ]; then
+	skip slurm_timelapse_stops_with_sbatch_s_status_when_it_refuses "no $REAL (shared data absent)"
+else
+	printf '#!/bin/sh\necho "sbatch: error: invalid partition specified: bogus" >&2\nexit 1\n' >"$T/fsb"
+	chmod +x "$T/fsb"
+	# the noise given, so the frames job is the first submitted
+	SBATCH="$T/fsb" run "$TOP/scripts/slurm-timelapse" "$REAL" 2024-10-13T14:00Z \
+		2024-10-13T14:20Z --step 20m --noise "$T/noise.exr" -o "$T/sl"
+	expect_rc 1
+	expect_err "sbatch failed"
+	[ -s "$T/out" ] && bad "job ids printed though sbatch refused: $(cat "$T/out")"
+fi
 end
