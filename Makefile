@@ -14,8 +14,8 @@
 #   make bench        benchmarks (not part of check)
 #   make CUDA=1       also the GPU renderer (cloudrender --device cuda), built by
 #                     nvcc (NVCC=, found on the PATH or at /usr/local/cuda/bin) into
-#                     build-cuda/; without CUDA=1 the GPU interface is a stub
-#                     that says why (README: "The GPU renderer")
+#                     build-cuda/; without CUDA=1, --device cuda says why there is
+#                     no GPU (lib/render/cuda/device_none.c; README: "The GPU renderer")
 #   make check-gpu    on a machine with a GPU: CUDA=1, then scripts/gpu-check
 #                     (CPU against GPU renders of tests/scenes, 1080p frames/s)
 #   make study        the accuracy study: error against the reference integrator
