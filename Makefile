@@ -302,4 +302,4 @@ clean:
 
 -include $(LIB_OBJ:.o=.d) $(CLI_OBJ:.o=.d) $(PROGRAMS:%=$(B)/tools/%.d) \
 	$(UNIT_SRC:tests/unit/%.c=$(B)/tests/%.d) $(HELP_SRC:tests/helpers/%.c=$(B)/tests/helpers/%.d) \
-	$(FUZZ_SRC:tests/fuzz/%.c=$(B)/fuzz/%.d)
+	$(FUZZ_SRC:tests/fuzz/%.c=$(B)/fuzz/%.d) $(BENCH_SRC:bench/%.c=$(B)/bench/%.d)

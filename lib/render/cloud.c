@@ -45,6 +45,7 @@ const struct cs_genus_preset *cs_genus_preset(enum cs_genus g)
 }
 
 static void calibrate(struct cs_cloud_layer *l, const struct cs_volume *noise);
+static void build_bound(struct cs_cloud_layer *l, const struct cs_volume *noise);
 
 /* The period of a genus's field across the wind, m: the least common
  * multiple of the base and detail tiles, or 0 when a tile is not a whole
@@ -103,6 +104,10 @@ void cs_cloud_layer_init(struct cs_cloud_layer *l, const struct cs_wx_layer *wl,
 	l->anvil = p->anvil;
 	l->edge = p->edge;
 	memcpy(l->ramp, p->ramp, sizeof l->ramp);
+	l->ramp_inv[0] = p->ramp[1] > p->ramp[0] ? 1.0 / (p->ramp[1] - p->ramp[0]) : 0.0;
+	l->ramp_inv[1] = p->ramp[3] > p->ramp[2] ? 1.0 / (p->ramp[3] - p->ramp[2]) : 0.0;
+	l->inv_tile_along = l->inv_tile / l->stretch;
+	l->inv_detail_along = l->inv_detail / l->stretch;
 
 	double from = wind_from_deg * (CS_PI / 180.0);
 	l->wind_x = -sin(from); /* blowing toward the opposite direction */
@@ -114,6 +119,7 @@ void cs_cloud_layer_init(struct cs_cloud_layer *l, const struct cs_wx_layer *wl,
 	 * small, so a float build keeps its precision on any date. */
 	l->offset_along_m = reduce_period(wind_speed_m_s * factor * time_s, wind_period_m(p));
 	l->offset_across_m = 0.0;
+	build_bound(l, noise);
 	calibrate(l, noise);
 }
 
@@ -138,12 +144,21 @@ CS_HD static inline double smooth01(double x)
 	return x * x * (3.0 - 2.0 * x);
 }
 
-/* The genus height profile: a smooth trapezoid over the relative height. */
-CS_HD static inline double profile(const double r[4], double h)
+/* The genus height profile: a smooth trapezoid over the relative height,
+ * with the reciprocals of its ramps' widths (0: no ramp). */
+CS_HD static inline double profile(const double r[4], const double inv[2], double h)
 {
-	double up = r[1] > r[0] ? smooth01((h - r[0]) / (r[1] - r[0])) : 1.0;
-	double down = r[3] > r[2] ? 1.0 - smooth01((h - r[2]) / (r[3] - r[2])) : 1.0;
+	double up = inv[0] > 0.0 ? smooth01((h - r[0]) * inv[0]) : 1.0;
+	double down = inv[1] > 0.0 ? 1.0 - smooth01((h - r[2]) * inv[1]) : 1.0;
 	return up * down;
+}
+
+/* floor(x) as a long, |x| < 2^62 (the callers see to it): without a call
+ * into libm, which baseline x86-64 code makes for floor. */
+CS_HD static inline long floor_long(double x)
+{
+	long i = (long)x;
+	return i - (x < (double)i);
 }
 
 /* The extinction at coordinates along and across the wind (already moved
@@ -152,31 +167,41 @@ CS_HD static double extinction_aw(const struct cs_cloud_layer *l,
 			    const struct cs_volume *noise, double along,
 			    double across, double alt_m, double h, double thr)
 {
-	double u = along / l->stretch * l->inv_tile, v = across * l->inv_tile;
+	double u = along * l->inv_tile_along, v = across * l->inv_tile;
 	double w = alt_m * l->inv_tile_z;
 
-	double shape = cs_volume_sample(noise, 0, u, v, w) * profile(l->ramp, h);
+	double prof = profile(l->ramp, l->ramp_inv, h);
 	/* an anvil spreads the top fifth: the threshold drops there */
 	if (l->anvil > 0.0 && h > 0.78)
 		thr -= l->anvil * 0.3 * smooth01((h - 0.78) / 0.1) * (1.0 - thr);
+	if (l->bound_n > 0 && w >= l->bound_w0 && w <= l->bound_w1 && fabs(u) < 0x1p30 &&
+	    fabs(v) < 0x1p30) {
+		/* the cell of the voxel the lookup's trilinear starts at */
+		long i = floor_long(u * noise->nx - 0.5) >> l->bound_shift;
+		long j = floor_long(v * noise->ny - 0.5) >> l->bound_shift;
+		unsigned m = (unsigned)l->bound_n - 1u;
+		double b = l->bound[((unsigned long)j & m) * (unsigned)l->bound_n + ((unsigned long)i & m)];
+		if (b < 255.0 && b * (1.0 / 255.0) * prof <= thr)
+			return 0.0;
+	}
+	double shape = cs_volume_sample(noise, 0, u, v, w) * prof;
 	if (shape <= thr)
 		return 0.0;
-	double d = (shape - thr) / (1.0 - thr); /* 0 at the edge, 1 at the core */
-
-	/* Erosion by the detail fBm carves the edge into billows: the cloud's
-	 * surface is where d equals the local erosion, not where d is 0. */
-	double du = along / l->stretch * l->inv_detail, dv = across * l->inv_detail;
-	double dw = alt_m * l->inv_detail;
+	/* d = (shape - thr) / (1 - thr): 0 at the edge, 1 at the core.
+	 * Erosion by the detail fBm carves the edge into billows: the cloud's
+	 * surface is where d equals the local erosion e, not where d is 0,
+	 * and the density (d - e) / (1 - e) then rises over a band of width
+	 * edge: narrow for sharp-edged heaps, wide for veils.  One division,
+	 * and none where the erosion leaves nothing. */
 	float g[4];
-	cs_volume_sample4(noise, du, dv, dw, g);
+	cs_volume_sample4(noise, along * l->inv_detail_along, across * l->inv_detail,
+			  alt_m * l->inv_detail, g);
 	double detail = 0.625 * g[1] + 0.25 * g[2] + 0.125 * g[3];
 	double e = l->erosion * detail;
-	d = (d - e) / (1.0 - e + 1e-9);
-	if (d <= 0.0)
+	double num = (shape - thr) - e * (1.0 - thr);
+	if (num <= 0.0)
 		return 0.0;
-	/* then the density rises over a band of width edge: narrow for
-	 * sharp-edged heaps, wide for veils */
-	d /= l->edge;
+	double d = num / ((1.0 - thr) * (1.0 - e + 1e-9) * l->edge);
 	d = d < 1.0 ? d : 1.0;
 	return d * l->extinction_per_m;
 }
@@ -208,6 +233,51 @@ CS_HD double cs_cloud_extinction(const struct cs_cloud_layer *l,
 	double along = x * l->wind_x + y * l->wind_y - l->offset_along_m;
 	double across = -x * l->wind_y + y * l->wind_x - l->offset_across_m;
 	return extinction_aw(l, noise, along, across, alt_m, h, thr);
+}
+
+/* The coverage bound (struct cs_cloud_layer): for a power-of-two volume
+ * of side nx, bound_n = min(nx, CS_CLOUD_BOUND_MAX) cells a side, each
+ * k = nx / bound_n voxels wide.  A point's trilinear lookup reads voxels
+ * ix and ix + 1 (wrapped), ix = floor(u nx - 0.5); its cell is ix / k, so
+ * cell c's lookups read voxels c k .. c k + k.  Along w, the voxels the
+ * layer's altitudes read.  Rounded up to 1/255 with a margin for the
+ * float rounding of the trilinear sum; 255 where it would be above 254/255
+ * (a volume of values above 1 has no bound there). */
+static void build_bound(struct cs_cloud_layer *l, const struct cs_volume *noise)
+{
+	l->bound_n = 0;
+	if (noise == NULL || noise->data == NULL || noise->nx != noise->ny ||
+	    (noise->nx & (noise->nx - 1)) != 0 || !(l->top_m > l->base_m))
+		return;
+	int nx = noise->nx, nz = noise->nz, n = nx < CS_CLOUD_BOUND_MAX ? nx : CS_CLOUD_BOUND_MAX;
+	int k = nx / n, shift = 0;
+	while ((1 << shift) < k)
+		shift++;
+	double w0 = l->base_m * l->inv_tile_z, w1 = l->top_m * l->inv_tile_z;
+	double z0 = floor(w0 * nz - 0.5), z1 = floor(w1 * nz - 0.5) + 1.0;
+	if (!(z1 - z0 < 4.0 * nz)) /* a layer many tiles tall: no bound worth it */
+		return;
+	for (int j = 0; j < n; j++)
+		for (int i = 0; i < n; i++) {
+			float most = 0.0f;
+			for (double z = z0; z <= z1; z++) {
+				long iz = (long)(z - nz * floor(z / nz));
+				for (int y = j * k; y <= j * k + k; y++)
+					for (int x = i * k; x <= i * k + k; x++) {
+						size_t at = (((size_t)iz * nx + (size_t)(y % nx)) * nx +
+							     (size_t)(x % nx)) * 4u;
+						float r = noise->data[at];
+						most = r <= most ? most : r; /* NaN sticks */
+					}
+			}
+			/* 255: above 254/255 (or not a number), no bound */
+			double q = ceil((double)most * (1.0 + 1e-6) * 255.0);
+			l->bound[j * n + i] = (unsigned char)(!(q < 255.0) ? 255.0 : q < 0.0 ? 0.0 : q);
+		}
+	l->bound_n = n;
+	l->bound_shift = shift;
+	l->bound_w0 = w0;
+	l->bound_w1 = w1;
 }
 
 CS_HD double cs_cloud_column(const struct cs_cloud_layer *l, const struct cs_volume *noise,

@@ -15,6 +15,7 @@
 #include "weather/wx.h"
 
 #define CS_BLEND_LEVELS 16
+#define CS_CLOUD_BOUND_MAX 64 /* cells of the coverage bound along a tile's side */
 
 /* The look of a genus (see man 1 cloudrender, GENERA). */
 struct cs_genus_preset {
@@ -60,6 +61,9 @@ struct cs_cloud_layer {
 	double inv_tile, inv_tile_z, inv_detail; /* 1 / tile sizes, 1/m */
 	double stretch, erosion, anvil, edge;
 	double ramp[4];
+	/* derived by cs_cloud_layer_init: 1 / the ramps' widths (0 where a
+	 * ramp has none), and the tiles' reciprocals along the wind, stretched */
+	double ramp_inv[2], inv_tile_along, inv_detail_along;
 	double wind_x, wind_y;    /* unit vector of the field's along axis (east,
 				     north): the way the wind blows */
 	double offset_along_m;    /* how far the wind has carried the clouds along
@@ -71,6 +75,17 @@ struct cs_cloud_layer {
 	int site, nfar;
 	double far_ux[CS_WX_MAX_FAR], far_uy[CS_WX_MAX_FAR]; /* far position / |position|^2 */
 	double thr_table[CS_BLEND_LEVELS + 1]; /* threshold at coverage * k / CS_BLEND_LEVELS */
+	/* An upper bound of the base shape (noise channel R) over the layer,
+	 * so that the many samples in clear air need no noise lookup: cell
+	 * (i, j) of a bound_n x bound_n grid over the base tile holds the
+	 * largest voxel, rounded up to 1/255, that the trilinear lookup of a
+	 * point in it between bound_w0 and bound_w1 (in tiles) reads.  A point
+	 * whose bound times the height profile is at most the threshold has
+	 * no cloud: cs_cloud_extinction then returns 0 without a lookup, the
+	 * same 0 the lookup gives.  bound_n 0: no bound. */
+	int bound_n, bound_shift;  /* cells a side; log2 of the voxels a cell */
+	double bound_w0, bound_w1;
+	unsigned char bound[CS_CLOUD_BOUND_MAX * CS_CLOUD_BOUND_MAX];
 	double homog_a, homog_b;  /* CS_LAYER_HOMOGENEOUS only */
 	double homog_radius_m, homog_x, homog_y;
 };

@@ -309,21 +309,36 @@ CS_HD static double crossing_step(const struct cs_scene *sc,
 }
 
 /* The growth ratio r of steps dt0, dt0 r, dt0 r^2 ... that cover len in n
- * steps, dt0 (r^n - 1) / (r - 1) = len (len > n dt0, so r > 1): by
- * bisection, to 1e-12. */
+ * steps, dt0 (r^n - 1) / (r - 1) = len (len > n dt0, so r > 1), to 1e-12:
+ * Newton's method on the logarithm of that sum, nearly straight in r
+ * (the sum itself rises like r^n: Newton on it creeps down by 1/n a
+ * step), kept inside a bracket [lo, hi] that each step narrows; a step
+ * that leaves it bisects instead.  A handful of powers a crossing; the
+ * bisection alone took 60 (8 % of a render's time). */
 CS_HD static double step_growth(double dt0, double len, int n)
 {
-	double lo = 1.0, hi = 2.0;
+	double lo = 1.0, hi = 2.0, target = log(len / dt0);
 	while (dt0 * (pow(hi, n) - 1.0) / (hi - 1.0) < len && hi < 1e6)
-		hi *= 2.0;
-	for (int k = 0; k < 60 && hi - lo > 1e-12; k++) {
-		double r = 0.5 * (lo + hi);
-		if (dt0 * (pow(r, n) - 1.0) / (r - 1.0) < len)
+		lo = hi, hi *= 2.0;
+	double r = 0.5 * (lo + hi);
+	for (int k = 0; k < 100 && hi - lo > 1e-12; k++) {
+		double rn1 = pow(r, n - 1), s = (rn1 * r - 1.0) / (r - 1.0);
+		double f = log(s) - target;
+		if (f < 0.0)
 			lo = r;
 		else
 			hi = r;
+		/* d/dr log s = (n r^(n-1) - s) / ((r - 1) s) */
+		double df = (n * rn1 - s) / ((r - 1.0) * s);
+		double next = df > 0.0 ? r - f / df : 0.5 * (lo + hi);
+		if (!(next > lo && next < hi))
+			next = 0.5 * (lo + hi);
+		if (fabs(next - r) < 1e-14)
+			break;
+		r = next;
 	}
-	return hi;
+	/* the least r of the bracket that covers len */
+	return dt0 * (pow(r, n) - 1.0) / (r - 1.0) >= len ? r : hi;
 }
 
 /* One crossing of [t0, t1] through the layers of mask (overlapping layers

@@ -222,6 +222,51 @@ static void every_genus_has_a_name_and_a_preset(void)
 	}
 }
 
+/* The coverage bound (cs_cloud_layer.bound) only saves lookups: every
+ * genus at three coverages, on a 32^3 volume (a cell a voxel) and a
+ * 128 x 128 x 8 one (a cell two voxels wide, a w range that wraps), gives
+ * at random points in its layer exactly the extinction it gives with the
+ * bound switched off (bound_n 0): a cell bounding too little (a voxel
+ * left out, the wrong cell) shows.  That the comparison reaches the bound:
+ * with every cell's bound set to 0 the cloudy points go clear. */
+static void coverage_bound_changes_no_sample(void)
+{
+	struct cs_volume wide;
+	CHECK(cs_volume_new(&wide, 128, 8) == 0 && cs_volume_bake(&wide, 0, NULL, NULL) == 0);
+	const struct cs_volume *vols[2] = {&noise, &wide};
+	static const double covs[3] = {0.2, 0.5, 0.8};
+	long reached = 0, cloudy = 0, n = 0, differ = 0;
+	for (int vi = 0; vi < 2; vi++)
+		for (int g = 0; g < CS_GENUS_COUNT; g++)
+			for (int c = 0; c < 3; c++) {
+				struct cs_wx_layer wl = {(enum cs_genus)g, covs[c], 0, 0};
+				cs_genus_place((enum cs_genus)g, 540.0, &wl.base_m, &wl.top_m);
+				static struct cs_cloud_layer l, off, zero;
+				cs_cloud_layer_init(&l, &wl, vols[vi], 6.0, 230.0, 540.0, 1e8);
+				CHECK(l.bound_n == (vi == 0 ? 32 : 64) && l.bound_shift == vi);
+				off = l, zero = l;
+				off.bound_n = 0;
+				memset(zero.bound, 0, sizeof zero.bound);
+				unsigned st = 11u + (unsigned)(g * 3 + c);
+				for (int i = 0; i < 4000; i++, n++) {
+					double x = t_uniform(&st, -60000, 60000), y = t_uniform(&st, -60000, 60000);
+					double z = t_uniform(&st, wl.base_m, wl.top_m);
+					double a = cs_cloud_extinction(&l, vols[vi], x, y, z);
+					double b = cs_cloud_extinction(&off, vols[vi], x, y, z);
+					differ += a != b;
+					cloudy += b > 0.0;
+					reached += b > 0.0 &&
+						   cs_cloud_extinction(&zero, vols[vi], x, y, z) == 0.0;
+				}
+			}
+	printf("  %ld points, %ld with cloud, %ld other with the bound than without; "
+	       "%ld cloudy points cleared by a zero bound\n", n, cloudy, differ, reached);
+	CHECK(differ == 0);
+	CHECK(cloudy > n / 10 && cloudy < n - n / 10);
+	CHECK(reached > cloudy / 2);
+	cs_volume_free(&wide);
+}
+
 /* The cases, in the order they run: their number is the plan. */
 static const struct t_case t_cases[] = {
 	CASE(wind_moves_clouds_consistently_in_time),
@@ -232,6 +277,7 @@ static const struct t_case t_cases[] = {
 	CASE(density_is_zero_outside_the_layer_and_finite_inside),
 	CASE(near_and_far_weather_blend_along_the_line),
 	CASE(every_genus_has_a_name_and_a_preset),
+	CASE(coverage_bound_changes_no_sample),
 };
 
 int main(void)
