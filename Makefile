@@ -112,7 +112,9 @@ ALL_CFLAGS = -std=c17 -D_POSIX_C_SOURCE=200809L -DCS_VERSION='"$(VERSION)"' \
 LDLIBS     = $(if $(filter 1,$(CUDA)),-Wl$(comma)--as-needed) $(PKG_LIBS) $(CUDA_LIBS) -lm -pthread
 
 LIB_SRC   := $(wildcard lib/*/*.c)
-LIB_OBJ   := $(LIB_SRC:lib/%.c=$(B)/lib/%.o) $(DEVICE_OBJ)
+# the per-pixel loop as one translation unit, for baseline x86-64 and AVX2
+KERNEL_OBJ := $(B)/lib/render/cpu/kernel_base.o $(B)/lib/render/cpu/kernel_avx2.o
+LIB_OBJ   := $(LIB_SRC:lib/%.c=$(B)/lib/%.o) $(DEVICE_OBJ) $(KERNEL_OBJ)
 CLI_OBJ   := $(B)/tools/cli.o
 BINS      := $(PROGRAMS:%=$(B)/bin/%)
 UNIT_SRC  := $(wildcard tests/unit/test_*.c)
@@ -149,6 +151,14 @@ $(B)/lib/render/cuda/render_cuda.o: lib/render/cuda/render_cuda.cu
 		-MMD -MP -MT $@ -MF $(@:.o=.d) \
 		-c $< -o $@.tmp
 	objcopy $(CUDA_API:%=-G %) $@.tmp $@
+	@rm -f $@.tmp
+# lib/render/cpu/kernel.c twice: -O3, no contraction (the same bits as the
+# library's objects), AVX2 in one; only the kernel's function kept global
+$(KERNEL_OBJ): $(B)/lib/render/cpu/kernel_%.o: lib/render/cpu/kernel.c
+	@mkdir -p $(@D)
+	$(CC) $(ALL_CFLAGS) -O3 -ffp-contract=off $(if $(filter avx2,$*),-mavx2) \
+		-DCS_KERNEL=cs_kernel_rows_$* -MT $@ -MF $(@:.o=.d) -c $< -o $@.tmp
+	objcopy -G cs_kernel_rows_$* $@.tmp $@
 	@rm -f $@.tmp
 $(B)/lib/render/cuda/device_none.o: ALL_CFLAGS += -DCS_CUDA_WHY='"$(CUDA_WHY)"'
 $(B)/tools/%.o: tools/%.c

@@ -2,7 +2,7 @@
  * per pixel with its jitter from the pixel's hash, statistics gathered per
  * task and summed per worker (no counters shared between threads). */
 #include "render/render.h"
-#include "render/pixel.h"
+#include "render/cpu/kernel.h"
 
 #include "core/err.h"
 
@@ -18,6 +18,7 @@ struct worker_stats {
 };
 
 struct frame_job {
+	cs_kernel_rows_fn *rows;
 	const struct cs_scene *sc;
 	const struct cs_camera *cam;
 	const struct cs_render_settings *s;
@@ -42,12 +43,22 @@ static void render_rows(void *user, int task, int worker)
 	struct cs_render_stats st = {0};
 	int r0 = task * ROWS_PER_TASK;
 	int r1 = r0 + ROWS_PER_TASK < cam->height ? r0 + ROWS_PER_TASK : cam->height;
-	for (int j = r0; j < r1; j++) {
-		for (int i = 0; i < cam->width; i++)
-			cs_render_pixel(job->sc, cam, job->s, i, j, &st,
-					job->out + ((size_t)j * cam->width + i) * 5);
-	}
+	job->rows(job->sc, cam, job->s, r0, r1, &st, job->out);
 	stats_add(&job->stats[worker].s, &st);
+}
+
+/* The per-pixel loop this CPU runs fastest (cpu/kernel.c: the same bits
+ * either way); CLOUDSCAPE_KERNEL=base asks for the baseline one. */
+static cs_kernel_rows_fn *kernel_rows(void)
+{
+	const char *want = getenv("CLOUDSCAPE_KERNEL");
+	if (want != NULL && strcmp(want, "base") == 0)
+		return cs_kernel_rows_base;
+#if defined(__x86_64__) && defined(__GNUC__)
+	if (__builtin_cpu_supports("avx2"))
+		return cs_kernel_rows_avx2;
+#endif
+	return cs_kernel_rows_base;
 }
 
 int cs_render_image(const struct cs_scene *sc, const struct cs_camera *cam,
@@ -63,7 +74,7 @@ int cs_render_image(const struct cs_scene *sc, const struct cs_camera *cam,
 	struct frame_job *job = aligned_alloc(64, size);
 	if (job == NULL)
 		return cs_error(CS_ENOMEM, "out of memory");
-	*job = (struct frame_job){.sc = sc, .cam = cam, .s = s, .out = out};
+	*job = (struct frame_job){.rows = kernel_rows(), .sc = sc, .cam = cam, .s = s, .out = out};
 	int tasks = (cam->height + ROWS_PER_TASK - 1) / ROWS_PER_TASK, workers = 0;
 	rc = cs_pool_run(tasks, nthreads, render_rows, job, progress, user, &workers);
 	memset(stats, 0, sizeof *stats);

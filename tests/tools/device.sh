@@ -1,7 +1,7 @@
 # cloudrender --device: the CPU by default; cuda where the build and the
 # machine have it, else a clear reason and exit 1 (CI: no nvcc, no GPU).
 . "$TOP/tests/tools/lib.sh"
-plan 5
+plan 6
 CR="$BIN/cloudrender"
 FAST="--size 32x18 --quality low --noise-size 16 -q"
 
@@ -39,4 +39,27 @@ begin device_bench_needs_cuda
 run "$CR" $FAST --device-bench 3 -o "$T/x.png"
 expect_rc 2; expect_err "--device-bench needs --device cuda"
 expect_no_file "$T/x.png"
+end
+
+# The CPU's two per-pixel kernels (lib/render/cpu/kernel.c, baseline x86-64
+# and AVX2, chosen by the processor) give the same bits: the hard scenes'
+# clouds, fog, a cumulonimbus, cirrus at dusk and terrain under cloud, EXR
+# float (R G B A Z) compared whole.
+begin device_cpu_kernels_give_the_same_bits
+if ! grep -qw avx2 /proc/cpuinfo 2>/dev/null; then
+	skip device_cpu_kernels_give_the_same_bits "this processor has no AVX2: one kernel only"
+else
+	"$TOP/scripts/make-bern-dem" -r 400 "$T/dem.tif" >/dev/null 2>&1 &&
+		"$BIN/terrainprep" -q "$T/dem.tif" -o "$T/bern.exr" || bad "no terrain"
+	for sc in fog-low-sun cumulonimbus-side cirrus-dusk terrain-broken inside-cloud; do
+		args=$(sed "s|@TERRAIN@|$T/bern.exr|" "$TOP/tests/scenes/$sc.args")
+		# shellcheck disable=SC2086
+		CLOUDSCAPE_KERNEL=base "$CR" --wx "$TOP/tests/scenes/$sc.json" $args --size 64x36 \
+			--quality medium --noise-size 32 -q --float -o "$T/$sc-base.exr" || bad "$sc: base failed"
+		# shellcheck disable=SC2086
+		"$CR" --wx "$TOP/tests/scenes/$sc.json" $args --size 64x36 --quality medium \
+			--noise-size 32 -q --float -o "$T/$sc-avx2.exr" || bad "$sc: avx2 failed"
+		same_pixels "$T/$sc-base.exr" "$T/$sc-avx2.exr" || bad "$sc: the kernels differ"
+	done
+fi
 end

@@ -1,0 +1,42 @@
+/* kernel.c - the CPU's per-pixel work as one translation unit (a unity
+ * build, as the GPU's cuda/render_cuda.cu is): it includes the C files
+ * whose CS_HD functions a ray calls, so that the compiler sees the whole
+ * path of a sample at once and inlines across what are separate files
+ * elsewhere (the lookup, the density, the light march, the step).
+ *
+ * The Makefile compiles it twice, as CS_KERNEL = cs_kernel_rows_base for
+ * any x86-64 and as cs_kernel_rows_avx2 with -mavx2, both -O3 and
+ * -ffp-contract=off: no fused multiply-adds and no reassociation, so the
+ * two give the same bits as each other and as the library's own objects
+ * (tests/tools/kernel.sh compares them).  Only CS_KERNEL stays global in
+ * each object (objcopy -G): the copies of the included functions never
+ * meet the library's at link time.  frame.c chooses at run time. */
+#include "render/cpu/kernel.h"
+#include "render/pixel.h"
+
+#include "io/cpt.c"
+#include "noise/volume.c"
+#include "render/camera.c"
+#include "render/cloud.c"
+#include "render/deck.c"
+#include "render/ground.c"
+#include "render/haze.c"
+#include "render/integrator.c"
+#include "render/light_march.c"
+#include "render/night.c"
+#include "render/sky.c"
+#include "render/water.c"
+#include "terrain/heightfield.c"
+
+#ifndef CS_KERNEL
+#error "CS_KERNEL names the function this build of kernel.c defines"
+#endif
+
+void CS_KERNEL(const struct cs_scene *sc, const struct cs_camera *cam,
+	       const struct cs_render_settings *s, int r0, int r1, struct cs_render_stats *st,
+	       float *out)
+{
+	for (int j = r0; j < r1; j++)
+		for (int i = 0; i < cam->width; i++)
+			cs_render_pixel(sc, cam, s, i, j, st, out + ((size_t)j * cam->width + i) * 5);
+}

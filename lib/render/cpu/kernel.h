@@ -1,0 +1,17 @@
+/* kernel.h - internal to lib/render: the frame's per-pixel loop as frame.c
+ * calls it, compiled twice from cpu/kernel.c (see there). */
+#ifndef CS_KERNEL_H
+#define CS_KERNEL_H
+
+#include "render/render.h"
+
+/* Renders rows r0..r1-1 of cam's image into out (5 floats a pixel, rows
+ * of cam->width), adding to *st: cs_render_pixel for each pixel. */
+typedef void cs_kernel_rows_fn(const struct cs_scene *sc, const struct cs_camera *cam,
+			       const struct cs_render_settings *s, int r0, int r1,
+			       struct cs_render_stats *st, float *out);
+
+/* Baseline x86-64 (any 64-bit CPU), and AVX2: the same bits. */
+cs_kernel_rows_fn cs_kernel_rows_base, cs_kernel_rows_avx2;
+
+#endif
