@@ -190,8 +190,9 @@ static void usage(void)
 	       "      --march M          standard (default); naive: a plain constant-step\n"
 	       "                         sum, the baseline; skip: empty space probed every\n"
 	       "                         4 steps and skipped\n"
-	       "      --light-march M    uniform (default) or quadratic: light samples\n"
-	       "                         dense near the point\n"
+	       "      --light-march M    geometric (default): steps toward the sun growing\n"
+	       "                         from the point; uniform: equal steps; quadratic:\n"
+	       "                         samples at (k + 1/2)^2 / n^2 of the path\n"
 	       "      --haze-steps N     samples of the clouds' shadows in the haze over\n"
 	       "                         the first 20 km (crepuscular rays), 0..10000;\n"
 	       "                         0: their area mean only\n"
@@ -693,8 +694,11 @@ int main(int argc, char **argv)
 				o.light_march = CS_LIGHT_UNIFORM;
 			else if (strcasecmp(optarg, "quadratic") == 0)
 				o.light_march = CS_LIGHT_QUADRATIC;
+			else if (strcasecmp(optarg, "geometric") == 0)
+				o.light_march = CS_LIGHT_GEOMETRIC;
 			else
-				cli_usage_error("--light-march: '%s' is not uniform or quadratic", optarg);
+				cli_usage_error("--light-march: '%s' is not uniform, quadratic or geometric",
+						optarg);
 			break;
 		case OPT_MAX_STEPS: o.max_steps = (int)cli_long("--max-steps", optarg, 1, 1000000); break;
 		case OPT_MIN_T:

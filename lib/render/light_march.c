@@ -49,7 +49,12 @@ CS_HD double cs_extinction_at(const struct cs_scene *sc, unsigned mask, cs_v3 p,
  * layers the sample is in), a third as many, at least 2, in the others
  * (cirrus shading the cumulus below it).  A path through one layer is
  * capped at 20 km: beyond that a cloud is either opaque long before or too
- * thin to matter. */
+ * thin to matter.  The steps are equal, or (quadratic) at
+ * (k + 1/2)^2 / n^2 of the path, or (geometric) growing by a ratio r from
+ * the point: for a path len more than q = len / (n s0) times the n steps
+ * of s0 = the layer's thickness / n that a vertical path takes, r =
+ * q^(2/n) (the first step about s0, finer for very long paths), else
+ * equal; each sample at its step's middle, weighted by its length. */
 CS_HD double cs_light_depth(const struct cs_scene *sc,
 			    const struct cs_render_settings *s, cs_v3 p,
 			    unsigned mask, struct cs_render_stats *st)
@@ -66,15 +71,24 @@ CS_HD double cs_light_depth(const struct cs_scene *sc,
 		for (int k = 0; k < n; k++) {
 			double len = iv[k][1] - iv[k][0];
 			double dt = len / steps, n2 = (double)steps * steps;
-			for (int j = 0; j < steps; j++) {
+			/* geometric: the ratio and the first step */
+			double r = 1.0, q = len / (l->top_m - l->base_m);
+			if (s->light_march == CS_LIGHT_GEOMETRIC && q > 1.0 && steps > 1) {
+				r = pow(q, 2.0 / steps); /* so r^steps = q^2 */
+				dt = len * (r - 1.0) / (q * q - 1.0);
+			}
+			double t0 = iv[k][0], g = dt;
+			for (int j = 0; j < steps; j++, t0 += g, g *= r) {
 				double t = iv[k][0] + (j + 0.5) * dt, w = dt;
-				if (s->light_march == CS_LIGHT_QUADRATIC) {
+				if (r > 1.0)
+					t = t0 + 0.5 * g, w = g;
+				else if (s->light_march == CS_LIGHT_QUADRATIC) {
 					t = iv[k][0] + len * (j + 0.5) * (j + 0.5) / n2;
 					w = len * (2 * j + 1) / n2;
 				}
-				cs_v3 q = v3_mad(p, sc->sun_dir, t);
-				tau += cs_cloud_extinction(l, sc->noise, q.x, q.y,
-							   cs_scene_altitude(sc, q)) * w;
+				cs_v3 q3 = v3_mad(p, sc->sun_dir, t);
+				tau += cs_cloud_extinction(l, sc->noise, q3.x, q3.y,
+							   cs_scene_altitude(sc, q3)) * w;
 			}
 			st->light_samples += (uint64_t)steps;
 		}

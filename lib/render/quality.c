@@ -11,10 +11,10 @@ static const struct {
 	const char *name;
 	struct cs_render_settings s;
 } presets[] = {
-	{"low", {24, 96, 4, 2, 1, 1.0, 0, 0.02, 8, CS_MARCH_STANDARD, CS_LIGHT_UNIFORM}},
-	{"medium", {48, 192, 6, 3, 1, 1.0, 0, 0.01, 16, CS_MARCH_STANDARD, CS_LIGHT_UNIFORM}},
-	{"high", {96, 384, 8, 3, 1, 1.0, 0, 0.005, 32, CS_MARCH_STANDARD, CS_LIGHT_UNIFORM}},
-	{"reference", {384, 1536, 24, 4, 1, 1.0, 0, 0.0005, 128, CS_MARCH_STANDARD, CS_LIGHT_UNIFORM}},
+	{"low", {24, 96, 4, 2, 1, 1.0, 0, 0.02, 8, CS_MARCH_STANDARD, CS_LIGHT_GEOMETRIC}},
+	{"medium", {48, 192, 6, 3, 1, 1.0, 0, 0.01, 16, CS_MARCH_STANDARD, CS_LIGHT_GEOMETRIC}},
+	{"high", {96, 384, 8, 3, 1, 1.0, 0, 0.005, 32, CS_MARCH_STANDARD, CS_LIGHT_GEOMETRIC}},
+	{"reference", {384, 1536, 24, 4, 1, 1.0, 0, 0.0005, 128, CS_MARCH_STANDARD, CS_LIGHT_GEOMETRIC}},
 };
 
 int cs_render_quality(const char *name, struct cs_render_settings *s)
@@ -44,7 +44,7 @@ int cs_render_settings_check(const struct cs_render_settings *s)
 		return cs_error(CS_EINVAL, "jitter must be 0..1");
 	if (s->march < CS_MARCH_STANDARD || s->march > CS_MARCH_SKIP)
 		return cs_error(CS_EINVAL, "unknown march %d", s->march);
-	if (s->light_march < CS_LIGHT_UNIFORM || s->light_march > CS_LIGHT_QUADRATIC)
+	if (s->light_march < CS_LIGHT_UNIFORM || s->light_march > CS_LIGHT_GEOMETRIC)
 		return cs_error(CS_EINVAL, "unknown light march %d", s->light_march);
 	if (s->haze_steps < 0 || s->haze_steps > 10000)
 		return cs_error(CS_EINVAL, "haze steps must be 0..10000, not %d", s->haze_steps);

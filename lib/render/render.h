@@ -59,8 +59,11 @@ enum {
 /* The light march (cs_render_settings.light_march). */
 enum {
 	CS_LIGHT_UNIFORM,   /* equal steps toward the sun */
-	CS_LIGHT_QUADRATIC  /* samples at (k + 1/2)^2 / n^2 of the path: dense
+	CS_LIGHT_QUADRATIC, /* samples at (k + 1/2)^2 / n^2 of the path: dense
 			       near the point, where its own cloud shades it */
+	CS_LIGHT_GEOMETRIC  /* steps growing geometrically from the point: the
+			       first about the layer's thickness over n, as a
+			       vertical path's, however long the path (a low sun) */
 };
 
 /* The named presets: "low", "medium", "high", "reference".  0 or CS_EINVAL. */
