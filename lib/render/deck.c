@@ -9,6 +9,7 @@
  * haze and the rain under the clouds, and the inside of the clouds
  * themselves (their bases grey, not blue). */
 #include "render/render.h"
+#include "render/slab_table.h"
 
 #include <math.h>
 #include <string.h>
@@ -24,26 +25,79 @@ enum {
  * transport through a deck is the droplets'. */
 #define CS_CLOUD_G 0.85
 
-CS_HD double cs_slab_transmittance(double tau, double g)
+/* Where tau falls in slab_table.h's optical depths: row *k and the
+ * fraction *f toward row k + 1 (linear in log tau); 0 below the first
+ * row, 1 above the last (the caller extends those). */
+CS_HD static void slab_row(double tau, int *k, double *f)
+{
+	double x = 2.0 * log2(tau / CS_SLAB_TAU0);
+	x = x < 0.0 ? 0.0 : x > CS_SLAB_NTAU - 1 ? CS_SLAB_NTAU - 1 : x;
+	int i = (int)x < CS_SLAB_NTAU - 1 ? (int)x : CS_SLAB_NTAU - 2;
+	*k = i, *f = x - i;
+}
+
+/* A value of a table row extended beyond it: toward 1 at tau 0 (linear
+ * below the first depth), like 1 / (tau + 12.6) beyond the last (the
+ * diffusion limit, 1 / (3 (1 - g) tau / 4 + 1.42), scaled). */
+CS_HD static double slab_extend(double t, double tau)
+{
+	if (tau < CS_SLAB_TAU0)
+		return 1.0 + (t - 1.0) * tau / CS_SLAB_TAU0;
+	double last = CS_SLAB_TAU0 * exp2(0.5 * (CS_SLAB_NTAU - 1));
+	return tau > last ? t * (last + 12.6) / (tau + 12.6) : t;
+}
+
+CS_HD double cs_slab_beam_transmittance(double tau, double mu0)
 {
 	if (!(tau > 0.0))
 		return 1.0;
-	double t = 1.0 / (0.9 + 0.6 * (1.0 - g) * tau);
-	double direct = exp(-tau);
+	int k;
+	double f;
+	slab_row(tau, &k, &f);
+	double y = mu0 / 0.05 - 1.0;
+	y = y < 0.0 ? 0.0 : y > CS_SLAB_NMU - 1 ? CS_SLAB_NMU - 1 : y;
+	int j = (int)y < CS_SLAB_NMU - 1 ? (int)y : CS_SLAB_NMU - 2;
+	double g = y - j;
+	double a = cs_slab_beam[k][j] + g * (cs_slab_beam[k][j + 1] - cs_slab_beam[k][j]);
+	double b = cs_slab_beam[k + 1][j] + g * (cs_slab_beam[k + 1][j + 1] - cs_slab_beam[k + 1][j]);
+	double t = slab_extend(a + f * (b - a), tau);
+	double direct = mu0 > 0.0 ? exp(-tau / mu0) : 0.0;
 	t = t < 1.0 ? t : 1.0;
 	return t > direct ? t : direct;
 }
 
-/* The light on a horizontal plane under a column of optical depth tau:
- * the sun's beam (klux, per unit of e_sun_h) and the diffuse part. */
-static void under(const struct cs_deck *d, double tau, const double e_sun_h[3],
-		  const double e_sky[3], double *beam, double dif[3])
+CS_HD double cs_slab_diffuse_transmittance(double tau)
 {
-	double T = cs_slab_transmittance(tau, d->g);
+	if (!(tau > 0.0))
+		return 1.0;
+	int k;
+	double f;
+	slab_row(tau, &k, &f);
+	double t = slab_extend(cs_slab_diffuse[k] + f * (cs_slab_diffuse[k + 1] - cs_slab_diffuse[k]), tau);
+	return t < 1.0 ? t : 1.0;
+}
+
+/* The light on a horizontal plane under a column of optical depth tau:
+ * the sun's beam (klux, per unit of e_sun_h) and the diffuse part, the
+ * sun's through the slab at its elevation, the sky's as diffuse light;
+ * with a ground of albedo albedo[c] below (NULL: black), what it sends
+ * back up and the cloud's base returns to it, over and over: all the
+ * light coming down is E / (1 - albedo R), R = 1 - Td the cloud's
+ * reflectance of diffuse light (Bohren & Clothiaux 2006, 5.2: the
+ * brightening under overcast over snow; 11 % over green land at tau 30). */
+static void under(const struct cs_deck *d, double tau, const double e_sun_h[3],
+		  const double e_sky[3], const double *albedo, double *beam, double dif[3])
+{
+	double T = cs_slab_beam_transmittance(tau, d->mu0), Td = cs_slab_diffuse_transmittance(tau);
 	*beam = d->mu0 > 0.0 ? exp(-tau / d->mu0) : 0.0;
 	double scat = T - *beam > 0.0 ? T - *beam : 0.0;
-	for (int c = 0; c < 3; c++)
-		dif[c] = e_sun_h[c] * scat + e_sky[c] * T;
+	for (int c = 0; c < 3; c++) {
+		dif[c] = e_sun_h[c] * scat + e_sky[c] * Td;
+		if (albedo != NULL && tau > 0.0) {
+			double gain = 1.0 / (1.0 - albedo[c] * (1.0 - Td));
+			dif[c] = (dif[c] + e_sun_h[c] * *beam) * gain - e_sun_h[c] * *beam;
+		}
+	}
 }
 
 /* Layer j lies wholly above layer i. */
@@ -104,7 +158,7 @@ void cs_scene_deck_light(struct cs_scene *sc)
 				if (tau[i] > 0.05)
 					d->tau_in[i] += tau[i], incloud[i]++;
 			}
-			under(d, total, e_sun_h, e_sky, &beam, dif);
+			under(d, total, e_sun_h, e_sky, sc->ground_albedo, &beam, dif);
 			beam_all += beam;
 			for (int c = 0; c < 3; c++)
 				dif_all[c] += dif[c];
@@ -112,7 +166,7 @@ void cs_scene_deck_light(struct cs_scene *sc)
 				double over = 0.0;
 				for (int j = 0; j < n; j++)
 					over += above(sc, j, i) ? tau[j] : 0.0;
-				under(d, over, e_sun_h, e_sky, &beam, dif);
+				under(d, over, e_sun_h, e_sky, NULL, &beam, dif);
 				for (int c = 0; c < 3; c++) {
 					d->sun_top[i][c] += e_sun_h[c] * beam;
 					d->dif_top[i][c] += dif[c];
@@ -127,6 +181,12 @@ void cs_scene_deck_light(struct cs_scene *sc)
 	}
 	for (int i = 0; i < n; i++) {
 		d->tau_in[i] = incloud[i] > 0 ? d->tau_in[i] / incloud[i] : 0.0;
+		int over_layer = 0;
+		for (int j = 0; j < n; j++)
+			over_layer |= above(sc, i, j);
+		double R = 1.0 - cs_slab_diffuse_transmittance(d->tau_in[i]);
+		for (int c = 0; c < 3; c++)
+			d->ground_gain[i][c] = over_layer ? 1.0 : 1.0 / (1.0 - sc->ground_albedo[c] * R);
 		for (int c = 0; c < 3; c++) {
 			d->sun_top[i][c] *= inv;
 			d->dif_top[i][c] *= inv;

@@ -207,15 +207,17 @@ CS_HD void cs_ground_light(const struct cs_scene *sc,
 		direct = cosi * T * self / CS_PI;
 	}
 	/* the sky light, or under clouds what they let through; in fog what
-	 * the fog above lets through of it and of the sun's beam, by the slab
-	 * transmittance of its droplets (g 0.85) */
+	 * the fog above lets through of it (diffuse) and of the sun's beam (at
+	 * its elevation), by the slab transmittance of its droplets */
 	const double *sky = sc->deck.on ? sc->deck.sky_below : sc->ambient_up;
 	double fog_T = 1.0, fog_sun = 0.0, alt = cs_scene_altitude(sc, p);
 	if (sc->fog_beta_per_m > 0.0 && alt < sc->fog_top_m) {
-		fog_T = cs_slab_transmittance(sc->fog_beta_per_m * (sc->fog_top_m - alt), 0.85);
+		double tau = sc->fog_beta_per_m * (sc->fog_top_m - alt);
+		fog_T = cs_slab_diffuse_transmittance(tau);
 		double beam = cs_fog_sun_transmittance(sc, alt);
-		if ((sc->effects & CS_FX_KEY) && sc->sun_dir.z > 0.0 && fog_T > beam)
-			fog_sun = sc->sun_dir.z * (fog_T - beam) / CS_PI;
+		double Tb = sc->sun_dir.z > 0.0 ? cs_slab_beam_transmittance(tau, sc->sun_dir.z) : 0.0;
+		if ((sc->effects & CS_FX_KEY) && sc->sun_dir.z > 0.0 && Tb > beam)
+			fog_sun = sc->sun_dir.z * (Tb - beam) / CS_PI;
 	}
 	for (int k = 0; k < 3; k++)
 		rgb[k] = alb[k] * (sc->sun_illuminance[k] * (direct + fog_sun) +

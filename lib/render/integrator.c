@@ -226,7 +226,11 @@ CS_HD static void march_rain(const struct ray_ctx *c, const struct interval *iv,
  * for the light from below (below_share), the rest for the light from
  * above.  The reference
  * integrator showed the light from above at full weight 1.5 times too
- * bright on cumulus seen from the side. */
+ * bright on cumulus seen from the side.  Over the ground, the light from
+ * above holds the ground's return that the cloud reflects back down
+ * (deck.ground_gain at the base), fading into the cloud as the diffuse
+ * transmittance of the layer's column below the point (its mean in-cloud
+ * depth less the depth above). */
 CS_HD static void cloud_ambient(const struct cs_scene *sc, int li, double hb,
 				double tau, double w_up, double A[3])
 {
@@ -237,12 +241,16 @@ CS_HD static void cloud_ambient(const struct cs_scene *sc, int li, double hb,
 			       sc->ambient_down[k] * (1.0 - hb) * 0.5;
 		return;
 	}
-	double T = cs_slab_transmittance(tau, d->g);
+	double T = cs_slab_beam_transmittance(tau, d->mu0), Td = cs_slab_diffuse_transmittance(tau);
 	double beam = d->mu0 > 0.0 ? exp(-tau / d->mu0) : 0.0;
 	double scat = T - beam > 0.0 ? T - beam : 0.0;
-	for (int k = 0; k < 3; k++)
-		A[k] = (1.0 - w_up) * (d->sun_top[li][k] * scat + d->dif_top[li][k] * T) / CS_PI +
+	double below = d->tau_in[li] - tau;
+	double reach = cs_slab_diffuse_transmittance(below > 0.0 ? below : 0.0);
+	for (int k = 0; k < 3; k++) {
+		double gain = 1.0 + (d->ground_gain[li][k] - 1.0) * reach;
+		A[k] = (1.0 - w_up) * (d->sun_top[li][k] * scat + d->dif_top[li][k] * Td) * gain / CS_PI +
 		       w_up * d->ground_below[k] * (1.0 - hb);
+	}
 }
 
 /* The light scattered toward the eye per unit length at a cloud sample of

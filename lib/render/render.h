@@ -143,6 +143,11 @@ struct cs_deck {
 						   plane at a layer's top, klux */
 	double dif_top[CS_SCENE_MAX_LAYERS][3]; /* diffuse irradiance there, klux */
 	double tau_in[CS_SCENE_MAX_LAYERS];     /* in-cloud column optical depth */
+	/* the light from above inside a layer with only the ground below it,
+	 * at its base, times this: the ground's return, reflected back down by
+	 * the cloud over and over, 1 / (1 - albedo (1 - Td(tau_in))); 1 for
+	 * layers over other layers */
+	double ground_gain[CS_SCENE_MAX_LAYERS][3];
 	/* the share of the clouds' phase function that takes light arriving
 	 * from below (travelling up) into a direction of travel whose vertical
 	 * component is -1 + 2 k / (CS_DECK_SHARES - 1) (k = 0..32) */
@@ -214,11 +219,16 @@ CS_HD void cs_scene_sky(const struct cs_scene *sc, cs_v3 d, double rgb[3]);
 CS_HD void cs_scene_disk(const struct cs_scene *sc, cs_v3 d, double rgb[3]);
 CS_HD void cs_scene_stars(const struct cs_scene *sc, cs_v3 d, double rgb[3]);
 
-/* Total (direct + diffuse) transmittance of a conservative plane-parallel
- * cloud of optical depth tau and asymmetry g, by similarity a function of
- * (1 - g) tau: 1 / (0.9 + 0.6 (1 - g) tau), at most 1 and at least the
- * direct beam exp(-tau). */
-CS_HD double cs_slab_transmittance(double tau, double g);
+/* Total (direct + diffuse) transmittance of a plane-parallel cloud of
+ * optical depth tau (water droplets: asymmetry 0.85, albedo 0.99999, a
+ * black ground) for the sun's beam at cosine mu0 of its zenith angle, and
+ * for diffuse light: from slab_table.h (adding-doubling), interpolated;
+ * at most 1, the beam's at least the direct exp(-tau / mu0).  A thick
+ * cloud transmits like 1 / tau, and a low sun's beam less than a high
+ * one's (about (1 + 2 mu0) / 3 of it: the escape function), the diffuse
+ * light about 7/9 of an overhead sun's. */
+CS_HD double cs_slab_beam_transmittance(double tau, double mu0);
+CS_HD double cs_slab_diffuse_transmittance(double tau);
 
 /* Fills sc->deck from the scene's layers, sun and clear-sky ambient (call
  * after those are set); sets CS_FX_DECK when there are layers. */
