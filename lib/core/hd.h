@@ -4,9 +4,11 @@
  * The hot path (noise sampling, cloud density, phase functions, the light
  * march and the integrator's step) is written as CS_HD functions over plain
  * structs: no libc I/O, no allocation, no globals, no callbacks.  Tables it
- * reads are CS_CONST.  In C both annotations are empty; a CUDA build
- * (nvcc defines __CUDACC__) makes them host+device functions and constant
- * memory.  cs_real is the scalar of the hot path: double today, so CPU
+ * reads are CS_CONST, or CS_TABLE where threads read them at indices of
+ * their own (constant memory serves a warp one address at a time: a
+ * lookup table there is read in as many turns as the warp has indices).
+ * In C the annotations are empty; a CUDA build (nvcc defines __CUDACC__)
+ * makes them host+device functions, constant memory and device memory.  cs_real is the scalar of the hot path: double today, so CPU
  * renders stay bit for bit what they were; a GPU build may choose float,
  * which is why the code avoids the float traps (altitudes computed without
  * cancellation, wind offsets reduced modulo the noise period). */
@@ -16,9 +18,11 @@
 #if defined(__CUDACC__)
 #define CS_HD __host__ __device__
 #define CS_CONST __constant__
+#define CS_TABLE __device__
 #else
 #define CS_HD
 #define CS_CONST
+#define CS_TABLE
 #endif
 
 #ifndef CS_REAL_FLOAT

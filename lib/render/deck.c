@@ -47,13 +47,9 @@ CS_HD static double slab_extend(double t, double tau)
 	return tau > last ? t * (last + 12.6) / (tau + 12.6) : t;
 }
 
-CS_HD double cs_slab_beam_transmittance(double tau, double mu0)
+/* The beam's transmittance from table row k, fraction f. */
+CS_HD static double slab_beam(int k, double f, double tau, double mu0)
 {
-	if (!(tau > 0.0))
-		return 1.0;
-	int k;
-	double f;
-	slab_row(tau, &k, &f);
 	double y = mu0 / 0.05 - 1.0;
 	y = y < 0.0 ? 0.0 : y > CS_SLAB_NMU - 1 ? CS_SLAB_NMU - 1 : y;
 	int j = (int)y < CS_SLAB_NMU - 1 ? (int)y : CS_SLAB_NMU - 2;
@@ -66,6 +62,22 @@ CS_HD double cs_slab_beam_transmittance(double tau, double mu0)
 	return t > direct ? t : direct;
 }
 
+CS_HD static double slab_diffuse(int k, double f, double tau)
+{
+	double t = slab_extend(cs_slab_diffuse[k] + f * (cs_slab_diffuse[k + 1] - cs_slab_diffuse[k]), tau);
+	return t < 1.0 ? t : 1.0;
+}
+
+CS_HD double cs_slab_beam_transmittance(double tau, double mu0)
+{
+	if (!(tau > 0.0))
+		return 1.0;
+	int k;
+	double f;
+	slab_row(tau, &k, &f);
+	return slab_beam(k, f, tau, mu0);
+}
+
 CS_HD double cs_slab_diffuse_transmittance(double tau)
 {
 	if (!(tau > 0.0))
@@ -73,8 +85,20 @@ CS_HD double cs_slab_diffuse_transmittance(double tau)
 	int k;
 	double f;
 	slab_row(tau, &k, &f);
-	double t = slab_extend(cs_slab_diffuse[k] + f * (cs_slab_diffuse[k + 1] - cs_slab_diffuse[k]), tau);
-	return t < 1.0 ? t : 1.0;
+	return slab_diffuse(k, f, tau);
+}
+
+CS_HD void cs_slab_transmittances(double tau, double mu0, double *beam, double *diffuse)
+{
+	if (!(tau > 0.0)) {
+		*beam = *diffuse = 1.0;
+		return;
+	}
+	int k;
+	double f;
+	slab_row(tau, &k, &f);
+	*beam = slab_beam(k, f, tau, mu0);
+	*diffuse = slab_diffuse(k, f, tau);
 }
 
 /* The light on a horizontal plane under a column of optical depth tau:
@@ -88,7 +112,8 @@ CS_HD double cs_slab_diffuse_transmittance(double tau)
 static void under(const struct cs_deck *d, double tau, const double e_sun_h[3],
 		  const double e_sky[3], const double *albedo, double *beam, double dif[3])
 {
-	double T = cs_slab_beam_transmittance(tau, d->mu0), Td = cs_slab_diffuse_transmittance(tau);
+	double T, Td;
+	cs_slab_transmittances(tau, d->mu0, &T, &Td);
 	*beam = d->mu0 > 0.0 ? exp(-tau / d->mu0) : 0.0;
 	double scat = T - *beam > 0.0 ? T - *beam : 0.0;
 	for (int c = 0; c < 3; c++) {

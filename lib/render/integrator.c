@@ -241,7 +241,8 @@ CS_HD static void cloud_ambient(const struct cs_scene *sc, int li, double hb,
 			       sc->ambient_down[k] * (1.0 - hb) * 0.5;
 		return;
 	}
-	double T = cs_slab_beam_transmittance(tau, d->mu0), Td = cs_slab_diffuse_transmittance(tau);
+	double T, Td;
+	cs_slab_transmittances(tau, d->mu0, &T, &Td);
 	double beam = d->mu0 > 0.0 ? exp(-tau / d->mu0) : 0.0;
 	double scat = T - beam > 0.0 ? T - beam : 0.0;
 	double below = d->tau_in[li] - tau;

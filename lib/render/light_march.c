@@ -30,6 +30,16 @@ CS_HD int cs_shell_intervals(const struct cs_scene *sc, cs_v3 o, cs_v3 d,
 	return n;
 }
 
+/* r^n by squaring (n >= 1). */
+CS_HD static double pow_int(double r, int n)
+{
+	double x = 1.0;
+	for (; n > 0; n >>= 1, r *= r)
+		if (n & 1)
+			x *= r;
+	return x;
+}
+
 CS_HD double cs_extinction_at(const struct cs_scene *sc, unsigned mask, cs_v3 p,
 			      double alt, int *dominant)
 {
@@ -74,8 +84,10 @@ CS_HD double cs_light_depth(const struct cs_scene *sc,
 			/* geometric: the ratio and the first step */
 			double r = 1.0, q = len / (l->top_m - l->base_m);
 			if (s->light_march == CS_LIGHT_GEOMETRIC && q > 1.0 && steps > 1) {
-				r = pow(q, 2.0 / steps); /* so r^steps = q^2 */
-				dt = len * (r - 1.0) / (q * q - 1.0);
+				/* in float: a GPU's double pow is long, and any r
+				 * gives a sound rule (the steps still cover len) */
+				r = (double)powf((float)q, 2.0f / (float)steps);
+				dt = len * (r - 1.0) / (pow_int(r, steps) - 1.0);
 			}
 			double t0 = iv[k][0], g = dt;
 			for (int j = 0; j < steps; j++, t0 += g, g *= r) {

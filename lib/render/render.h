@@ -229,6 +229,8 @@ CS_HD void cs_scene_stars(const struct cs_scene *sc, cs_v3 d, double rgb[3]);
  * light about 7/9 of an overhead sun's. */
 CS_HD double cs_slab_beam_transmittance(double tau, double mu0);
 CS_HD double cs_slab_diffuse_transmittance(double tau);
+/* Both at once (one table row found). */
+CS_HD void cs_slab_transmittances(double tau, double mu0, double *beam, double *diffuse);
 
 /* Fills sc->deck from the scene's layers, sun and clear-sky ambient (call
  * after those are set); sets CS_FX_DECK when there are layers. */

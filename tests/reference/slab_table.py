@@ -44,10 +44,10 @@ def main():
     out.write("#ifndef CS_SLAB_TABLE_H\n#define CS_SLAB_TABLE_H\n\n#include \"core/hd.h\"\n\n")
     out.write("#define CS_SLAB_NTAU %d\n#define CS_SLAB_NMU %d\n#define CS_SLAB_TAU0 0.0625\n\n"
               % (len(TAUS), len(MUS)))
-    out.write("CS_CONST static const double cs_slab_beam[CS_SLAB_NTAU][CS_SLAB_NMU] = {\n")
+    out.write("CS_TABLE static const double cs_slab_beam[CS_SLAB_NTAU][CS_SLAB_NMU] = {\n")
     for tau, r in zip(TAUS, rows):
         out.write("\t{" + ", ".join("%.5f" % v for v in r) + "}, /* %.4g */\n" % tau)
-    out.write("};\n\nCS_CONST static const double cs_slab_diffuse[CS_SLAB_NTAU] = {\n")
+    out.write("};\n\nCS_TABLE static const double cs_slab_diffuse[CS_SLAB_NTAU] = {\n")
     for i in range(0, len(difs), 6):
         out.write("\t" + ", ".join("%.5f" % v for v in difs[i:i + 6]) + ",\n")
     out.write("};\n\n#endif\n")
