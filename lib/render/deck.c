@@ -30,7 +30,9 @@ enum {
  * row, 1 above the last (the caller extends those). */
 CS_HD static void slab_row(double tau, int *k, double *f)
 {
-	double x = 2.0 * log2(tau / CS_SLAB_TAU0);
+	/* in float: the position between rows needs no more, and a GPU's
+	 * double logarithm is long */
+	double x = 2.0 * (double)log2f((float)(tau / CS_SLAB_TAU0));
 	x = x < 0.0 ? 0.0 : x > CS_SLAB_NTAU - 1 ? CS_SLAB_NTAU - 1 : x;
 	int i = (int)x < CS_SLAB_NTAU - 1 ? (int)x : CS_SLAB_NTAU - 2;
 	*k = i, *f = x - i;

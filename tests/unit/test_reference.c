@@ -271,95 +271,92 @@ static void irradiance_under_a_slab(void)
 	CHECK_NEAR(dif, 0.2907918, 0.01);
 }
 
-/* Multiple scattering and sky light under a deck: a stratus of optical
- * depth 30 seen from below at noon, the march at "high" against the
+/* A view of w x h pixels from 2 m above the site (azimuth, elevation,
+ * field of view in degrees), rendered by the march at quality and by the
  * reference path tracer (an independent implementation of the transport:
- * delta tracking, no deck model, no octaves) in the mean luminance of a
- * small view up into it: within 10 % (the accuracy study measures -5 %). */
+ * delta tracking, no deck model, no octaves) with spp paths, the haze off
+ * (the reference has none): the ratio of their mean luminances, printed. */
+enum { CMP_MAX_PX = 16 * 9 };
+static double march_over_reference(const char *what, const struct cs_wx *wx,
+				   const struct cs_volume *noise, double az, double el, double fov,
+				   int w, int h, const char *quality, int spp)
+{
+	static struct cs_scene sc;
+	CHECK(w * h <= CMP_MAX_PX);
+	CHECK(cs_scene_build(&sc, wx, wx->time_utc, noise) == CS_OK);
+	sc.haze_beta0_per_m = 0.0;
+	struct cs_camera cam;
+	CHECK(cs_camera_init(&cam, &sc, v3(0, 0, wx->site.alt_m + 2.0), wx->site.lat_deg, az, el,
+			     fov, w, h) == CS_OK);
+	static float m[CMP_MAX_PX * 5], r[CMP_MAX_PX * 5];
+	struct cs_render_settings s;
+	CHECK(cs_render_quality(quality, &s) == CS_OK);
+	struct cs_reference_settings rs = {spp, 1, 0};
+	struct cs_render_stats st;
+	CHECK(cs_render_image(&sc, &cam, &s, 2, NULL, NULL, m, &st) == CS_OK);
+	CHECK(cs_render_reference(&sc, &cam, &rs, 2, NULL, NULL, r, NULL, &st) == CS_OK);
+	double ym = 0.0, yr = 0.0;
+	for (int i = 0; i < w * h; i++) {
+		ym += cs_luminance(m[i * 5], m[i * 5 + 1], m[i * 5 + 2]);
+		yr += cs_luminance(r[i * 5], r[i * 5 + 1], r[i * 5 + 2]);
+	}
+	printf("  %s: mean luminance: march (%s) %.4f, reference %.4f (%+.1f %%)\n", what, quality,
+	       ym / (w * h), yr / (w * h), 100.0 * (ym / yr - 1.0));
+	return ym / yr;
+}
+
+/* One cloud layer over the default site at time_utc, no rain. */
+static void one_layer(struct cs_wx *wx, const char *time_utc, enum cs_genus g, double cover,
+		      double base_m, double top_m, double visibility_m)
+{
+	cs_wx_default(wx);
+	CHECK(cs_time_parse(time_utc, &wx->time_utc) == CS_OK);
+	wx->nlayers = 1;
+	wx->layers[0].genus = g;
+	wx->layers[0].coverage = cover;
+	wx->layers[0].base_m = base_m, wx->layers[0].top_m = top_m;
+	wx->visibility_m = visibility_m;
+	wx->precipitation_mm_h = 0.0;
+}
+
+/* Multiple scattering and sky light under a deck: a stratus of optical
+ * depth 30 seen from below at noon, the march at "high", a small view up
+ * into it: within 10 % (the accuracy study measures -4 %; the slab
+ * transmittance without the sun's elevation and the ground's return was
+ * -1 % here by errors that cancelled: with the sun's elevation alone it is
+ * -8 %, with the ground's return too +1 %). */
 static void overcast_from_below_matches_the_reference(void)
 {
 	static struct cs_volume noise;
 	CHECK(cs_volume_new(&noise, 32, 32) == CS_OK && cs_volume_bake(&noise, 0, NULL, NULL) == CS_OK);
 	struct cs_wx wx;
-	cs_wx_default(&wx);
-	CHECK(cs_time_parse("2021-06-14T11:00:00Z", &wx.time_utc) == CS_OK);
-	wx.nlayers = 1;
-	wx.layers[0].genus = CS_STRATUS;
-	wx.layers[0].coverage = 1.0;
-	wx.layers[0].base_m = 700.0, wx.layers[0].top_m = 1100.0;
-	wx.visibility_m = 20000.0;
-	wx.precipitation_mm_h = 0.0;
-	static struct cs_scene sc;
-	CHECK(cs_scene_build(&sc, &wx, wx.time_utc, &noise) == CS_OK);
-	sc.haze_beta0_per_m = 0.0; /* the reference has no haze */
-	struct cs_camera cam;
-	CHECK(cs_camera_init(&cam, &sc, v3(0, 0, wx.site.alt_m + 2.0), wx.site.lat_deg, 150.0, 50.0,
-			     40.0, 8, 6) == CS_OK);
-	float m[8 * 6 * 5], r[8 * 6 * 5];
-	struct cs_render_settings hs;
-	cs_render_quality("high", &hs);
-	struct cs_reference_settings rs = {64, 1, 0};
-	struct cs_render_stats st;
-	CHECK(cs_render_image(&sc, &cam, &hs, 2, NULL, NULL, m, &st) == CS_OK);
-	CHECK(cs_render_reference(&sc, &cam, &rs, 2, NULL, NULL, r, NULL, &st) == CS_OK);
-	double ym = 0.0, yr = 0.0;
-	for (int i = 0; i < 8 * 6; i++) {
-		ym += cs_luminance(m[i * 5], m[i * 5 + 1], m[i * 5 + 2]);
-		yr += cs_luminance(r[i * 5], r[i * 5 + 1], r[i * 5 + 2]);
-	}
-	printf("  mean luminance: march %.4f, reference %.4f (%+.1f %%)\n", ym / 48, yr / 48,
-	       100.0 * (ym / yr - 1.0));
-	CHECK_NEAR(ym / yr, 1.0, 0.10);
+	one_layer(&wx, "2021-06-14T11:00:00Z", CS_STRATUS, 1.0, 700.0, 1100.0, 20000.0);
+	CHECK_NEAR(march_over_reference("overcast", &wx, &noise, 150.0, 50.0, 40.0, 8, 6, "high", 64),
+		   1.0, 0.10);
 	cs_volume_free(&noise);
 }
 
 /* Cumulus between the eye and a low sun (the silver lining, sun 7 deg up):
- * the default preset's march against the reference path tracer, mean
- * luminance of a small view toward the sun within 15 % (the accuracy
- * study: -5 %).  A light march of equal steps over the long path toward
- * a low sun (2 km each) steps over the cloud around the point and lights
- * it: +44 % in the study, and this test fails. */
+ * the default preset's march, a small view toward the sun, within 15 %
+ * (the accuracy study: -8 %).  A light march of equal steps over the long
+ * path toward a low sun (2 km each) steps over the cloud around the point
+ * and lights it: +44 % in the study, +29 % here, and this test fails. */
 static void silver_lining_matches_the_reference(void)
 {
 	static struct cs_volume noise;
 	CHECK(cs_volume_new(&noise, 32, 32) == CS_OK && cs_volume_bake(&noise, 0, NULL, NULL) == CS_OK);
 	struct cs_wx wx;
-	cs_wx_default(&wx);
-	CHECK(cs_time_parse("2021-06-14T18:20:00Z", &wx.time_utc) == CS_OK);
-	wx.nlayers = 1;
-	wx.layers[0].genus = CS_CUMULUS;
-	wx.layers[0].coverage = 0.4;
-	wx.layers[0].base_m = 1500.0, wx.layers[0].top_m = 2800.0;
-	wx.visibility_m = 40000.0;
-	wx.precipitation_mm_h = 0.0;
-	static struct cs_scene sc;
-	CHECK(cs_scene_build(&sc, &wx, wx.time_utc, &noise) == CS_OK);
-	sc.haze_beta0_per_m = 0.0; /* the reference has no haze */
-	struct cs_camera cam;
-	CHECK(cs_camera_init(&cam, &sc, v3(0, 0, wx.site.alt_m + 2.0), wx.site.lat_deg, 295.0, 6.0,
-			     60.0, 16, 9) == CS_OK);
-	float m[16 * 9 * 5], r[16 * 9 * 5];
-	struct cs_render_settings ms;
-	cs_render_quality("medium", &ms);
-	struct cs_reference_settings rs = {64, 1, 0};
-	struct cs_render_stats st;
-	CHECK(cs_render_image(&sc, &cam, &ms, 2, NULL, NULL, m, &st) == CS_OK);
-	CHECK(cs_render_reference(&sc, &cam, &rs, 2, NULL, NULL, r, NULL, &st) == CS_OK);
-	double ym = 0.0, yr = 0.0;
-	for (int i = 0; i < 16 * 9; i++) {
-		ym += cs_luminance(m[i * 5], m[i * 5 + 1], m[i * 5 + 2]);
-		yr += cs_luminance(r[i * 5], r[i * 5 + 1], r[i * 5 + 2]);
-	}
-	printf("  mean luminance: march %.4f, reference %.4f (%+.1f %%)\n", ym / 144, yr / 144,
-	       100.0 * (ym / yr - 1.0));
-	CHECK_NEAR(ym / yr, 1.0, 0.15);
+	one_layer(&wx, "2021-06-14T18:20:00Z", CS_CUMULUS, 0.4, 1500.0, 2800.0, 40000.0);
+	CHECK_NEAR(march_over_reference("silver lining", &wx, &noise, 295.0, 6.0, 60.0, 16, 9,
+					"medium", 64),
+		   1.0, 0.15);
 	cs_volume_free(&noise);
 }
 
 /* Fog of 300 m visibility at a low morning sun, looked through
  * horizontally: the march's fog light (the sun's beam through the fog
  * above, the field averaged with the ground's return) against the
- * reference path tracer, mean luminance within 10 % (measured +1 %). */
+ * reference path tracer, mean luminance within 10 % (measured +7 %). */
 static void fog_at_low_sun_matches_the_reference(void)
 {
 	struct cs_wx wx;
@@ -368,27 +365,9 @@ static void fog_at_low_sun_matches_the_reference(void)
 	wx.nlayers = 0;
 	wx.visibility_m = 300.0;
 	wx.precipitation_mm_h = 0.0;
-	static struct cs_scene sc;
-	CHECK(cs_scene_build(&sc, &wx, wx.time_utc, NULL) == CS_OK);
-	sc.haze_beta0_per_m = 0.0; /* the air above the fog: the reference has no haze */
-	struct cs_camera cam;
-	CHECK(cs_camera_init(&cam, &sc, v3(0, 0, wx.site.alt_m + 2.0), wx.site.lat_deg, 105.0, 10.0,
-			     30.0, 8, 4) == CS_OK);
-	float m[8 * 4 * 5], r[8 * 4 * 5];
-	struct cs_render_settings hs;
-	cs_render_quality("high", &hs);
-	struct cs_reference_settings rs = {256, 1, 0};
-	struct cs_render_stats st;
-	CHECK(cs_render_image(&sc, &cam, &hs, 2, NULL, NULL, m, &st) == CS_OK);
-	CHECK(cs_render_reference(&sc, &cam, &rs, 2, NULL, NULL, r, NULL, &st) == CS_OK);
-	double ym = 0.0, yr = 0.0;
-	for (int i = 0; i < 8 * 4; i++) {
-		ym += cs_luminance(m[i * 5], m[i * 5 + 1], m[i * 5 + 2]);
-		yr += cs_luminance(r[i * 5], r[i * 5 + 1], r[i * 5 + 2]);
-	}
-	printf("  fog: march %.4f, reference %.4f (%+.1f %%)\n", ym / 32, yr / 32,
-	       100.0 * (ym / yr - 1.0));
-	CHECK_NEAR(ym / yr, 1.0, 0.10);
+	/* the haze is off: the air above the fog, which the reference has not */
+	CHECK_NEAR(march_over_reference("fog", &wx, NULL, 105.0, 10.0, 30.0, 8, 4, "high", 256), 1.0,
+		   0.10);
 }
 
 static const struct t_case t_cases[] = {
