@@ -260,6 +260,7 @@ static void build_bound(struct cs_cloud_layer *l, const struct cs_volume *noise)
 	for (int j = 0; j < n; j++)
 		for (int i = 0; i < n; i++) {
 			float most = 0.0f;
+			int nan = 0;
 			for (double z = z0; z <= z1; z++) {
 				long iz = (long)(z - nz * floor(z / nz));
 				for (int y = j * k; y <= j * k + k; y++)
@@ -267,11 +268,12 @@ static void build_bound(struct cs_cloud_layer *l, const struct cs_volume *noise)
 						size_t at = (((size_t)iz * nx + (size_t)(y % nx)) * nx +
 							     (size_t)(x % nx)) * 4u;
 						float r = noise->data[at];
-						most = r <= most ? most : r; /* NaN sticks */
+						nan |= r != r;
+						most = r > most ? r : most;
 					}
 			}
 			/* 255: above 254/255 (or not a number), no bound */
-			double q = ceil((double)most * (1.0 + 1e-6) * 255.0);
+			double q = nan ? 255.0 : ceil((double)most * (1.0 + 1e-6) * 255.0);
 			l->bound[j * n + i] = (unsigned char)(!(q < 255.0) ? 255.0 : q < 0.0 ? 0.0 : q);
 		}
 	l->bound_n = n;

@@ -61,10 +61,10 @@ CS_HD double cs_extinction_at(const struct cs_scene *sc, unsigned mask, cs_v3 p,
  * capped at 20 km: beyond that a cloud is either opaque long before or too
  * thin to matter.  The steps are equal, or (quadratic) at
  * (k + 1/2)^2 / n^2 of the path, or (geometric) growing by a ratio r from
- * the point: for a path len more than q = len / (n s0) times the n steps
- * of s0 = the layer's thickness / n that a vertical path takes, r =
- * q^(2/n) (the first step about s0, finer for very long paths), else
- * equal; each sample at its step's middle, weighted by its length. */
+ * the point: for a path q = len / thickness times the layer's thickness
+ * (q > 1), r = q^(2/n), so that the first step is about the thickness / n
+ * that a vertical path takes (finer for very long paths), else equal;
+ * each sample at its step's middle, weighted by its length. */
 CS_HD double cs_light_depth(const struct cs_scene *sc,
 			    const struct cs_render_settings *s, cs_v3 p,
 			    unsigned mask, struct cs_render_stats *st)
