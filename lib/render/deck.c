@@ -209,9 +209,10 @@ void cs_scene_deck_light(struct cs_scene *sc)
 	}
 	for (int i = 0; i < n; i++) {
 		d->tau_in[i] = incloud[i] > 0 ? d->tau_in[i] / incloud[i] : 0.0;
-		int over_layer = 0;
+		int over_layer = 0, under_layer = 0;
 		for (int j = 0; j < n; j++)
-			over_layer |= above(sc, i, j);
+			over_layer |= above(sc, i, j), under_layer |= above(sc, j, i);
+		d->sky_through[i] = under_layer ? 0.0 : sc->w_forward * exp(-d->tau_in[i]);
 		double R = 1.0 - cs_slab_diffuse_transmittance(d->tau_in[i]);
 		for (int c = 0; c < 3; c++)
 			d->ground_gain[i][c] = over_layer ? 1.0 : 1.0 / (1.0 - sc->ground_albedo[c] * R);

@@ -148,6 +148,11 @@ struct cs_deck {
 	 * the cloud over and over, 1 / (1 - albedo (1 - Td(tau_in))); 1 for
 	 * layers over other layers */
 	double ground_gain[CS_SCENE_MAX_LAYERS][3];
+	/* of a layer under the open sky (none above it), the share of the
+	 * sky's light in it seen as the sky behind it along the ray: the
+	 * phase's forward weight times exp(-tau_in) (thin veils; 0 under
+	 * other layers) */
+	double sky_through[CS_SCENE_MAX_LAYERS];
 	/* the share of the clouds' phase function that takes light arriving
 	 * from below (travelling up) into a direction of travel whose vertical
 	 * component is -1 + 2 k / (CS_DECK_SHARES - 1) (k = 0..32) */
