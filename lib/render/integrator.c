@@ -29,8 +29,6 @@ struct path {
 	double H[3];     /* haze light so far, weighted by T where it arose */
 	double Hw[3];    /* the clear sky's haze light over the same stretches */
 	double F[3];     /* fog light so far, weighted by T */
-	int have_sky;    /* sky_d is computed (at the first sample that needs it) */
-	double sky_d[3]; /* the sky's radiance along the ray, behind the clouds */
 };
 
 /* The per-ray constants of the march. */
@@ -54,6 +52,7 @@ struct ray_ctx {
 	double below_share; /* of the diffuse light in the clouds that scatters
 			       toward the eye, the share from below */
 	int sky_on;        /* the ray looks up: the sky behind the clouds */
+	double sky_d[3];   /* the sky's radiance along the ray (behind them) */
 };
 
 /* deck.below_share at the ray's direction of travel toward the eye, whose
@@ -277,7 +276,7 @@ CS_HD static void cloud_ambient(const struct cs_scene *sc, int li, double hb,
  * multiple-scattering octaves (Wrenninge 2013: scattering a^k, extinction
  * b^k, eccentricity c^k, a = b = c = 0.5), and the diffuse light inside
  * layer li, the one with the most extinction at the sample. */
-CS_HD static void sample_source(const struct ray_ctx *c, struct path *P, cs_v3 p, double alt,
+CS_HD static void sample_source(const struct ray_ctx *c, cs_v3 p, double alt,
 				unsigned mask, int li, double ss, double S[3])
 {
 	const struct cs_scene *sc = c->sc;
@@ -315,14 +314,8 @@ CS_HD static void sample_source(const struct ray_ctx *c, struct path *P, cs_v3 p
 			tau_above = cs_cloud_column(l, sc->noise, p.x, p.y, alt, l->top_m, n);
 			c->st->light_samples += alt < l->top_m ? (uint64_t)n : 0u;
 		}
-		/* the sky behind, once a ray, where a thin veil first wants it */
-		int want = c->sky_on && sc->deck.sky_through[li] > 0.0;
-		if (want && !P->have_sky) {
-			cs_scene_sky(sc, c->d, P->sky_d);
-			P->have_sky = 1;
-		}
-		cloud_ambient(sc, li, hb, tau_above, tau_sun, c->below_share, want ? P->sky_d : NULL,
-			      A);
+		cloud_ambient(sc, li, hb, tau_above, tau_sun, c->below_share,
+			      c->sky_on ? c->sky_d : NULL, A);
 		for (int k = 0; k < 3; k++)
 			S[k] += ss * A[k];
 	}
@@ -430,7 +423,7 @@ CS_HD static void march_crossing(const struct ray_ctx *c, double t0, double t1,
 			P->depth = ts;
 		haze_to(c, P, t);
 		double S[3];
-		sample_source(c, P, p, alt, mask, amb, sc->albedo * sigma, S);
+		sample_source(c, p, alt, mask, amb, sc->albedo * sigma, S);
 		/* Energy-conserving step (Hillaire 2015): the source is
 		 * integrated against the transmittance over the step,
 		 * S (1 - exp(-sigma dt)) / sigma, not S dt (which the naive
@@ -518,10 +511,13 @@ CS_HD void cs_render_ray(const struct cs_scene *sc, const struct cs_render_setti
 	int n = gather_intervals(sc, o, d, isfinite(tg) ? tg : 1e7, iv);
 
 	struct ray_ctx c = {sc, s, o, d, jitter_u, {0.0}, {0.0}, st, 0, 0.0, 0.0,
-			    {0.0}, {0.0}, {0.0}, {0.0}, {0.0}, 1.0, 0.0, 0.0, 0};
+			    {0.0}, {0.0}, {0.0}, {0.0}, {0.0}, 1.0, 0.0, 0.0, 0, {0.0}};
 	if (sc->deck.on)
 		c.below_share = below_share(&sc->deck, -d.z);
-	c.sky_on = sc->deck.on && (sc->effects & CS_FX_SKY) && d.z > 0.0;
+	if (sc->deck.on && (sc->effects & CS_FX_SKY) && d.z > 0.0) {
+		c.sky_on = 1;
+		cs_scene_sky(sc, d, c.sky_d);
+	}
 	c.haze = (sc->effects & CS_FX_HAZE) &&
 		 (sc->haze_beta0_per_m > 0.0 || sc->fog_beta_per_m > 0.0);
 	if (c.haze) {
@@ -554,7 +550,7 @@ CS_HD void cs_render_ray(const struct cs_scene *sc, const struct cs_render_setti
 	for (int k = 0; k < 3 && (sc->effects & CS_FX_HALO); k++)
 		c.halo[k] = cs_phase_halo(cos_theta, k);
 	struct path P = {{0.0, 0.0, 0.0}, 1.0, 1.0, CS_SKY_DEPTH_M, 0, 1.0, 0.0, 0.0, 0.0,
-			 {0.0, 0.0, 0.0}, {0.0, 0.0, 0.0}, {0.0, 0.0, 0.0}, 0, {0.0, 0.0, 0.0}};
+			 {0.0, 0.0, 0.0}, {0.0, 0.0, 0.0}, {0.0, 0.0, 0.0}};
 	march_intervals(&c, iv, n, &P);
 	if (P.terminated)
 		st->rays_terminated_early++;
