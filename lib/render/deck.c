@@ -19,11 +19,9 @@ enum {
 	COL_STEPS = 24 /* samples through a layer in one column */
 };
 #define AREA_M 24000.0 /* side of the area: a forecast grid cell or two */
-/* Asymmetry of scattering by cloud droplets (r_eff ~ 10 um, visible light):
- * what diffusion through a thick cloud depends on.  The renderer's
- * two-lobe phase shapes the single-scattering look (silver linings); the
- * transport through a deck is the droplets'. */
-#define CS_CLOUD_G 0.85
+/* The transport through a deck is the droplets' (slab_table.h: asymmetry
+ * 0.85, r_eff ~ 10 um in visible light); the renderer's two-lobe phase
+ * shapes the single-scattering look (silver linings). */
 
 /* Where tau falls in slab_table.h's optical depths: row *k and the
  * fraction *f toward row k + 1 (linear in log tau); 0 below the first
@@ -45,8 +43,7 @@ CS_HD static double slab_extend(double t, double tau)
 {
 	if (tau < CS_SLAB_TAU0)
 		return 1.0 + (t - 1.0) * tau / CS_SLAB_TAU0;
-	double last = CS_SLAB_TAU0 * exp2(0.5 * (CS_SLAB_NTAU - 1));
-	return tau > last ? t * (last + 12.6) / (tau + 12.6) : t;
+	return tau > CS_SLAB_TAU_MAX ? t * (CS_SLAB_TAU_MAX + 12.6) / (tau + 12.6) : t;
 }
 
 /* The beam's transmittance from table row k, fraction f. */
@@ -163,7 +160,6 @@ void cs_scene_deck_light(struct cs_scene *sc)
 		return;
 	d->on = 1;
 	phase_shares(sc, d->below_share);
-	d->g = CS_CLOUD_G;
 	int sun = (sc->effects & CS_FX_KEY) && sc->sun_dir.z > 0.0;
 	d->mu0 = sun ? sc->sun_dir.z : 0.0;
 	double e_sun_h[3], e_sky[3];

@@ -254,15 +254,21 @@ CS_HD static void cloud_ambient(const struct cs_scene *sc, int li, double hb,
 	 * above, or the light march's depth as a vertical column (times mu0)
 	 * where that is less (light entering a cloud's sunlit side: the
 	 * cumulonimbus's side -30 % -> -24 % against the path tracer) */
-	double ts = tau_sun * d->mu0 < tau ? tau_sun * d->mu0 : tau;
+	double ts = d->mu0 > 0.0 && tau_sun * d->mu0 < tau ? tau_sun * d->mu0 : tau;
 	double T = cs_slab_beam_transmittance(ts, d->mu0), Td = cs_slab_diffuse_transmittance(tau);
 	double beam = d->mu0 > 0.0 ? exp(-ts / d->mu0) : 0.0;
 	double scat = T - beam > 0.0 ? T - beam : 0.0;
-	double below = d->tau_in[li] - tau;
-	double reach = cs_slab_diffuse_transmittance(below > 0.0 ? below : 0.0);
+	/* how much of the ground's return reaches the point (none to fetch
+	 * in a layer over another, whose gain is 1) */
+	const double *gg = d->ground_gain[li];
+	double reach = 0.0;
+	if (gg[0] > 1.0 || gg[1] > 1.0 || gg[2] > 1.0) {
+		double below = d->tau_in[li] - tau;
+		reach = cs_slab_diffuse_transmittance(below > 0.0 ? below : 0.0);
+	}
 	double f = sky_d != NULL ? d->sky_through[li] : 0.0;
 	for (int k = 0; k < 3; k++) {
-		double gain = 1.0 + (d->ground_gain[li][k] - 1.0) * reach;
+		double gain = 1.0 + (gg[k] - 1.0) * reach;
 		double skyl = d->dif_top[li][k] * Td / CS_PI;
 		if (f > 0.0)
 			skyl = (1.0 - f) * skyl + f * sky_d[k];

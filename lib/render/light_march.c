@@ -89,14 +89,17 @@ CS_HD double cs_light_depth(const struct cs_scene *sc,
 				r = (double)powf((float)q, 2.0f / (float)steps);
 				dt = len * (r - 1.0) / (pow_int(r, steps) - 1.0);
 			}
-			double t0 = iv[k][0], g = dt;
-			for (int j = 0; j < steps; j++, t0 += g, g *= r) {
-				double t = iv[k][0] + (j + 0.5) * dt, w = dt;
-				if (r > 1.0)
+			double t0 = iv[k][0], g = dt; /* geometric: the step's start, its length */
+			for (int j = 0; j < steps; j++) {
+				double t, w;
+				if (r > 1.0) {
 					t = t0 + 0.5 * g, w = g;
-				else if (s->light_march == CS_LIGHT_QUADRATIC) {
+					t0 += g, g *= r;
+				} else if (s->light_march == CS_LIGHT_QUADRATIC) {
 					t = iv[k][0] + len * (j + 0.5) * (j + 0.5) / n2;
 					w = len * (2 * j + 1) / n2;
+				} else {
+					t = iv[k][0] + (j + 0.5) * dt, w = dt;
 				}
 				cs_v3 q3 = v3_mad(p, sc->sun_dir, t);
 				tau += cs_cloud_extinction(l, sc->noise, q3.x, q3.y,

@@ -131,7 +131,6 @@ const char *cs_effect_name(unsigned bit);
  * area around the site: irradiances in klux, radiances in kcd/m^2. */
 struct cs_deck {
 	int on;                      /* 0: the clear-sky ambient everywhere */
-	double g;                    /* droplets' phase asymmetry (0.85) */
 	double mu0;                  /* sine of the sun's elevation (>= 0) */
 	double sky_below[3];         /* radiance of the diffuse light under all
 					layers (cosine mean; irradiance / pi) */

@@ -10,6 +10,7 @@
 #define CS_SLAB_NTAU 27
 #define CS_SLAB_NMU 20
 #define CS_SLAB_TAU0 0.0625
+#define CS_SLAB_TAU_MAX 512 /* the last row's depth */
 
 CS_TABLE static const double cs_slab_beam[CS_SLAB_NTAU][CS_SLAB_NMU] = {
 	{0.69534, 0.84120, 0.90608, 0.93959, 0.95870, 0.97044, 0.97804, 0.98318, 0.98679, 0.98941, 0.99135, 0.99283, 0.99398, 0.99488, 0.99561, 0.99620, 0.99668, 0.99708, 0.99742, 0.99770}, /* 0.0625 */

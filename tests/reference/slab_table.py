@@ -42,8 +42,9 @@ def main():
               " * for a beam at cosine 0.05 (j + 1), j = 0..%d, and for diffuse light. */\n"
               % (G, W, len(TAUS) - 1, len(MUS) - 1))
     out.write("#ifndef CS_SLAB_TABLE_H\n#define CS_SLAB_TABLE_H\n\n#include \"core/hd.h\"\n\n")
-    out.write("#define CS_SLAB_NTAU %d\n#define CS_SLAB_NMU %d\n#define CS_SLAB_TAU0 0.0625\n\n"
-              % (len(TAUS), len(MUS)))
+    out.write("#define CS_SLAB_NTAU %d\n#define CS_SLAB_NMU %d\n#define CS_SLAB_TAU0 0.0625\n"
+              "#define CS_SLAB_TAU_MAX %g /* the last row's depth */\n\n"
+              % (len(TAUS), len(MUS), TAUS[-1]))
     out.write("CS_TABLE static const double cs_slab_beam[CS_SLAB_NTAU][CS_SLAB_NMU] = {\n")
     for tau, r in zip(TAUS, rows):
         out.write("\t{" + ", ".join("%.5f" % v for v in r) + "}, /* %.4g */\n" % tau)

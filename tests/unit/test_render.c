@@ -600,6 +600,16 @@ static void overcast_ground_sees_the_transmitted_light(void)
 	trace(&sc, &s, v3(0.0, 0.0, 100.0), v3(0.0, 0.0, -1.0), &r);
 	for (int c = 0; c < 3; c++)
 		CHECK_NEAR(r.rgb[c], 0.2 * below[c], 0.1 * 0.2 * below[c]);
+	/* over snow (albedo 0.8) the series of reflections between ground and
+	 * base brightens the light under the deck by (1 - 0.2 R) / (1 - 0.8 R)
+	 * over the green case, R = 1 - 0.15 x 7/9: 2.8 times, within 5 % */
+	double green = sc.deck.sky_below[1], R = 1.0 - 0.15 * 7.0 / 9.0;
+	sc.ground_albedo[0] = sc.ground_albedo[1] = sc.ground_albedo[2] = 0.8;
+	cs_scene_deck_light(&sc);
+	double want = (1.0 - 0.2 * R) / (1.0 - 0.8 * R);
+	printf("  under the deck over snow: %.3f times the light over albedo 0.2 (closed form %.3f)\n",
+	       sc.deck.sky_below[1] / green, want);
+	CHECK_NEAR(sc.deck.sky_below[1] / green, want, 0.05 * want);
 }
 
 /* Koschmieder: in fog of visibility V a black object at distance V keeps
