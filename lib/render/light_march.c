@@ -85,9 +85,14 @@ CS_HD double cs_light_depth(const struct cs_scene *sc,
 			double r = 1.0, q = len / (l->top_m - l->base_m);
 			if (s->light_march == CS_LIGHT_GEOMETRIC && q > 1.0 && steps > 1) {
 				/* in float: a GPU's double pow is long, and any r
-				 * gives a sound rule (the steps still cover len) */
-				r = (double)powf((float)q, 2.0f / (float)steps);
-				dt = len * (r - 1.0) / (pow_int(r, steps) - 1.0);
+				 * gives a sound rule (the steps still cover len);
+				 * a path a hair longer than the thickness rounds
+				 * to r = 1 there: equal steps */
+				double rf = (double)powf((float)q, 2.0f / (float)steps);
+				if (rf > 1.0) {
+					r = rf;
+					dt = len * (r - 1.0) / (pow_int(r, steps) - 1.0);
+				}
 			}
 			double t0 = iv[k][0], g = dt; /* geometric: the step's start, its length */
 			for (int j = 0; j < steps; j++) {

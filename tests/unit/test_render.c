@@ -564,6 +564,37 @@ static void thick_slab_transmits_like_one_over_tau(void)
 	CHECK(cs_slab_beam_transmittance(0.5, 0.9) >= exp(-0.5 / 0.9));
 }
 
+/* The geometric light march toward a sun at every tilt from the zenith,
+ * through a homogeneous layer 1 km thick from 1 mm above its base: Beer's
+ * law over the slant path through the spherical shell, sqrt((R + top)^2 -
+ * (R + alt)^2 sin^2) - (R + alt) cos (the midpoint rule is exact for a
+ * constant); among the tilts those whose path is a hair longer than the
+ * layer's thickness (1 + 1e-12 .. 1 + 1e-6 times: a float ratio that
+ * rounded to 1 made it 0 / 0 once, a black pixel in fog). */
+static void light_march_toward_any_sun_is_beer_lambert(void)
+{
+	static struct cs_scene sc;
+	slab_scene(&sc, 0.01, 0.0, 1000.0, 2000.0);
+	sc.effects |= CS_FX_SUN;
+	struct cs_render_settings s;
+	CHECK(cs_render_quality("medium", &s) == CS_OK);
+	CHECK(s.light_march == CS_LIGHT_GEOMETRIC);
+	double tilts[12] = {0.0, 1e-3, 1e-2, 0.3, 0.8, 1.2};
+	static const double hair[6] = {1e-12, 1e-10, 1e-9, 3e-8, 1e-7, 1e-6};
+	for (int k = 0; k < 6; k++) /* slant path / thickness = 1 + hair */
+		tilts[6 + k] = acos(0.999999 / (1.0 + hair[k]));
+	double R = sc.earth_radius_m, a = R + 1000.001, b = R + 2000.0;
+	for (int k = 0; k < 12; k++) {
+		sc.sun_dir = v3(sin(tilts[k]), 0.0, cos(tilts[k]));
+		struct cs_render_stats st = {0};
+		double T = cs_render_sun_transmittance(&sc, &s, v3(0.0, 0.0, 1000.001), &st);
+		double sn = sin(tilts[k]), len = sqrt(b * b - a * a * sn * sn) - a * cos(tilts[k]);
+		double want = exp(-0.01 * len);
+		CHECK(isfinite(T));
+		CHECK_NEAR(T, want, 1e-6 * want);
+	}
+}
+
 /* Under a homogeneous overcast of optical depth 64 the diffuse light is
  * what the deck transmits of the sun and sky above it, grey, and the
  * ground shows it: the ground's radiance is albedo x that light / pi (the
@@ -1038,6 +1069,7 @@ static const struct t_case t_cases[] = {
 	CASE(precipitation_only_when_it_rains_or_snows),
 	CASE(black_object_at_the_visibility_keeps_two_percent_contrast),
 	CASE(fog_extinction_at_the_ground_is_koschmieder),
+	CASE(light_march_toward_any_sun_is_beer_lambert),
 	CASE(overcast_ground_sees_the_transmitted_light),
 	CASE(slab_single_scattering_matches_closed_form),
 	CASE(doubling_steps_halves_the_error),
