@@ -346,7 +346,7 @@ static void overcast_from_below_matches_the_reference(void)
 
 /* Cumulus between the eye and a low sun (the silver lining, sun 7 deg up):
  * the default preset's march, a small view toward the sun, within 15 %
- * (the accuracy study: -8 %).  A light march of equal steps over the long
+ * (the accuracy study: -6 %).  A light march of equal steps over the long
  * path toward a low sun (2 km each) steps over the cloud around the point
  * and lights it: +44 % in the study, +29 % here, and this test fails. */
 static void silver_lining_matches_the_reference(void)
