@@ -87,6 +87,12 @@ CS_HD double cs_slab_diffuse_transmittance(double tau)
 	return slab_diffuse(k, f, tau);
 }
 
+CS_HD double cs_slab_escape(double mu)
+{
+	mu = mu > 0.0 ? mu < 1.0 ? mu : 1.0 : 0.0;
+	return 3.0 / 7.0 * (1.0 + 2.0 * mu);
+}
+
 CS_HD void cs_slab_transmittances(double tau, double mu0, double *beam, double *diffuse)
 {
 	if (!(tau > 0.0)) {

@@ -53,6 +53,7 @@ struct ray_ctx {
 			       toward the eye, the share from below */
 	int sky_on;        /* the ray looks up: the sky behind the clouds */
 	double sky_d[3];   /* the sky's radiance along the ray (behind them) */
+	double eye_alt_m;  /* the eye's altitude */
 };
 
 /* deck.below_share at the ray's direction of travel toward the eye, whose
@@ -238,10 +239,14 @@ CS_HD static void march_rain(const struct ray_ctx *c, const struct interval *iv,
  * above holds the ground's return that the cloud reflects back down
  * (deck.ground_gain at the base), fading into the cloud as the diffuse
  * transmittance of the layer's column below the point (its mean in-cloud
- * depth less the depth above). */
+ * depth less the depth above).  The sun's diffuse light leaves the cloud
+ * toward the eye with the escape function's share for the angle it leaves
+ * at, escape (cs_slab_escape; 1 where the eye is inside the layer): seen
+ * from below at 12 degrees, fair cumulus against the path tracer went from
+ * +13 % to -5 %, terrain under broken stratocumulus from +23 % to +2 %. */
 CS_HD static void cloud_ambient(const struct cs_scene *sc, int li, double hb,
 				double tau, double tau_sun, double w_up, const double *sky_d,
-				double A[3])
+				double escape, double A[3])
 {
 	const struct cs_deck *d = &sc->deck;
 	if (!d->on) {
@@ -272,9 +277,30 @@ CS_HD static void cloud_ambient(const struct cs_scene *sc, int li, double hb,
 		double skyl = d->dif_top[li][k] * Td / CS_PI;
 		if (f > 0.0)
 			skyl = (1.0 - f) * skyl + f * sky_d[k];
-		A[k] = (1.0 - w_up) * (d->sun_top[li][k] * scat / CS_PI + skyl) * gain +
+		A[k] = (1.0 - w_up) * (d->sun_top[li][k] * scat * escape / CS_PI + skyl) * gain +
 		       w_up * d->ground_below[k] * (1.0 - hb);
 	}
+}
+
+/* The escape function's share (cs_slab_escape) of the diffuse light that
+ * leaves layer l toward the eye: through its base or top, at the ray's
+ * angle to the vertical, or through the walls of a cumulonimbus tower,
+ * whose visible half faces the eye at a mean cosine of pi/4 of the ray's
+ * horizontal part; 1 with the eye inside the layer, where the light of the
+ * points it sees has not yet reached a boundary (nearly isotropic there).
+ * The slab transmittance gives the mean over directions: without the
+ * factor, cloud bases seen 12 degrees up were 13 to 27 % too bright
+ * against the path tracer (those seen 40 degrees up within 5 %, then and
+ * now).  The sky's diffuse part keeps the mean: with the factor on it too,
+ * fair cumulus came out -11 % and terrain under broken cloud -16 %. */
+CS_HD static double escape_toward_eye(const struct ray_ctx *c, const struct cs_cloud_layer *l)
+{
+	if (c->eye_alt_m >= l->base_m && c->eye_alt_m <= l->top_m)
+		return 1.0;
+	double mu = fabs(c->d.z);
+	if (l->genus == CS_CUMULONIMBUS)
+		mu = 0.25 * CS_PI * sqrt(fmax(0.0, 1.0 - c->d.z * c->d.z));
+	return cs_slab_escape(mu);
 }
 
 /* The light scattered toward the eye per unit length at a cloud sample of
@@ -321,7 +347,7 @@ CS_HD static void sample_source(const struct ray_ctx *c, cs_v3 p, double alt,
 			c->st->light_samples += alt < l->top_m ? (uint64_t)n : 0u;
 		}
 		cloud_ambient(sc, li, hb, tau_above, tau_sun, c->below_share,
-			      c->sky_on ? c->sky_d : NULL, A);
+			      c->sky_on ? c->sky_d : NULL, escape_toward_eye(c, l), A);
 		for (int k = 0; k < 3; k++)
 			S[k] += ss * A[k];
 	}
@@ -517,7 +543,8 @@ CS_HD void cs_render_ray(const struct cs_scene *sc, const struct cs_render_setti
 	int n = gather_intervals(sc, o, d, isfinite(tg) ? tg : 1e7, iv);
 
 	struct ray_ctx c = {sc, s, o, d, jitter_u, {0.0}, {0.0}, st, 0, 0.0, 0.0,
-			    {0.0}, {0.0}, {0.0}, {0.0}, {0.0}, 1.0, 0.0, 0.0, 0, {0.0}};
+			    {0.0}, {0.0}, {0.0}, {0.0}, {0.0}, 1.0, 0.0, 0.0, 0, {0.0}, 0.0};
+	c.eye_alt_m = cs_scene_altitude(sc, o);
 	if (sc->deck.on)
 		c.below_share = below_share(&sc->deck, -d.z);
 	if (sc->deck.on && (sc->effects & CS_FX_SKY) && d.z > 0.0) {

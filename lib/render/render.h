@@ -235,6 +235,12 @@ CS_HD double cs_slab_beam_transmittance(double tau, double mu0);
 CS_HD double cs_slab_diffuse_transmittance(double tau);
 /* Both at once (one table row found). */
 CS_HD void cs_slab_transmittances(double tau, double mu0, double *beam, double *diffuse);
+/* The escape function of an optically thick cloud: the radiance of the
+ * diffuse light leaving its boundary at cosine mu to the normal, over the
+ * flux leaving / pi, K(mu) = 3/7 (1 + 2 mu) (Eddington; Chandrasekhar's
+ * exact sqrt(3)/4 H(mu) within 5 %): 3/7 along the surface, 9/7 along the
+ * normal, 1 on the mean (2 int K mu dmu = 1).  mu is clamped to [0, 1]. */
+CS_HD double cs_slab_escape(double mu);
 
 /* Fills sc->deck from the scene's layers, sun and clear-sky ambient (call
  * after those are set); sets CS_FX_DECK when there are layers. */
