@@ -559,27 +559,16 @@ CS_HD void cs_render_ray(const struct cs_scene *sc, const struct cs_render_setti
 		cs_haze_light(sc, d, c.hclear, c.hsun);
 		c.tsun = sc->deck.on ? sc->deck.direct_below : 1.0;
 		/* fog droplets are grey and their light diffuse: the radiance
-		 * of the light from above, the sun's beam and the dome.  Seen
-		 * from inside the fog it has the angular shape of the light
-		 * through the bottom of a thick layer: the escape function
-		 * K(mu) looking up (9/7 at the zenith, 3/7 along the ground),
-		 * falling linearly from 3/7 at the horizon to the ground's
-		 * albedo of it looking straight down (what comes back up from
-		 * the ground); seen from above the fog, the field averaged
-		 * with the ground's return, (1 + albedo) / 2 of it.  Against
-		 * the path tracer in fog at a low sun the flat average was 21 %
-		 * too dark at the zenith and 63 % too bright at the horizon
-		 * (relative MSE 0.072), the shape 4 % and 29 % too bright
-		 * (0.029); the light from above alone, without a shape, was
-		 * 1.9 times too bright. */
+		 * of the light from above, the sun's beam and the dome, in a
+		 * fog's nearly isotropic field averaged with what comes back up
+		 * from the ground (its albedo of it): (1 + albedo) / 2 of the
+		 * light from above (the reference integrator showed the fog
+		 * 1.9 times too bright with the light from above alone) */
 		double sun_h = (sc->effects & CS_FX_KEY) && sc->sun_dir.z > 0.0 ? sc->sun_dir.z : 0.0;
 		const double *dm = sc->deck.on ? sc->deck.sky_below : sc->ambient_up;
 		double wet = sc->ground_wet > 0.0 ? sc->ground_wet : 1.0;
 		for (int k = 0; k < 3; k++) {
-			double a = sc->ground_albedo[k] * wet, iso = 0.5 * (1.0 + a);
-			if (c.h0 < sc->fog_top_m)
-				iso = c.dz >= 0.0 ? cs_slab_escape(c.dz)
-						  : cs_slab_escape(0.0) + (cs_slab_escape(0.0) - a) * c.dz;
+			double iso = 0.5 * (1.0 + sc->ground_albedo[k] * wet);
 			c.hdome[k] = sc->deck.on ? dm[k] : c.hclear[k] - c.hsun[k];
 			c.fsun[k] = iso * sc->sun_illuminance[k] * sun_h / CS_PI;
 			c.fdome[k] = iso * dm[k];

@@ -724,9 +724,7 @@ static void overcast_ground_sees_the_transmitted_light(void)
 /* Koschmieder: in fog of visibility V a black object at distance V keeps
  * about 2 % of its contrast against the fog behind it (exp(-3.912)).
  * The camera stands 2 m up in fog 300 m deep; one ray meets black ground
- * 200 m away, the other runs the same way through the fog with the ground
- * taken away (the fog at infinity behind the object: the fog's light
- * changes with the direction, 4 % between 0.6 deg up and down). */
+ * 200 m away, the other runs just above the horizon through the fog. */
 static void black_object_at_the_visibility_keeps_two_percent_contrast(void)
 {
 	static struct cs_scene sc;
@@ -746,9 +744,7 @@ static void black_object_at_the_visibility_keeps_two_percent_contrast(void)
 	struct cs_ray_result obj, bg;
 	cs_v3 o = v3(0.0, 0.0, 2.0);
 	trace(&sc, &s, o, v3(sqrt(1.0 - 1e-4), 0.0, -0.01), &obj);
-	sc.effects &= ~(unsigned)CS_FX_GROUND;
-	trace(&sc, &s, o, v3(sqrt(1.0 - 1e-4), 0.0, -0.01), &bg);
-	sc.effects |= CS_FX_GROUND;
+	trace(&sc, &s, o, v3(sqrt(1.0 - 1e-4), 0.0, 0.01), &bg);
 	CHECK_NEAR(obj.depth_m, V, 0.5);
 	for (int k = 0; k < 3; k++) {
 		double contrast = 1.0 - obj.rgb[k] / bg.rgb[k];
