@@ -153,12 +153,13 @@ $(B)/lib/render/cuda/render_cuda.o: lib/render/cuda/render_cuda.cu
 	objcopy $(CUDA_API:%=-G %) $@.tmp $@
 	@rm -f $@.tmp
 # lib/render/cpu/kernel.c twice: -O3, no contraction (the same bits as the
-# library's objects), AVX2 in one; only the kernel's function kept global
+# library's objects), AVX2 in one; only the kernel's functions kept global
 $(KERNEL_OBJ): $(B)/lib/render/cpu/kernel_%.o: lib/render/cpu/kernel.c
 	@mkdir -p $(@D)
 	$(CC) $(ALL_CFLAGS) -O3 -ffp-contract=off $(if $(filter avx2,$*),-mavx2) \
-		-DCS_KERNEL=cs_kernel_rows_$* -MT $@ -MF $(@:.o=.d) -c $< -o $@.tmp
-	objcopy -G cs_kernel_rows_$* $@.tmp $@
+		-DCS_KERNEL=cs_kernel_rows_$* -DCS_KERNEL_EXTINCTION=cs_kernel_extinction_$* \
+		-MT $@ -MF $(@:.o=.d) -c $< -o $@.tmp
+	objcopy -G cs_kernel_rows_$* -G cs_kernel_extinction_$* $@.tmp $@
 	@rm -f $@.tmp
 $(B)/lib/render/cuda/device_none.o: ALL_CFLAGS += -DCS_CUDA_WHY='"$(CUDA_WHY)"'
 $(B)/tools/%.o: tools/%.c

@@ -47,18 +47,31 @@ static void render_rows(void *user, int task, int worker)
 	stats_add(&job->stats[worker].s, &st);
 }
 
-/* The per-pixel loop this CPU runs fastest (cpu/kernel.c: the same bits
- * either way); CLOUDSCAPE_KERNEL=base asks for the baseline one. */
-static cs_kernel_rows_fn *kernel_rows(void)
+/* Whether to run the AVX2 build of cpu/kernel.c (the same bits either
+ * way): on a CPU that has it, unless CLOUDSCAPE_KERNEL=base. */
+static int kernel_avx2(void)
 {
 	const char *want = getenv("CLOUDSCAPE_KERNEL");
 	if (want != NULL && strcmp(want, "base") == 0)
-		return cs_kernel_rows_base;
+		return 0;
 #if defined(__x86_64__) && defined(__GNUC__)
-	if (__builtin_cpu_supports("avx2"))
-		return cs_kernel_rows_avx2;
+	return __builtin_cpu_supports("avx2");
+#else
+	return 0;
 #endif
-	return cs_kernel_rows_base;
+}
+
+/* The per-pixel loop this CPU runs fastest. */
+static cs_kernel_rows_fn *kernel_rows(void)
+{
+	return kernel_avx2() ? cs_kernel_rows_avx2 : cs_kernel_rows_base;
+}
+
+void cs_render_extinction(const struct cs_cloud_layer *l, const struct cs_volume *noise, int n,
+			  const double *xyz, double *out)
+{
+	(kernel_avx2() ? cs_kernel_extinction_avx2 : cs_kernel_extinction_base)(l, noise, n, xyz,
+										 out);
 }
 
 int cs_render_image(const struct cs_scene *sc, const struct cs_camera *cam,

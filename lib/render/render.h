@@ -305,6 +305,14 @@ int cs_render_image(const struct cs_scene *sc, const struct cs_camera *cam,
 		    cs_progress_fn progress, void *user, float *out,
 		    struct cs_render_stats *stats);
 
+/* out[i] = cs_cloud_extinction(l, noise, xyz[3i], xyz[3i+1], xyz[3i+2])
+ * for i < n, computed by the same build of the per-pixel code that
+ * cs_render_image runs on this CPU (cpu/kernel.c: -O3, AVX2 where the CPU
+ * has it; the same bits as cs_cloud_extinction): what make bench's density
+ * figure measures. */
+void cs_render_extinction(const struct cs_cloud_layer *l, const struct cs_volume *noise, int n,
+			  const double *xyz, double *out);
+
 /* Altitude above sea level of a world point. */
 CS_HD double cs_scene_altitude(const struct cs_scene *sc, cs_v3 p);
 

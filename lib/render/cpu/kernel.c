@@ -10,7 +10,9 @@
  * two give the same bits as each other and as the library's own objects
  * (tests/tools/kernel.sh compares them).  Only CS_KERNEL stays global in
  * each object (objcopy -G): the copies of the included functions never
- * meet the library's at link time.  frame.c chooses at run time. */
+ * meet the library's at link time.  frame.c chooses at run time.  The
+ * second function, CS_KERNEL_EXTINCTION, is the density alone, for the
+ * benchmark of density evaluations (cs_render_extinction). */
 #include "render/cpu/kernel.h"
 #include "render/pixel.h"
 
@@ -28,8 +30,8 @@
 #include "render/water.c"
 #include "terrain/heightfield.c"
 
-#ifndef CS_KERNEL
-#error "CS_KERNEL names the function this build of kernel.c defines"
+#if !defined(CS_KERNEL) || !defined(CS_KERNEL_EXTINCTION)
+#error "CS_KERNEL and CS_KERNEL_EXTINCTION name the functions this build of kernel.c defines"
 #endif
 
 void CS_KERNEL(const struct cs_scene *sc, const struct cs_camera *cam,
@@ -39,4 +41,11 @@ void CS_KERNEL(const struct cs_scene *sc, const struct cs_camera *cam,
 	for (int j = r0; j < r1; j++)
 		for (int i = 0; i < cam->width; i++)
 			cs_render_pixel(sc, cam, s, i, j, st, out + ((size_t)j * cam->width + i) * 5);
+}
+
+void CS_KERNEL_EXTINCTION(const struct cs_cloud_layer *l, const struct cs_volume *noise, int n,
+			  const double *xyz, double *out)
+{
+	for (int i = 0; i < n; i++)
+		out[i] = cs_cloud_extinction(l, noise, xyz[3 * i], xyz[3 * i + 1], xyz[3 * i + 2]);
 }

@@ -11,7 +11,15 @@ typedef void cs_kernel_rows_fn(const struct cs_scene *sc, const struct cs_camera
 			       const struct cs_render_settings *s, int r0, int r1,
 			       struct cs_render_stats *st, float *out);
 
+/* out[i] = cs_cloud_extinction(l, noise, xyz[3i], xyz[3i+1], xyz[3i+2])
+ * for i < n, as the kernel's own copy computes it (make bench's density
+ * figure is of the code that renders). */
+typedef void cs_kernel_extinction_fn(const struct cs_cloud_layer *l,
+				     const struct cs_volume *noise, int n, const double *xyz,
+				     double *out);
+
 /* Baseline x86-64 (any 64-bit CPU), and AVX2: the same bits. */
 cs_kernel_rows_fn cs_kernel_rows_base, cs_kernel_rows_avx2;
+cs_kernel_extinction_fn cs_kernel_extinction_base, cs_kernel_extinction_avx2;
 
 #endif
