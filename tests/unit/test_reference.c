@@ -271,22 +271,22 @@ static void irradiance_under_a_slab(void)
 	CHECK_NEAR(dif, 0.2907918, 0.01);
 }
 
-/* A view of w x h pixels from 2 m above the site (azimuth, elevation,
+/* A view of w x h pixels from eye_m above the site (azimuth, elevation,
  * field of view in degrees), rendered by the march at quality and by the
  * reference path tracer (an independent implementation of the transport:
  * delta tracking, no deck model, no octaves) with spp paths, the haze off
  * (the reference has none): the ratio of their mean luminances, printed. */
 enum { CMP_MAX_PX = 16 * 9 };
 static double march_over_reference(const char *what, const struct cs_wx *wx,
-				   const struct cs_volume *noise, double az, double el, double fov,
-				   int w, int h, const char *quality, int spp)
+				   const struct cs_volume *noise, double eye_m, double az, double el,
+				   double fov, int w, int h, const char *quality, int spp)
 {
 	static struct cs_scene sc;
 	CHECK(w * h <= CMP_MAX_PX);
 	CHECK(cs_scene_build(&sc, wx, wx->time_utc, noise) == CS_OK);
 	sc.haze_beta0_per_m = 0.0;
 	struct cs_camera cam;
-	CHECK(cs_camera_init(&cam, &sc, v3(0, 0, wx->site.alt_m + 2.0), wx->site.lat_deg, az, el,
+	CHECK(cs_camera_init(&cam, &sc, v3(0, 0, wx->site.alt_m + eye_m), wx->site.lat_deg, az, el,
 			     fov, w, h) == CS_OK);
 	static float m[CMP_MAX_PX * 5], r[CMP_MAX_PX * 5];
 	struct cs_render_settings s;
@@ -332,8 +332,8 @@ static void one_layer(struct cs_wx *wx, const char *time_utc, enum cs_genus g, d
 
 /* Multiple scattering and sky light under a deck: a stratus of optical
  * depth 30 seen from below at noon, the march at "high", a small view up
- * into it (30 to 70 deg up): within 10 % (measured +6.0 %, the accuracy
- * study -6.6 %; the slab transmittance without the sun's elevation and
+ * into it (30 to 70 deg up): within 10 % (measured +6.4 %, the accuracy
+ * study -6.2 %; the slab transmittance without the sun's elevation and
  * the ground's return was -1 % here by errors that cancelled: with the
  * sun's elevation alone it was -8 %, with the ground's return too +1 %,
  * with the escape function toward a view that steep, +6 %). */
@@ -341,7 +341,7 @@ static void overcast_from_below_matches_the_reference(void)
 {
 	struct cs_wx wx;
 	one_layer(&wx, "2021-06-14T11:00:00Z", CS_STRATUS, 1.0, 700.0, 1100.0, 20000.0);
-	CHECK_NEAR(march_over_reference("overcast", &wx, noise32(), 150.0, 50.0, 40.0, 8, 6, "high", 64),
+	CHECK_NEAR(march_over_reference("overcast", &wx, noise32(), 2.0, 150.0, 50.0, 40.0, 8, 6, "high", 64),
 		   1.0, 0.10);
 }
 
@@ -354,7 +354,7 @@ static void silver_lining_matches_the_reference(void)
 {
 	struct cs_wx wx;
 	one_layer(&wx, "2021-06-14T18:20:00Z", CS_CUMULUS, 0.4, 1500.0, 2800.0, 40000.0);
-	CHECK_NEAR(march_over_reference("silver lining", &wx, noise32(), 295.0, 6.0, 60.0, 16, 9,
+	CHECK_NEAR(march_over_reference("silver lining", &wx, noise32(), 2.0, 295.0, 6.0, 60.0, 16, 9,
 					"medium", 64),
 		   1.0, 0.15);
 }
@@ -368,7 +368,7 @@ static void cirrus_at_dusk_matches_the_reference(void)
 {
 	struct cs_wx wx;
 	one_layer(&wx, "2021-06-14T19:20:00Z", CS_CIRRUS, 0.4, 8500.0, 9500.0, 40000.0);
-	CHECK_NEAR(march_over_reference("cirrus at dusk", &wx, noise32(), 300.0, 15.0, 70.0, 16, 9,
+	CHECK_NEAR(march_over_reference("cirrus at dusk", &wx, noise32(), 2.0, 300.0, 15.0, 70.0, 16, 9,
 					"medium", 64),
 		   1.0, 0.10);
 }
@@ -377,22 +377,40 @@ static void cirrus_at_dusk_matches_the_reference(void)
  * 19 deg up): the diffuse light leaving a cloud's base at a grazing angle
  * is dimmer than toward the zenith (the escape function, cs_slab_escape).
  * The march at "high" against the reference path tracer: the stratus
- * within 10 % (measured +2.1 %; with the slab's mean radiance in every
+ * within 10 % (measured +2.5 %; with the slab's mean radiance in every
  * direction instead, +41.7 %, and this test fails), the cumulus within
- * 15 % (-10.6 %; +12.5 % without; the accuracy study's fair cumulus went
- * from +13 % to -5 %). */
+ * 15 % (-6.5 %; +12.5 % without the escape function and the cloud's
+ * reflection from below; the accuracy study's fair cumulus went from +13 %
+ * to -2 %). */
 static void cloud_bases_toward_the_horizon_match_the_reference(void)
 {
 	struct cs_wx wx;
 	one_layer(&wx, "2021-06-14T11:00:00Z", CS_CUMULUS, 0.3, 1500.0, 2800.0, 40000.0);
 	one_layer(&wx, "2021-06-14T11:00:00Z", CS_STRATUS, 1.0, 700.0, 1100.0, 20000.0);
-	CHECK_NEAR(march_over_reference("stratus toward the horizon", &wx, noise32(), 150.0, 12.0,
+	CHECK_NEAR(march_over_reference("stratus toward the horizon", &wx, noise32(), 2.0, 150.0, 12.0,
 					24.0, 16, 9, "high", 64),
 		   1.0, 0.10);
 	one_layer(&wx, "2021-06-14T11:00:00Z", CS_CUMULUS, 0.3, 1500.0, 2800.0, 40000.0);
-	CHECK_NEAR(march_over_reference("cumulus toward the horizon", &wx, noise32(), 150.0, 12.0,
+	CHECK_NEAR(march_over_reference("cumulus toward the horizon", &wx, noise32(), 2.0, 150.0, 12.0,
 					24.0, 16, 9, "high", 64),
 		   1.0, 0.15);
+}
+
+/* From inside a stratocumulus deck (0.9 at 1000-1600 m, the eye at
+ * 1300 m) looking 10 deg down: what the eye sees is lit from below, by
+ * what the cloud under each point sends back up of the sun's light.  The
+ * march at "high" within 20 % of the reference path tracer (measured
+ * +12.5 %; without that reflection -34 %, and this test fails).  Looking
+ * 30 deg up from there the march is +27 % (+23 % without): the light from
+ * above inside a deck is too bright, which this does not check. */
+static void inside_a_deck_the_cloud_below_lights_it(void)
+{
+	struct cs_wx wx;
+	one_layer(&wx, "2021-06-14T11:00:00Z", CS_STRATOCUMULUS, 0.9, 1000.0, 1600.0, 40000.0);
+	CHECK_NEAR(march_over_reference("inside stratocumulus, 10 deg down", &wx, noise32(),
+					1300.0 - wx.site.alt_m, 150.0, -10.0, 40.0, 16, 9, "high",
+					256),
+		   1.0, 0.20);
 }
 
 /* Fog of 300 m visibility at a low morning sun, looked through
@@ -408,7 +426,7 @@ static void fog_at_low_sun_matches_the_reference(void)
 	wx.visibility_m = 300.0;
 	wx.precipitation_mm_h = 0.0;
 	/* the haze is off: the air above the fog, which the reference has not */
-	CHECK_NEAR(march_over_reference("fog", &wx, NULL, 105.0, 10.0, 30.0, 8, 4, "high", 256), 1.0,
+	CHECK_NEAR(march_over_reference("fog", &wx, NULL, 2.0, 105.0, 10.0, 30.0, 8, 4, "high", 256), 1.0,
 		   0.10);
 }
 
@@ -424,6 +442,7 @@ static const struct t_case t_cases[] = {
 	CASE(fog_at_low_sun_matches_the_reference),
 	CASE(silver_lining_matches_the_reference),
 	CASE(cloud_bases_toward_the_horizon_match_the_reference),
+	CASE(inside_a_deck_the_cloud_below_lights_it),
 	CASE(cirrus_at_dusk_matches_the_reference),
 };
 
