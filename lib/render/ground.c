@@ -219,10 +219,11 @@ CS_HD void cs_ground_light(const struct cs_scene *sc,
 	if (fog) {
 		double tau = sc->fog_beta_per_m * (sc->fog_top_m - alt);
 		fog_T = cs_slab_diffuse_transmittance(tau);
-		double beam = cs_fog_sun_transmittance(sc, alt);
-		double Tb = sc->sun_dir.z > 0.0 ? cs_slab_beam_transmittance(tau, sc->sun_dir.z) : 0.0;
-		if (up && Tb > beam)
-			fog_sun = sc->sun_dir.z * (Tb - beam) * Tc / CS_PI;
+		if (up) { /* of the beam that reaches the fog through the clouds */
+			double beam = cs_fog_sun_transmittance(sc, alt);
+			double Tb = cs_slab_beam_transmittance(tau, sc->sun_dir.z);
+			fog_sun = Tb > beam ? sc->sun_dir.z * (Tb - beam) * Tc / CS_PI : 0.0;
+		}
 	}
 	for (int k = 0; k < 3; k++)
 		rgb[k] = alb[k] * (sc->sun_illuminance[k] * (direct + fog_sun) +

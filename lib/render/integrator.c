@@ -54,6 +54,9 @@ struct ray_ctx {
 	int sky_on;        /* the ray looks up: the sky behind the clouds */
 	double sky_d[3];   /* the sky's radiance along the ray (behind them) */
 	double eye_alt_m;  /* the eye's altitude */
+	/* cs_slab_escape toward the eye through a layer's base or top, and
+	 * through a tower's walls (escape_toward_eye) */
+	double escape_sheet, escape_wall;
 };
 
 /* deck.below_share at the ray's direction of travel toward the eye, whose
@@ -280,7 +283,14 @@ CS_HD static void cloud_ambient(const struct cs_scene *sc, int li, double hb,
 	/* the cloud's own reflection from below: of the sun's light that
 	 * reaches the point (T), the column under it (the layer's mean
 	 * in-cloud depth times the relative height) sends back up
-	 * R = 1 - Td, light from below for the phase's share w_up */
+	 * R = 1 - Td, light from below for the phase's share w_up.  The
+	 * column under the point is estimated two ways here, measured
+	 * against the path tracer: the ground's return through the mean
+	 * depth less the local one above, the reflection from the mean
+	 * depth's share below; either one for both was worse (for both the
+	 * former: inside a deck +23 -> +30 %, the long view +5 -> +8 %; the
+	 * latter: terrain under broken cloud +4.8 -> +5.1 %, relative MSE up
+	 * on five scenes) */
 	double refl = T * (1.0 - cs_slab_diffuse_transmittance(d->tau_in[li] * hb));
 	double f = sky_d != NULL ? d->sky_through[li] : 0.0;
 	for (int k = 0; k < 3; k++) {
@@ -309,10 +319,7 @@ CS_HD static double escape_toward_eye(const struct ray_ctx *c, const struct cs_c
 {
 	if (c->eye_alt_m >= l->base_m && c->eye_alt_m <= l->top_m)
 		return 1.0;
-	double mu = fabs(c->d.z);
-	if (l->genus == CS_CUMULONIMBUS)
-		mu = 0.25 * CS_PI * sqrt(fmax(0.0, 1.0 - c->d.z * c->d.z));
-	return cs_slab_escape(mu);
+	return l->genus == CS_CUMULONIMBUS ? c->escape_wall : c->escape_sheet;
 }
 
 /* The light scattered toward the eye per unit length at a cloud sample of
@@ -555,8 +562,10 @@ CS_HD void cs_render_ray(const struct cs_scene *sc, const struct cs_render_setti
 	int n = gather_intervals(sc, o, d, isfinite(tg) ? tg : 1e7, iv);
 
 	struct ray_ctx c = {sc, s, o, d, jitter_u, {0.0}, {0.0}, st, 0, 0.0, 0.0,
-			    {0.0}, {0.0}, {0.0}, {0.0}, {0.0}, 1.0, 0.0, 0.0, 0, {0.0}, 0.0};
+			    {0.0}, {0.0}, {0.0}, {0.0}, {0.0}, 1.0, 0.0, 0.0, 0, {0.0}, 0.0, 1.0, 1.0};
 	c.eye_alt_m = cs_scene_altitude(sc, o);
+	c.escape_sheet = cs_slab_escape(fabs(d.z));
+	c.escape_wall = cs_slab_escape(0.25 * CS_PI * sqrt(fmax(0.0, 1.0 - d.z * d.z)));
 	if (sc->deck.on)
 		c.below_share = below_share(&sc->deck, -d.z);
 	if (sc->deck.on && (sc->effects & CS_FX_SKY) && d.z > 0.0) {
