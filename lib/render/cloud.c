@@ -1,6 +1,10 @@
 #include "render/cloud.h"
 #include "weather/genus_rules.h"
 
+#if defined(__AVX2__) && !defined(__CUDA_ARCH__)
+#include <immintrin.h>
+#endif
+
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -161,11 +165,22 @@ CS_HD static inline long floor_long(double x)
 	return i - (x < (double)i);
 }
 
-/* The extinction at coordinates along and across the wind (already moved
- * by it), at altitude alt_m and relative height h in [0, 1]. */
-CS_HD static double extinction_aw(const struct cs_cloud_layer *l,
-			    const struct cs_volume *noise, double along,
-			    double across, double alt_m, double h, double thr)
+/* A point of a layer on its way through the density (extinction_aw):
+ * its coordinates in base-noise tiles, its height profile and threshold,
+ * and what the detail lookup takes. */
+struct ext_point {
+	double u, v, w, prof, thr;
+	double along, across, alt_m;
+};
+
+/* The first part of the density at coordinates along and across the wind
+ * (already moved by it), at altitude alt_m and relative height h in
+ * [0, 1]: the base shape's lookup coordinates, the profile, the threshold
+ * (an anvil lowers it), and the coverage bound's verdict: 0 when the
+ * point has no cloud without a lookup, else 1 with *pt filled. */
+CS_HD static inline int ext_prepare(const struct cs_cloud_layer *l, const struct cs_volume *noise,
+				    double along, double across, double alt_m, double h,
+				    double thr, struct ext_point *pt)
 {
 	double u = along * l->inv_tile_along, v = across * l->inv_tile;
 	double w = alt_m * l->inv_tile_z;
@@ -174,6 +189,7 @@ CS_HD static double extinction_aw(const struct cs_cloud_layer *l,
 	/* an anvil spreads the top fifth: the threshold drops there */
 	if (l->anvil > 0.0 && h > 0.78)
 		thr -= l->anvil * 0.3 * smooth01((h - 0.78) / 0.1) * (1.0 - thr);
+	*pt = (struct ext_point){u, v, w, prof, thr, along, across, alt_m};
 	if (l->bound_n > 0 && w >= l->bound_w0 && w <= l->bound_w1 && fabs(u) < 0x1p30 &&
 	    fabs(v) < 0x1p30) {
 		/* the cell of the voxel the lookup's trilinear starts at */
@@ -182,20 +198,32 @@ CS_HD static double extinction_aw(const struct cs_cloud_layer *l,
 		unsigned m = (unsigned)l->bound_n - 1u;
 		double b = l->bound[((unsigned long)j & m) * (unsigned)l->bound_n + ((unsigned long)i & m)];
 		if (b < 255.0 && b * (1.0 / 255.0) * prof <= thr)
-			return 0.0;
+			return 0;
 	}
-	double shape = cs_volume_sample(noise, 0, u, v, w) * prof;
-	if (shape <= thr)
-		return 0.0;
-	/* d = (shape - thr) / (1 - thr): 0 at the edge, 1 at the core.
-	 * Erosion by the detail fBm carves the edge into billows: the cloud's
-	 * surface is where d equals the local erosion e, not where d is 0,
-	 * and the density (d - e) / (1 - e) then rises over a band of width
-	 * edge: narrow for sharp-edged heaps, wide for veils.  One division,
-	 * and none where the erosion leaves nothing. */
+	return 1;
+}
+
+/* The base shape at a prepared point (the noise's channel R times the
+ * profile). */
+CS_HD static inline double ext_shape(const struct cs_volume *noise, const struct ext_point *pt)
+{
+	return cs_volume_sample(noise, 0, pt->u, pt->v, pt->w) * pt->prof;
+}
+
+/* The extinction at a prepared point whose shape is above its threshold.
+ * d = (shape - thr) / (1 - thr): 0 at the edge, 1 at the core.  Erosion
+ * by the detail fBm carves the edge into billows: the cloud's surface is
+ * where d equals the local erosion e, not where d is 0, and the density
+ * (d - e) / (1 - e) then rises over a band of width edge: narrow for
+ * sharp-edged heaps, wide for veils.  One division, and none where the
+ * erosion leaves nothing. */
+CS_HD static inline double ext_finish(const struct cs_cloud_layer *l, const struct cs_volume *noise,
+				      const struct ext_point *pt, double shape)
+{
+	double thr = pt->thr;
 	float g[4];
-	cs_volume_sample4(noise, along * l->inv_detail_along, across * l->inv_detail,
-			  alt_m * l->inv_detail, g);
+	cs_volume_sample4(noise, pt->along * l->inv_detail_along, pt->across * l->inv_detail,
+			  pt->alt_m * l->inv_detail, g);
 	double detail = 0.625 * g[1] + 0.25 * g[2] + 0.125 * g[3];
 	double e = l->erosion * detail;
 	double num = (shape - thr) - e * (1.0 - thr);
@@ -204,6 +232,38 @@ CS_HD static double extinction_aw(const struct cs_cloud_layer *l,
 	double d = num / ((1.0 - thr) * (1.0 - e + 1e-9) * l->edge);
 	d = d < 1.0 ? d : 1.0;
 	return d * l->extinction_per_m;
+}
+
+/* The extinction at coordinates along and across the wind (already moved
+ * by it), at altitude alt_m and relative height h in [0, 1]. */
+CS_HD static double extinction_aw(const struct cs_cloud_layer *l,
+			    const struct cs_volume *noise, double along,
+			    double across, double alt_m, double h, double thr)
+{
+	struct ext_point pt;
+	if (!ext_prepare(l, noise, along, across, alt_m, h, thr, &pt))
+		return 0.0;
+	double shape = ext_shape(noise, &pt);
+	if (shape <= pt.thr)
+		return 0.0;
+	return ext_finish(l, noise, &pt, shape);
+}
+
+/* The threshold of layer l at (x, y) into *thr: 0 where its site has no
+ * weight (no cloud there), else 1. */
+CS_HD static inline int site_threshold(const struct cs_cloud_layer *l, double x, double y,
+				       double *thr)
+{
+	*thr = l->threshold;
+	if (l->nfar > 0) { /* blended with other sites: the coverage here */
+		double w = cs_cloud_site_weight(l, x, y) * CS_BLEND_LEVELS;
+		if (w <= 0.0)
+			return 0;
+		int k = (int)w;
+		*thr = k >= CS_BLEND_LEVELS ? l->thr_table[CS_BLEND_LEVELS]
+					    : l->thr_table[k] + (w - k) * (l->thr_table[k + 1] - l->thr_table[k]);
+	}
+	return 1;
 }
 
 CS_HD double cs_cloud_extinction(const struct cs_cloud_layer *l,
@@ -220,19 +280,294 @@ CS_HD double cs_cloud_extinction(const struct cs_cloud_layer *l,
 			return 0.0;
 		return fmax(0.0, l->homog_a + l->homog_b * h);
 	}
-	double thr = l->threshold;
-	if (l->nfar > 0) { /* blended with other sites: the coverage here */
-		double w = cs_cloud_site_weight(l, x, y) * CS_BLEND_LEVELS;
-		if (w <= 0.0)
-			return 0.0;
-		int k = (int)w;
-		thr = k >= CS_BLEND_LEVELS ? l->thr_table[CS_BLEND_LEVELS]
-					   : l->thr_table[k] + (w - k) * (l->thr_table[k + 1] - l->thr_table[k]);
-	}
+	double thr;
+	if (!site_threshold(l, x, y, &thr))
+		return 0.0;
 	/* coordinates along and across the wind, moved by it */
 	double along = x * l->wind_x + y * l->wind_y - l->offset_along_m;
 	double across = -x * l->wind_y + y * l->wind_x - l->offset_across_m;
 	return extinction_aw(l, noise, along, across, alt_m, h, thr);
+}
+
+#if defined(__AVX2__) && !defined(__CUDA_ARCH__)
+/* Four points at a time with AVX2, for the kernel build that has it:
+ * every operation of ext_prepare and ext_shape, lane by lane, in the same
+ * order and rounding (no fused multiply-adds: -ffp-contract=off), so each
+ * lane has the bits of the scalar code.  The points whose base shape is
+ * above the threshold are finished one by one (ext_finish). */
+
+/* The low 32 bits of the integers in f (whole numbers below 2^51 in
+ * size): f + 1.5 2^52 is exact and holds 2^51 + f in its fraction, whose
+ * low bits are f's, two's complement. */
+static inline __m128i low32(__m256d f)
+{
+	__m256i b = _mm256_castpd_si256(_mm256_add_pd(f, _mm256_set1_pd(0x1.8p52)));
+	b = _mm256_permutevar8x32_epi32(b, _mm256_setr_epi32(0, 2, 4, 6, 0, 2, 4, 6));
+	return _mm256_castsi256_si128(b);
+}
+
+/* smooth01 lane by lane */
+static inline __m256d smooth01_4(__m256d x)
+{
+	__m256d zero = _mm256_setzero_pd(), one = _mm256_set1_pd(1.0);
+	x = _mm256_blendv_pd(x, zero, _mm256_cmp_pd(x, zero, _CMP_LT_OQ));
+	x = _mm256_blendv_pd(x, one, _mm256_cmp_pd(x, one, _CMP_GT_OQ));
+	return _mm256_mul_pd(_mm256_mul_pd(x, x),
+			     _mm256_sub_pd(_mm256_set1_pd(3.0), _mm256_mul_pd(_mm256_set1_pd(2.0), x)));
+}
+
+/* The eight voxels around lanes' voxel coordinates g (u nx - 0.5 ...)
+ * and the trilinear weights, as volume.c's corners() (power-of-two sizes,
+ * at most 2^31 floats): float offsets of channel 0, by bit 0 = +x, 1 =
+ * +y, 2 = +z. */
+struct corners4 {
+	__m128i off[8];
+	__m128 tx, ty, tz;
+};
+
+static inline void corners4(const struct cs_volume *v, __m256d gx, __m256d gy, __m256d gz,
+			    struct corners4 *c)
+{
+	__m256d fx = _mm256_floor_pd(gx), fy = _mm256_floor_pd(gy), fz = _mm256_floor_pd(gz);
+	c->tx = _mm256_cvtpd_ps(_mm256_sub_pd(gx, fx));
+	c->ty = _mm256_cvtpd_ps(_mm256_sub_pd(gy, fy));
+	c->tz = _mm256_cvtpd_ps(_mm256_sub_pd(gz, fz));
+	__m128i mx = _mm_set1_epi32(v->nx - 1), my = _mm_set1_epi32(v->ny - 1),
+		mz = _mm_set1_epi32(v->nz - 1), one = _mm_set1_epi32(1);
+	__m128i x0 = _mm_and_si128(low32(fx), mx), x1 = _mm_and_si128(_mm_add_epi32(x0, one), mx);
+	__m128i y0 = _mm_and_si128(low32(fy), my), y1 = _mm_and_si128(_mm_add_epi32(y0, one), my);
+	__m128i z0 = _mm_and_si128(low32(fz), mz), z1 = _mm_and_si128(_mm_add_epi32(z0, one), mz);
+	__m128i sy = _mm_set1_epi32(v->nx), sz = _mm_set1_epi32(v->nx * v->ny);
+	y0 = _mm_mullo_epi32(y0, sy), y1 = _mm_mullo_epi32(y1, sy);
+	z0 = _mm_mullo_epi32(z0, sz), z1 = _mm_mullo_epi32(z1, sz);
+	__m128i zy[4] = {_mm_add_epi32(z0, y0), _mm_add_epi32(z0, y1), _mm_add_epi32(z1, y0),
+			 _mm_add_epi32(z1, y1)};
+	for (int k = 0; k < 8; k++)
+		c->off[k] = _mm_slli_epi32(_mm_add_epi32(zy[k >> 1], k & 1 ? x1 : x0), 2);
+}
+
+/* volume.c's trilinear() of channel 0 (the base shape) at the lanes'
+ * corners */
+static inline __m128 trilinear4_r(const struct cs_volume *v, const struct corners4 *c)
+{
+	const float *d = v->data;
+	__m128 q[8];
+	for (int k = 0; k < 8; k++) {
+		int o[4];
+		_mm_storeu_si128((__m128i *)o, c->off[k]);
+		q[k] = _mm_setr_ps(d[o[0]], d[o[1]], d[o[2]], d[o[3]]);
+	}
+	__m128 c00 = _mm_add_ps(q[0], _mm_mul_ps(c->tx, _mm_sub_ps(q[1], q[0])));
+	__m128 c10 = _mm_add_ps(q[2], _mm_mul_ps(c->tx, _mm_sub_ps(q[3], q[2])));
+	__m128 c01 = _mm_add_ps(q[4], _mm_mul_ps(c->tx, _mm_sub_ps(q[5], q[4])));
+	__m128 c11 = _mm_add_ps(q[6], _mm_mul_ps(c->tx, _mm_sub_ps(q[7], q[6])));
+	__m128 c0 = _mm_add_ps(c00, _mm_mul_ps(c->ty, _mm_sub_ps(c10, c00)));
+	__m128 c1 = _mm_add_ps(c01, _mm_mul_ps(c->ty, _mm_sub_ps(c11, c01)));
+	return _mm_add_ps(c0, _mm_mul_ps(c->tz, _mm_sub_ps(c1, c0)));
+}
+
+/* volume.c's trilinear() of channels 1, 2 and 3 (the detail) at the
+ * lanes' corners: each voxel's four channels in one load, turned into
+ * channels across lanes (fewer loads than a gather a channel) */
+static inline void trilinear4_gba(const struct cs_volume *v, const struct corners4 *c,
+				  __m128 g[3])
+{
+	const float *d = v->data;
+	__m128 q[3][8];
+	for (int k = 0; k < 8; k++) {
+		int o[4];
+		_mm_storeu_si128((__m128i *)o, c->off[k]);
+		__m128 r0 = _mm_loadu_ps(d + o[0]), r1 = _mm_loadu_ps(d + o[1]);
+		__m128 r2 = _mm_loadu_ps(d + o[2]), r3 = _mm_loadu_ps(d + o[3]);
+		_MM_TRANSPOSE4_PS(r0, r1, r2, r3);
+		q[0][k] = r1, q[1][k] = r2, q[2][k] = r3;
+	}
+	for (int ch = 0; ch < 3; ch++) {
+		const __m128 *p = q[ch];
+		__m128 c00 = _mm_add_ps(p[0], _mm_mul_ps(c->tx, _mm_sub_ps(p[1], p[0])));
+		__m128 c10 = _mm_add_ps(p[2], _mm_mul_ps(c->tx, _mm_sub_ps(p[3], p[2])));
+		__m128 c01 = _mm_add_ps(p[4], _mm_mul_ps(c->tx, _mm_sub_ps(p[5], p[4])));
+		__m128 c11 = _mm_add_ps(p[6], _mm_mul_ps(c->tx, _mm_sub_ps(p[7], p[6])));
+		__m128 c0 = _mm_add_ps(c00, _mm_mul_ps(c->ty, _mm_sub_ps(c10, c00)));
+		__m128 c1 = _mm_add_ps(c01, _mm_mul_ps(c->ty, _mm_sub_ps(c11, c01)));
+		g[ch] = _mm_add_ps(c0, _mm_mul_ps(c->tz, _mm_sub_ps(c1, c0)));
+	}
+}
+
+/* A mask of the lanes whose three coordinates are below 2^40 in size
+ * (volume.c's reduce: beyond, its fmod) */
+static inline int small4(__m256d u, __m256d v, __m256d w)
+{
+	__m256d big = _mm256_set1_pd(0x1p40), sign = _mm256_set1_pd(-0.0);
+	__m256d in = _mm256_and_pd(_mm256_cmp_pd(_mm256_andnot_pd(sign, u), big, _CMP_LT_OQ),
+				   _mm256_cmp_pd(_mm256_andnot_pd(sign, v), big, _CMP_LT_OQ));
+	in = _mm256_and_pd(in, _mm256_cmp_pd(_mm256_andnot_pd(sign, w), big, _CMP_LT_OQ));
+	return _mm256_movemask_pd(in);
+}
+
+/* all ones in the lanes of mask, zero in the others */
+static inline __m256d lanes4(int mask)
+{
+	return _mm256_castsi256_pd(_mm256_setr_epi64x(mask & 1 ? -1 : 0, mask & 2 ? -1 : 0,
+						      mask & 4 ? -1 : 0, mask & 8 ? -1 : 0));
+}
+
+/* Whether the lanes' fast path applies to this layer and volume at all. */
+static int batch4_ok(const struct cs_cloud_layer *l, const struct cs_volume *v)
+{
+	int nx = v->nx, ny = v->ny, nz = v->nz;
+	return l->kind == CS_LAYER_CLOUD && l->nfar == 0 && v->data != NULL &&
+	       (nx & (nx - 1)) == 0 && (ny & (ny - 1)) == 0 && (nz & (nz - 1)) == 0 &&
+	       (double)nx * ny * nz * 4.0 < 0x1p31;
+}
+
+/* Points i0 .. i0 + 3 of the batch: out[] for each, 0 or the density. */
+static void extinction4(const struct cs_cloud_layer *l, const struct cs_volume *noise,
+			const double *x, const double *y, const double *alt_m, double *out)
+{
+	__m256d X = _mm256_loadu_pd(x), Y = _mm256_loadu_pd(y), A = _mm256_loadu_pd(alt_m);
+	__m256d zero = _mm256_setzero_pd(), one = _mm256_set1_pd(1.0);
+	__m256d H = _mm256_div_pd(_mm256_sub_pd(A, _mm256_set1_pd(l->base_m)),
+				  _mm256_set1_pd(l->top_m - l->base_m));
+	__m256d live = _mm256_and_pd(_mm256_cmp_pd(H, zero, _CMP_GE_OQ),
+				     _mm256_cmp_pd(H, one, _CMP_LE_OQ));
+	__m256d thr = _mm256_set1_pd(l->threshold);
+	__m256d wx = _mm256_set1_pd(l->wind_x), wy = _mm256_set1_pd(l->wind_y);
+	__m256d along = _mm256_sub_pd(_mm256_add_pd(_mm256_mul_pd(X, wx), _mm256_mul_pd(Y, wy)),
+				      _mm256_set1_pd(l->offset_along_m));
+	__m256d negx = _mm256_xor_pd(X, _mm256_set1_pd(-0.0));
+	__m256d across = _mm256_sub_pd(_mm256_add_pd(_mm256_mul_pd(negx, wy), _mm256_mul_pd(Y, wx)),
+				       _mm256_set1_pd(l->offset_across_m));
+	__m256d U = _mm256_mul_pd(along, _mm256_set1_pd(l->inv_tile_along));
+	__m256d V = _mm256_mul_pd(across, _mm256_set1_pd(l->inv_tile));
+	__m256d W = _mm256_mul_pd(A, _mm256_set1_pd(l->inv_tile_z));
+	/* the profile */
+	__m256d up = one, down = one;
+	if (l->ramp_inv[0] > 0.0)
+		up = smooth01_4(_mm256_mul_pd(_mm256_sub_pd(H, _mm256_set1_pd(l->ramp[0])),
+					      _mm256_set1_pd(l->ramp_inv[0])));
+	if (l->ramp_inv[1] > 0.0)
+		down = _mm256_sub_pd(one, smooth01_4(_mm256_mul_pd(
+						  _mm256_sub_pd(H, _mm256_set1_pd(l->ramp[2])),
+						  _mm256_set1_pd(l->ramp_inv[1]))));
+	__m256d prof = _mm256_mul_pd(up, down);
+	if (l->anvil > 0.0) {
+		__m256d s = smooth01_4(_mm256_div_pd(_mm256_sub_pd(H, _mm256_set1_pd(0.78)),
+						     _mm256_set1_pd(0.1)));
+		__m256d t = _mm256_sub_pd(thr, _mm256_mul_pd(_mm256_mul_pd(_mm256_set1_pd(l->anvil * 0.3), s),
+							     _mm256_sub_pd(one, thr)));
+		thr = _mm256_blendv_pd(thr, t, _mm256_cmp_pd(H, _mm256_set1_pd(0.78), _CMP_GT_OQ));
+	}
+	__m256d nx = _mm256_set1_pd((double)noise->nx), half = _mm256_set1_pd(0.5);
+	__m256d gx = _mm256_sub_pd(_mm256_mul_pd(U, nx), half);
+	__m256d gy = _mm256_sub_pd(_mm256_mul_pd(V, _mm256_set1_pd((double)noise->ny)), half);
+	if (l->bound_n > 0) {
+		__m256d lim = _mm256_set1_pd(0x1p30), sign = _mm256_set1_pd(-0.0);
+		__m256d in = _mm256_and_pd(_mm256_cmp_pd(W, _mm256_set1_pd(l->bound_w0), _CMP_GE_OQ),
+					   _mm256_cmp_pd(W, _mm256_set1_pd(l->bound_w1), _CMP_LE_OQ));
+		in = _mm256_and_pd(in, _mm256_cmp_pd(_mm256_andnot_pd(sign, U), lim, _CMP_LT_OQ));
+		in = _mm256_and_pd(in, _mm256_cmp_pd(_mm256_andnot_pd(sign, V), lim, _CMP_LT_OQ));
+		__m128i m = _mm_set1_epi32(l->bound_n - 1), sh = _mm_cvtsi32_si128(l->bound_shift);
+		__m128i ci = _mm_and_si128(_mm_srl_epi32(low32(_mm256_floor_pd(gx)), sh), m);
+		__m128i cj = _mm_and_si128(_mm_srl_epi32(low32(_mm256_floor_pd(gy)), sh), m);
+		__m128i cell = _mm_add_epi32(_mm_mullo_epi32(cj, _mm_set1_epi32(l->bound_n)), ci);
+		int c[4];
+		_mm_storeu_si128((__m128i *)c, cell);
+		__m256d b = _mm256_setr_pd(l->bound[c[0]], l->bound[c[1]], l->bound[c[2]], l->bound[c[3]]);
+		__m256d empty = _mm256_and_pd(
+			_mm256_cmp_pd(b, _mm256_set1_pd(255.0), _CMP_LT_OQ),
+			_mm256_cmp_pd(_mm256_mul_pd(_mm256_mul_pd(b, _mm256_set1_pd(1.0 / 255.0)), prof),
+				      thr, _CMP_LE_OQ));
+		live = _mm256_andnot_pd(_mm256_and_pd(in, empty), live);
+	}
+	int lanes = _mm256_movemask_pd(live);
+	_mm256_storeu_pd(out, zero);
+	if (lanes == 0)
+		return;
+	__m256d half4 = _mm256_set1_pd(0.5);
+	/* the lanes in play within the lookup's own limit (the rare other
+	 * lane the scalar way); lanes not in play look up voxel 0 harmlessly */
+	int fast = small4(U, V, W) & lanes;
+	__m256d keep = lanes4(fast);
+	__m256d gz = _mm256_sub_pd(_mm256_mul_pd(W, _mm256_set1_pd((double)noise->nz)), half4);
+	struct corners4 cb;
+	corners4(noise, _mm256_and_pd(gx, keep), _mm256_and_pd(gy, keep), _mm256_and_pd(gz, keep),
+		 &cb);
+	__m256d shape = _mm256_mul_pd(_mm256_cvtps_pd(trilinear4_r(noise, &cb)), prof);
+	int cloud = _mm256_movemask_pd(_mm256_cmp_pd(shape, thr, _CMP_GT_OQ)) & fast;
+	/* the detail where the shape is above the threshold */
+	__m256d du = _mm256_mul_pd(along, _mm256_set1_pd(l->inv_detail_along));
+	__m256d dv = _mm256_mul_pd(across, _mm256_set1_pd(l->inv_detail));
+	__m256d dw = _mm256_mul_pd(A, _mm256_set1_pd(l->inv_detail));
+	int detail = small4(du, dv, dw) & cloud;
+	if (detail) {
+		__m256d dk = lanes4(detail);
+		__m256d hx = _mm256_and_pd(_mm256_sub_pd(_mm256_mul_pd(du, nx), half4), dk);
+		__m256d hy = _mm256_and_pd(
+			_mm256_sub_pd(_mm256_mul_pd(dv, _mm256_set1_pd((double)noise->ny)), half4), dk);
+		__m256d hz = _mm256_and_pd(
+			_mm256_sub_pd(_mm256_mul_pd(dw, _mm256_set1_pd((double)noise->nz)), half4), dk);
+		struct corners4 cd;
+		corners4(noise, hx, hy, hz, &cd);
+		__m128 gba[3];
+		trilinear4_gba(noise, &cd, gba);
+		__m256d g1 = _mm256_cvtps_pd(gba[0]), g2 = _mm256_cvtps_pd(gba[1]);
+		__m256d g3 = _mm256_cvtps_pd(gba[2]);
+		__m256d det = _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(_mm256_set1_pd(0.625), g1),
+							  _mm256_mul_pd(_mm256_set1_pd(0.25), g2)),
+					    _mm256_mul_pd(_mm256_set1_pd(0.125), g3));
+		__m256d e = _mm256_mul_pd(_mm256_set1_pd(l->erosion), det);
+		__m256d omt = _mm256_sub_pd(one, thr);
+		__m256d num = _mm256_sub_pd(_mm256_sub_pd(shape, thr), _mm256_mul_pd(e, omt));
+		__m256d den = _mm256_mul_pd(
+			_mm256_mul_pd(omt, _mm256_add_pd(_mm256_sub_pd(one, e), _mm256_set1_pd(1e-9))),
+			_mm256_set1_pd(l->edge));
+		__m256d d = _mm256_min_pd(_mm256_div_pd(num, den), one);
+		d = _mm256_mul_pd(d, _mm256_set1_pd(l->extinction_per_m));
+		__m256d pos = _mm256_and_pd(_mm256_cmp_pd(num, zero, _CMP_GT_OQ), dk);
+		_mm256_storeu_pd(out, _mm256_and_pd(d, pos));
+	}
+	int slow = (lanes & ~fast) | (cloud & ~detail);
+	if (slow == 0)
+		return;
+	double su[4], sv[4], sw[4], sp[4], sth[4], sa[4], sc[4], ssh[4];
+	_mm256_storeu_pd(su, U), _mm256_storeu_pd(sv, V), _mm256_storeu_pd(sw, W);
+	_mm256_storeu_pd(sp, prof), _mm256_storeu_pd(sth, thr);
+	_mm256_storeu_pd(sa, along), _mm256_storeu_pd(sc, across), _mm256_storeu_pd(ssh, shape);
+	for (int k = 0; k < 4; k++) {
+		if (!(slow & (1 << k)))
+			continue;
+		struct ext_point pt = {su[k], sv[k], sw[k], sp[k], sth[k], sa[k], sc[k], alt_m[k]};
+		double sh = (fast & (1 << k)) ? ssh[k] : ext_shape(noise, &pt);
+		if (sh > pt.thr)
+			out[k] = ext_finish(l, noise, &pt, sh);
+	}
+}
+#endif
+
+CS_HD void cs_cloud_extinction_n(const struct cs_cloud_layer *l, const struct cs_volume *noise,
+				 int n, const double *x, const double *y, const double *alt_m,
+				 double *out)
+{
+	int i = 0;
+#if defined(__AVX2__) && !defined(__CUDA_ARCH__)
+	if (batch4_ok(l, noise)) {
+		for (; i + 4 <= n; i += 4)
+			extinction4(l, noise, x + i, y + i, alt_m + i, out + i);
+		if (i < n) { /* the last few, with lanes outside the layer */
+			double px[4] = {0.0}, py[4] = {0.0}, pa[4], po[4];
+			for (int k = 0; k < 4; k++)
+				pa[k] = i + k < n ? alt_m[i + k] : NAN;
+			for (int k = 0; i + k < n; k++)
+				px[k] = x[i + k], py[k] = y[i + k];
+			extinction4(l, noise, px, py, pa, po);
+			for (; i < n; i++)
+				out[i] = po[i & 3];
+		}
+	}
+#endif
+	for (; i < n; i++)
+		out[i] = cs_cloud_extinction(l, noise, x[i], y[i], alt_m[i]);
 }
 
 /* The coverage bound (struct cs_cloud_layer): for a power-of-two volume
@@ -285,11 +620,26 @@ static void build_bound(struct cs_cloud_layer *l, const struct cs_volume *noise)
 CS_HD double cs_cloud_column(const struct cs_cloud_layer *l, const struct cs_volume *noise,
 			     double x, double y, double z0_m, double z1_m, int steps)
 {
+	enum { B = 8 };
 	double dz = (z1_m - z0_m) / steps, tau = 0.0;
 	if (!(dz > 0.0))
 		return 0.0;
+#ifdef __CUDA_ARCH__
 	for (int k = 0; k < steps; k++)
 		tau += cs_cloud_extinction(l, noise, x, y, z0_m + (k + 0.5) * dz) * dz;
+#else
+	double px[B], py[B], pz[B], e[B];
+	for (int b = 0; b < B; b++)
+		px[b] = x, py[b] = y;
+	for (int k0 = 0; k0 < steps; k0 += B) {
+		int m = steps - k0 < B ? steps - k0 : B;
+		for (int b = 0; b < m; b++)
+			pz[b] = z0_m + (k0 + b + 0.5) * dz;
+		cs_cloud_extinction_n(l, noise, m, px, py, pz, e);
+		for (int b = 0; b < m; b++)
+			tau += e[b] * dz;
+	}
+#endif
 	return tau;
 }
 

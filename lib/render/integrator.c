@@ -424,19 +424,51 @@ CS_HD static double step_growth(double dt0, double len, int n)
 	return 1.0 + hi;
 }
 
+/* One view sample of a crossing through the layers of mask, at distance
+ * t in a step of length dt that starts at ts, with the extinction sigma
+ * there (amb: the layer with the most of it): its light and its
+ * transmittance into the path.  1 when the ray is then done. */
+CS_HD static int march_sample(const struct ray_ctx *c, struct path *P, unsigned mask, double ts,
+			      double t, double dt, cs_v3 p, double alt, double sigma, int amb)
+{
+	const struct cs_scene *sc = c->sc;
+	int naive = c->s->march == CS_MARCH_NAIVE;
+	if (P->depth == CS_SKY_DEPTH_M)
+		P->depth = ts;
+	haze_to(c, P, t);
+	double S[3];
+	sample_source(c, p, alt, mask, amb, sc->albedo * sigma, S);
+	/* Energy-conserving step (Hillaire 2015): the source is integrated
+	 * against the transmittance over the step, S (1 - exp(-sigma dt)) /
+	 * sigma, not S dt (which the naive baseline keeps). */
+	double tr = exp(-sigma * dt);
+	double integ = naive ? dt : -expm1(-sigma * dt) / sigma;
+	for (int k = 0; k < 3; k++)
+		P->L[k] += P->T * P->th * S[k] * integ;
+	P->T *= tr;
+	P->Tcloud *= tr;
+	if (P->T < c->s->min_transmittance) {
+		P->terminated = 1;
+		return 1;
+	}
+	return 0;
+}
+
 /* One crossing of [t0, t1] through the layers of mask (overlapping layers
  * are marched together) in steps of the layers' thickness over the
  * settings' steps.  A crossing that would need more than max_steps of
  * them (a long, nearly horizontal one) keeps that step where it starts
  * and lets the steps grow geometrically along the ray to cover it in
  * max_steps: a small cloud around the eye is sampled as finely as a
- * vertical crossing, the distant parts of the layer more coarsely. */
+ * vertical crossing, the distant parts of the layer more coarsely.  The
+ * densities of CS_MARCH_BATCH samples at a time are looked up together
+ * (a ray that ends inside a batch has looked up a few samples it does not
+ * use: they count in the statistics, which count lookups). */
 CS_HD static void march_crossing(const struct ray_ctx *c, double t0, double t1,
 				 unsigned mask, struct path *P)
 {
 	const struct cs_scene *sc = c->sc;
 	c->st->layer_crossings++;
-	int amb = 0; /* the layer a sample is in: the one with most extinction there */
 	int naive = c->s->march == CS_MARCH_NAIVE, skip = c->s->march == CS_MARCH_SKIP;
 	double len = t1 - t0, dt0 = crossing_step(sc, c->s, mask);
 	double steps = ceil(len / dt0);
@@ -444,51 +476,65 @@ CS_HD static void march_crossing(const struct ray_ctx *c, double t0, double t1,
 	int ns = steps < 1.0 ? 1 : steps > cap ? cap : (int)steps;
 	double growth = steps > cap ? step_growth(dt0, len, ns) : 1.0;
 	double grown = growth > 1.0 ? dt0 : len / ns, ts = t0;
-	int empty_run = 0; /* skip: how many samples in a row found nothing */
-	for (int j = 0; j < ns; j++, ts += grown, grown *= growth) {
-		/* the last step ends where the crossing does */
-		double dt = j == ns - 1 ? t1 - ts : grown;
-		if (!(dt > 0.0))
-			break;
-		double t = naive ? ts : ts + c->jitter_u * dt;
-		cs_v3 p = v3_mad(c->o, c->d, t);
-		double alt = cs_scene_altitude(sc, p);
-		double sigma = cs_extinction_at(sc, mask, p, alt, &amb);
-		c->st->density_samples++;
-		if (sigma <= 0.0) {
-			/* skip: after two empty samples, probe 4 steps ahead and
-			 * jump there while that is empty too */
-			if (skip && ++empty_run >= 2 && j + 4 < ns - 1 && growth == 1.0) {
-				cs_v3 q = v3_mad(c->o, c->d, t + 4.0 * dt);
-				int a2;
-				c->st->density_samples++;
-				if (cs_extinction_at(sc, mask, q, cs_scene_altitude(sc, q), &a2) <= 0.0) {
-					j += 3, ts += 3.0 * grown;
-				} else
-					empty_run = 0;
+	if (skip) {
+		int amb = 0; /* the layer a sample is in: the one with most extinction there */
+		int empty_run = 0; /* how many samples in a row found nothing */
+		for (int j = 0; j < ns; j++, ts += grown, grown *= growth) {
+			/* the last step ends where the crossing does */
+			double dt = j == ns - 1 ? t1 - ts : grown;
+			if (!(dt > 0.0))
+				break;
+			double t = ts + c->jitter_u * dt;
+			cs_v3 p = v3_mad(c->o, c->d, t);
+			double alt = cs_scene_altitude(sc, p);
+			double sigma = cs_extinction_at(sc, mask, p, alt, &amb);
+			c->st->density_samples++;
+			if (sigma <= 0.0) {
+				/* after two empty samples, probe 4 steps ahead
+				 * and jump there while that is empty too */
+				if (++empty_run >= 2 && j + 4 < ns - 1 && growth == 1.0) {
+					cs_v3 q = v3_mad(c->o, c->d, t + 4.0 * dt);
+					int a2;
+					c->st->density_samples++;
+					if (cs_extinction_at(sc, mask, q, cs_scene_altitude(sc, q), &a2) <= 0.0) {
+						j += 3, ts += 3.0 * grown;
+					} else
+						empty_run = 0;
+				}
+				continue;
 			}
-			continue;
+			empty_run = 0;
+			if (march_sample(c, P, mask, ts, t, dt, p, alt, sigma, amb))
+				return;
 		}
-		empty_run = 0;
-		if (P->depth == CS_SKY_DEPTH_M)
-			P->depth = ts;
-		haze_to(c, P, t);
-		double S[3];
-		sample_source(c, p, alt, mask, amb, sc->albedo * sigma, S);
-		/* Energy-conserving step (Hillaire 2015): the source is
-		 * integrated against the transmittance over the step,
-		 * S (1 - exp(-sigma dt)) / sigma, not S dt (which the naive
-		 * baseline keeps). */
-		double tr = exp(-sigma * dt);
-		double integ = naive ? dt : -expm1(-sigma * dt) / sigma;
-		for (int k = 0; k < 3; k++)
-			P->L[k] += P->T * P->th * S[k] * integ;
-		P->T *= tr;
-		P->Tcloud *= tr;
-		if (P->T < c->s->min_transmittance) {
-			P->terminated = 1;
-			return;
+		return;
+	}
+	for (int j = 0; j < ns;) {
+		double bts[CS_MARCH_BATCH], bt[CS_MARCH_BATCH], bdt[CS_MARCH_BATCH];
+		double bx[CS_MARCH_BATCH], by[CS_MARCH_BATCH], balt[CS_MARCH_BATCH];
+		double sigma[CS_MARCH_BATCH];
+		int amb[CS_MARCH_BATCH], m = 0, end = 0;
+		cs_v3 bp[CS_MARCH_BATCH];
+		for (; m < CS_MARCH_BATCH && j < ns; m++, j++, ts += grown, grown *= growth) {
+			/* the last step ends where the crossing does */
+			double dt = j == ns - 1 ? t1 - ts : grown;
+			if (!(dt > 0.0)) {
+				end = 1;
+				break;
+			}
+			double t = naive ? ts : ts + c->jitter_u * dt;
+			cs_v3 p = v3_mad(c->o, c->d, t);
+			bts[m] = ts, bt[m] = t, bdt[m] = dt, bp[m] = p;
+			bx[m] = p.x, by[m] = p.y, balt[m] = cs_scene_altitude(sc, p);
 		}
+		cs_extinction_at_n(sc, mask, m, bx, by, balt, sigma, amb);
+		c->st->density_samples += (uint64_t)m;
+		for (int k = 0; k < m; k++)
+			if (sigma[k] > 0.0 && march_sample(c, P, mask, bts[k], bt[k], bdt[k], bp[k],
+							   balt[k], sigma[k], amb[k]))
+				return;
+		if (end)
+			break;
 	}
 }
 

@@ -54,6 +54,23 @@ CS_HD double cs_extinction_at(const struct cs_scene *sc, unsigned mask, cs_v3 p,
 	return sigma;
 }
 
+CS_HD void cs_extinction_at_n(const struct cs_scene *sc, unsigned mask, int n, const double *x,
+			      const double *y, const double *alt, double *sigma, int *dominant)
+{
+	double most[CS_MARCH_BATCH], e[CS_MARCH_BATCH];
+	for (int k = 0; k < n; k++)
+		sigma[k] = 0.0, most[k] = 0.0, dominant[k] = 0;
+	for (int i = 0; i < sc->nlayers; i++)
+		if (mask & (1u << i)) {
+			cs_cloud_extinction_n(&sc->layers[i], sc->noise, n, x, y, alt, e);
+			for (int k = 0; k < n; k++) {
+				sigma[k] += e[k];
+				if (e[k] > most[k])
+					most[k] = e[k], dominant[k] = i;
+			}
+		}
+}
+
 /* Optical depth from p toward the sun through every layer: light_steps
  * midpoint samples over each part of the path in a layer of mask (the
  * layers the sample is in), a third as many, at least 2, in the others
@@ -95,20 +112,28 @@ CS_HD double cs_light_depth(const struct cs_scene *sc,
 				}
 			}
 			double t0 = iv[k][0], g = dt; /* geometric: the step's start, its length */
-			for (int j = 0; j < steps; j++) {
-				double t, w;
-				if (r > 1.0) {
-					t = t0 + 0.5 * g, w = g;
-					t0 += g, g *= r;
-				} else if (s->light_march == CS_LIGHT_QUADRATIC) {
-					t = iv[k][0] + len * (j + 0.5) * (j + 0.5) / n2;
-					w = len * (2 * j + 1) / n2;
-				} else {
-					t = iv[k][0] + (j + 0.5) * dt, w = dt;
+			for (int j0 = 0; j0 < steps; j0 += CS_MARCH_BATCH) {
+				int m = steps - j0 < CS_MARCH_BATCH ? steps - j0 : CS_MARCH_BATCH;
+				double qx[CS_MARCH_BATCH], qy[CS_MARCH_BATCH], qa[CS_MARCH_BATCH],
+					qw[CS_MARCH_BATCH], e[CS_MARCH_BATCH];
+				for (int b = 0; b < m; b++) {
+					int j = j0 + b;
+					double t, w;
+					if (r > 1.0) {
+						t = t0 + 0.5 * g, w = g;
+						t0 += g, g *= r;
+					} else if (s->light_march == CS_LIGHT_QUADRATIC) {
+						t = iv[k][0] + len * (j + 0.5) * (j + 0.5) / n2;
+						w = len * (2 * j + 1) / n2;
+					} else {
+						t = iv[k][0] + (j + 0.5) * dt, w = dt;
+					}
+					cs_v3 q3 = v3_mad(p, sc->sun_dir, t);
+					qx[b] = q3.x, qy[b] = q3.y, qa[b] = cs_scene_altitude(sc, q3), qw[b] = w;
 				}
-				cs_v3 q3 = v3_mad(p, sc->sun_dir, t);
-				tau += cs_cloud_extinction(l, sc->noise, q3.x, q3.y,
-							   cs_scene_altitude(sc, q3)) * w;
+				cs_cloud_extinction_n(l, sc->noise, m, qx, qy, qa, e);
+				for (int b = 0; b < m; b++)
+					tau += e[b] * qw[b];
 			}
 			st->light_samples += (uint64_t)steps;
 		}

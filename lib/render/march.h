@@ -19,6 +19,20 @@ CS_HD int cs_shell_intervals(const struct cs_scene *sc, cs_v3 o, cs_v3 d,
 CS_HD double cs_extinction_at(const struct cs_scene *sc, unsigned mask, cs_v3 p,
 			      double alt, int *dominant);
 
+/* Points the march hands to the density at once (cs_cloud_extinction_n):
+ * on a CPU, so that their lookups overlap; a GPU thread takes them one at
+ * a time (arrays indexed at run time would leave its registers). */
+#ifdef __CUDA_ARCH__
+#define CS_MARCH_BATCH 1
+#else
+#define CS_MARCH_BATCH 8
+#endif
+
+/* cs_extinction_at for n <= CS_MARCH_BATCH points (x[i], y[i], alt[i]):
+ * sigma[i], and dominant[i] as cs_extinction_at leaves it from 0. */
+CS_HD void cs_extinction_at_n(const struct cs_scene *sc, unsigned mask, int n, const double *x,
+			      const double *y, const double *alt, double *sigma, int *dominant);
+
 /* Optical depth of the clouds from p toward the sun (light_march.c). */
 CS_HD double cs_light_depth(const struct cs_scene *sc,
 			    const struct cs_render_settings *s, cs_v3 p,

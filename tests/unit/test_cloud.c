@@ -271,13 +271,22 @@ static void coverage_bound_changes_no_sample(void)
 }
 
 /* The density the renderer's own per-pixel code computes (cpu/kernel.c,
- * -O3, AVX2 where the CPU has it, and the baseline build) is the library's
- * cs_cloud_extinction bit for bit: every genus, 2000 points of its layer
- * (the benchmark of density evaluations measures that copy).  A kernel
- * built with fused multiply-adds differs in the last bits and fails. */
+ * -O3, AVX2 where the CPU has it, four points at a time there, and the
+ * baseline build) is the library's cs_cloud_extinction bit for bit: every
+ * genus, 2003 points of its layer (the benchmark of density evaluations
+ * measures that copy; 2003: the last three take the batch's tail), among
+ * them points the four-lane code must hand to the scalar one (beyond the
+ * coverage bound's 2^30 tiles, beyond the lookup's 2^40, not finite) and
+ * points on the layer's base and top.  A kernel built with fused
+ * multiply-adds differs in the last bits and fails. */
 static void kernel_density_is_the_librarys(void)
 {
-	enum { N = 2000 };
+	enum { N = 2003 };
+	static const double odd[][3] = {
+		{0x1p45, 0.0, 0.5}, {0.0, -0x1p47, 0.5}, {0x1p36, 0x1p36, 0.5}, {NAN, 0.0, 0.5},
+		{INFINITY, 0.0, 0.5}, {0.0, 0.0, NAN}, {1e300, -1e300, 0.5}, {0.0, 0.0, 0.0},
+		{0.0, 0.0, 1.0}, {-0x1p33, 0x1p31, 0.3},
+	};
 	static double xyz[3 * N], got[N];
 	long differ = 0, cloudy = 0;
 	for (int pass = 0; pass < 2; pass++) {
@@ -293,6 +302,12 @@ static void kernel_density_is_the_librarys(void)
 				xyz[3 * i] = t_uniform(&st, -60000, 60000);
 				xyz[3 * i + 1] = t_uniform(&st, -60000, 60000);
 				xyz[3 * i + 2] = t_uniform(&st, wl.base_m - 50.0, wl.top_m + 50.0);
+			}
+			/* the odd points, at relative heights of the layer */
+			for (int k = 0; k < (int)(sizeof odd / sizeof odd[0]); k++) {
+				int i = 97 * k + 13;
+				xyz[3 * i] = odd[k][0], xyz[3 * i + 1] = odd[k][1];
+				xyz[3 * i + 2] = wl.base_m + odd[k][2] * (wl.top_m - wl.base_m);
 			}
 			cs_render_extinction(&l, &noise, N, xyz, got);
 			for (int i = 0; i < N; i++) {

@@ -43,9 +43,16 @@ void CS_KERNEL(const struct cs_scene *sc, const struct cs_camera *cam,
 			cs_render_pixel(sc, cam, s, i, j, st, out + ((size_t)j * cam->width + i) * 5);
 }
 
+enum { CHUNK = 64 };
+
 void CS_KERNEL_EXTINCTION(const struct cs_cloud_layer *l, const struct cs_volume *noise, int n,
 			  const double *xyz, double *out)
 {
-	for (int i = 0; i < n; i++)
-		out[i] = cs_cloud_extinction(l, noise, xyz[3 * i], xyz[3 * i + 1], xyz[3 * i + 2]);
+	for (int i0 = 0; i0 < n; i0 += CHUNK) {
+		int m = n - i0 < CHUNK ? n - i0 : CHUNK;
+		double x[CHUNK], y[CHUNK], z[CHUNK];
+		for (int i = 0; i < m; i++)
+			x[i] = xyz[3 * (i0 + i)], y[i] = xyz[3 * (i0 + i) + 1], z[i] = xyz[3 * (i0 + i) + 2];
+		cs_cloud_extinction_n(l, noise, m, x, y, z, out + i0);
+	}
 }
