@@ -511,7 +511,7 @@ CS_HD static void march_crossing(const struct ray_ctx *c, double t0, double t1,
 	}
 	for (int j = 0; j < ns;) {
 		double bts[CS_MARCH_BATCH], bt[CS_MARCH_BATCH], bdt[CS_MARCH_BATCH];
-		double bx[CS_MARCH_BATCH], by[CS_MARCH_BATCH], balt[CS_MARCH_BATCH];
+		double bx[CS_MARCH_BATCH], by[CS_MARCH_BATCH], bz[CS_MARCH_BATCH], balt[CS_MARCH_BATCH];
 		double sigma[CS_MARCH_BATCH];
 		int amb[CS_MARCH_BATCH], m = 0, end = 0;
 		cs_v3 bp[CS_MARCH_BATCH];
@@ -525,8 +525,9 @@ CS_HD static void march_crossing(const struct ray_ctx *c, double t0, double t1,
 			double t = naive ? ts : ts + c->jitter_u * dt;
 			cs_v3 p = v3_mad(c->o, c->d, t);
 			bts[m] = ts, bt[m] = t, bdt[m] = dt, bp[m] = p;
-			bx[m] = p.x, by[m] = p.y, balt[m] = cs_scene_altitude(sc, p);
+			bx[m] = p.x, by[m] = p.y, bz[m] = p.z;
 		}
+		cs_altitude_n(m, bx, by, bz, sc->earth_radius_m, balt);
 		cs_extinction_at_n(sc, mask, m, bx, by, balt, sigma, amb);
 		c->st->density_samples += (uint64_t)m;
 		for (int k = 0; k < m; k++)

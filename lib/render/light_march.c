@@ -114,8 +114,8 @@ CS_HD double cs_light_depth(const struct cs_scene *sc,
 			double t0 = iv[k][0], g = dt; /* geometric: the step's start, its length */
 			for (int j0 = 0; j0 < steps; j0 += CS_MARCH_BATCH) {
 				int m = steps - j0 < CS_MARCH_BATCH ? steps - j0 : CS_MARCH_BATCH;
-				double qx[CS_MARCH_BATCH], qy[CS_MARCH_BATCH], qa[CS_MARCH_BATCH],
-					qw[CS_MARCH_BATCH], e[CS_MARCH_BATCH];
+				double qx[CS_MARCH_BATCH], qy[CS_MARCH_BATCH], qz[CS_MARCH_BATCH],
+					qa[CS_MARCH_BATCH], qw[CS_MARCH_BATCH], e[CS_MARCH_BATCH];
 				for (int b = 0; b < m; b++) {
 					int j = j0 + b;
 					double t, w;
@@ -129,8 +129,9 @@ CS_HD double cs_light_depth(const struct cs_scene *sc,
 						t = iv[k][0] + (j + 0.5) * dt, w = dt;
 					}
 					cs_v3 q3 = v3_mad(p, sc->sun_dir, t);
-					qx[b] = q3.x, qy[b] = q3.y, qa[b] = cs_scene_altitude(sc, q3), qw[b] = w;
+					qx[b] = q3.x, qy[b] = q3.y, qz[b] = q3.z, qw[b] = w;
 				}
+				cs_altitude_n(m, qx, qy, qz, sc->earth_radius_m, qa);
 				cs_cloud_extinction_n(l, sc->noise, m, qx, qy, qa, e);
 				for (int b = 0; b < m; b++)
 					tau += e[b] * qw[b];
