@@ -476,23 +476,23 @@ CS_HD static void march_crossing(const struct ray_ctx *c, double t0, double t1,
 	int ns = steps < 1.0 ? 1 : steps > cap ? cap : (int)steps;
 	double growth = steps > cap ? step_growth(dt0, len, ns) : 1.0;
 	double grown = growth > 1.0 ? dt0 : len / ns, ts = t0;
-	if (skip) {
+	if (skip || CS_MARCH_BATCH == 1) { /* one sample at a time */
 		int amb = 0; /* the layer a sample is in: the one with most extinction there */
-		int empty_run = 0; /* how many samples in a row found nothing */
+		int empty_run = 0; /* skip: how many samples in a row found nothing */
 		for (int j = 0; j < ns; j++, ts += grown, grown *= growth) {
 			/* the last step ends where the crossing does */
 			double dt = j == ns - 1 ? t1 - ts : grown;
 			if (!(dt > 0.0))
 				break;
-			double t = ts + c->jitter_u * dt;
+			double t = naive ? ts : ts + c->jitter_u * dt;
 			cs_v3 p = v3_mad(c->o, c->d, t);
 			double alt = cs_scene_altitude(sc, p);
 			double sigma = cs_extinction_at(sc, mask, p, alt, &amb);
 			c->st->density_samples++;
 			if (sigma <= 0.0) {
-				/* after two empty samples, probe 4 steps ahead
-				 * and jump there while that is empty too */
-				if (++empty_run >= 2 && j + 4 < ns - 1 && growth == 1.0) {
+				/* skip: after two empty samples, probe 4 steps
+				 * ahead and jump there while that is empty too */
+				if (skip && ++empty_run >= 2 && j + 4 < ns - 1 && growth == 1.0) {
 					cs_v3 q = v3_mad(c->o, c->d, t + 4.0 * dt);
 					int a2;
 					c->st->density_samples++;
