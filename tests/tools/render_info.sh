@@ -16,7 +16,7 @@ expect_err "cloudrender: camera 46.95000, 7.44000, 542 m, looking azimuth "
 expect_err "cloudrender: layer 1: cumulus, cover 0.35, base 1500 m, top 2700 m"
 expect_err "cloudrender: layer 2: cirrus, cover 0.20, base 9000 m, top 9600 m"
 expect_err "cloudrender: effects: sun sky clouds ground haze"
-expect_err "cloudrender: quality low: 24 steps, 4 light steps"
+expect_err "cloudrender: quality low: 24 steps, 8 light steps"
 expect_err "cloudrender: time: noise "
 # the sun agrees with --stats (NOAA's algorithm), to the printed 0.1 deg
 run "$CR" -v --stats $FAST -o "$T/a.png"; expect_rc 0
