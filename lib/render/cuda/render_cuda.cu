@@ -30,6 +30,7 @@
 
 extern "C" {
 #include "core/err.h"
+#include "core/half.h"
 #include "render/device.h"
 #include "render/pixel.h"
 
@@ -51,6 +52,21 @@ extern "C" {
  * volume stored as halves (exact for noisebake's volumes) measured 4 %
  * slower on an H200 (1080p low 60.8 against 63.0 frames/s, medium 30.3
  * against 31.5): the kernel is not bound by the bytes it reads. */
+/* The noise as a 3D texture of halves (RGBA16F), wrapped, filtered
+ * trilinearly by the texture unit: one fetch a lookup instead of eight
+ * loads, for the detail (cs_volume_sample4).  Voxel centres sit at
+ * (i + 0.5) / n in normalized coordinates, as in volume.c; the unit's
+ * weights are 8-bit fractions (CUDA's texture filtering), coarser than the
+ * CPU's float weights.  The detail only erodes the edges (times the
+ * genus's erosion, at most 0.35), and the renders stay within 8e-7 relMSE
+ * of the CPU's; the base shape through the texture, whose value is the
+ * density itself near the threshold, left the cumulonimbus 8.3e-4 off
+ * (1080p low and medium 87 and 60 frames/s on an H200 with both, 70.5
+ * and 48.6 with the detail alone, 53.1 and 36.2 with neither).  Halves
+ * hold noisebake's volumes exactly.  Set by scene_struct; 0: the loads
+ * below. */
+__constant__ unsigned long long dev_noise_tex;
+
 struct dev_corners {
 	unsigned off[8]; /* voxel index of each corner; bit 0 = +x, 1 = +y, 2 = +z */
 	float tx, ty, tz;
@@ -102,6 +118,12 @@ CS_HD void cs_volume_sample4(const struct cs_volume *v, double u, double vv, dou
 #ifdef __CUDA_ARCH__
 	if (!isfinite(u) || !isfinite(vv) || !isfinite(w)) {
 		out[0] = out[1] = out[2] = out[3] = 0.0f;
+		return;
+	}
+	if (dev_noise_tex != 0) {
+		float4 q = tex3D<float4>((cudaTextureObject_t)dev_noise_tex, (float)(u - floor(u)),
+					 (float)(vv - floor(vv)), (float)(w - floor(w)));
+		out[0] = q.x, out[1] = q.y, out[2] = q.z, out[3] = q.w;
 		return;
 	}
 	struct dev_corners c;
@@ -230,6 +252,9 @@ struct cs_cuda_scene {
 	size_t frame_px;
 	cudaEvent_t ev[2];
 	int have_ev;
+	cudaArray_t noise_arr;     /* the noise as halves, for noise_tex */
+	cudaTextureObject_t noise_tex;
+	const void *noise_src;     /* the host array it was made from */
 };
 
 static int cuda_error(cudaError_t e, const char *what)
@@ -305,6 +330,59 @@ static int upload(struct cs_cuda_scene *c, int k, const void *src, size_t n, con
 	return CS_OK;
 }
 
+/* The noise volume as a texture of halves (dev_noise_tex), made once for
+ * as long as the host's volume stays the same. */
+static int noise_texture(struct cs_cuda_scene *c, const struct cs_volume *v)
+{
+	if (c->noise_arr != NULL && c->noise_src == v->data)
+		return CS_OK;
+	if (c->noise_tex)
+		cudaDestroyTextureObject(c->noise_tex);
+	cudaFreeArray(c->noise_arr);
+	c->noise_tex = 0, c->noise_arr = NULL, c->noise_src = NULL;
+	size_t n = (size_t)v->nx * v->ny * v->nz * 4;
+	uint16_t *hv = (uint16_t *)malloc(n * sizeof *hv);
+	if (hv == NULL)
+		return cs_error(CS_ENOMEM, "out of memory");
+	for (size_t i = 0; i < n; i++)
+		hv[i] = cs_float_to_half(v->data[i]);
+	cudaChannelFormatDesc fd = cudaCreateChannelDescHalf4();
+	cudaExtent ext = make_cudaExtent((size_t)v->nx, (size_t)v->ny, (size_t)v->nz);
+	cudaError_t e = cudaMalloc3DArray(&c->noise_arr, &fd, ext);
+	if (e == cudaSuccess) {
+		cudaMemcpy3DParms cp;
+		memset(&cp, 0, sizeof cp);
+		cp.srcPtr = make_cudaPitchedPtr(hv, (size_t)v->nx * 4 * sizeof *hv, (size_t)v->nx,
+						(size_t)v->ny);
+		cp.dstArray = c->noise_arr;
+		cp.extent = ext;
+		cp.kind = cudaMemcpyHostToDevice;
+		e = cudaMemcpy3D(&cp);
+	}
+	free(hv);
+	if (e != cudaSuccess)
+		return cuda_error(e, "uploading the noise texture");
+	cudaResourceDesc rd;
+	memset(&rd, 0, sizeof rd);
+	rd.resType = cudaResourceTypeArray;
+	rd.res.array.array = c->noise_arr;
+	cudaTextureDesc td;
+	memset(&td, 0, sizeof td);
+	td.addressMode[0] = td.addressMode[1] = td.addressMode[2] = cudaAddressModeWrap;
+	td.filterMode = cudaFilterModeLinear;
+	td.readMode = cudaReadModeElementType;
+	td.normalizedCoords = 1;
+	e = cudaCreateTextureObject(&c->noise_tex, &rd, &td, NULL);
+	if (e != cudaSuccess)
+		return cuda_error(e, "the noise texture");
+	unsigned long long t = (unsigned long long)c->noise_tex;
+	e = cudaMemcpyToSymbol(dev_noise_tex, &t, sizeof t);
+	if (e != cudaSuccess)
+		return cuda_error(e, "the noise texture");
+	c->noise_src = v->data;
+	return CS_OK;
+}
+
 /* The scene's struct on the device, pointing at the device arrays (each
  * uploaded once for as long as the host's array stays the same). */
 static int scene_struct(struct cs_cuda_scene *c, const struct cs_scene *sc)
@@ -322,6 +400,8 @@ static int scene_struct(struct cs_cuda_scene *c, const struct cs_scene *sc)
 			    "uploading the noise volume");
 		h->noise.data = (float *)c->arrays[0];
 		h->sc.noise = &c->d->noise;
+		if (rc == CS_OK)
+			rc = noise_texture(c, v);
 	}
 	if (rc == CS_OK && sc->terrain) {
 		const struct cs_hfield *f = sc->terrain;
@@ -406,6 +486,14 @@ extern "C" void cs_cuda_scene_free(struct cs_cuda_scene *c)
 		return;
 	for (int k = 0; k < 5; k++)
 		cudaFree(c->arrays[k]);
+	if (c->noise_tex) {
+		/* the device's lookups fall back to the loads until another
+		 * scene sets its texture */
+		unsigned long long zero = 0;
+		cudaMemcpyToSymbol(dev_noise_tex, &zero, sizeof zero);
+		cudaDestroyTextureObject(c->noise_tex);
+	}
+	cudaFreeArray(c->noise_arr);
 	cudaFree(c->d);
 	cudaFree(c->stats);
 	cudaFree(c->frame);
