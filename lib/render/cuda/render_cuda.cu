@@ -14,9 +14,10 @@
  * exponential and logarithm family, which the device takes in single
  * precision (below): the images differ from the CPU's by that, by the
  * order of floating-point operations the compilers choose (fused
- * multiply-adds) and by CUDA's maths against libm.  The noise lookup is
- * the other device-only piece: volume.c's, with its index arithmetic made
- * cheap for a GPU (below). */
+ * multiply-adds), by CUDA's maths against libm, and by the noise's detail,
+ * which the texture unit interpolates (below).  The noise lookup is the
+ * other device-only piece: volume.c's, with its index arithmetic made
+ * cheap for a GPU, or the texture (below). */
 #include <ctype.h>
 #include <math.h>
 #include <stddef.h>
