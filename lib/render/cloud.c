@@ -494,7 +494,9 @@ static void extinction4(const struct cs_cloud_layer *l, const struct cs_volume *
 	corners4(noise, _mm256_and_pd(gx, keep), _mm256_and_pd(gy, keep), _mm256_and_pd(gz, keep),
 		 &cb);
 	__m256d shape = _mm256_mul_pd(_mm256_cvtps_pd(trilinear4_r(noise, &cb)), prof);
-	int cloud = _mm256_movemask_pd(_mm256_cmp_pd(shape, thr, _CMP_GT_OQ)) & fast;
+	/* !(shape <= thr), as the scalar code tests it: a shape that is not
+	 * a number (a volume with such voxels) goes on, as there */
+	int cloud = _mm256_movemask_pd(_mm256_cmp_pd(shape, thr, _CMP_NLE_UQ)) & fast;
 	/* the detail where the shape is above the threshold */
 	__m256d du = _mm256_mul_pd(along, _mm256_set1_pd(l->inv_detail_along));
 	__m256d dv = _mm256_mul_pd(across, _mm256_set1_pd(l->inv_detail));
@@ -524,7 +526,9 @@ static void extinction4(const struct cs_cloud_layer *l, const struct cs_volume *
 			_mm256_set1_pd(l->edge));
 		__m256d d = _mm256_min_pd(_mm256_div_pd(num, den), one);
 		d = _mm256_mul_pd(d, _mm256_set1_pd(l->extinction_per_m));
-		__m256d pos = _mm256_and_pd(_mm256_cmp_pd(num, zero, _CMP_GT_OQ), dk);
+		/* !(num <= 0) as there; a num that is not a number gives d 1 (min_pd
+		 * returns its second operand then), as the scalar d < 1 ? d : 1 */
+		__m256d pos = _mm256_and_pd(_mm256_cmp_pd(num, zero, _CMP_NLE_UQ), dk);
 		_mm256_storeu_pd(out, _mm256_and_pd(d, pos));
 	}
 	int slow = (lanes & ~fast) | (cloud & ~detail);
@@ -539,7 +543,7 @@ static void extinction4(const struct cs_cloud_layer *l, const struct cs_volume *
 			continue;
 		struct ext_point pt = {su[k], sv[k], sw[k], sp[k], sth[k], sa[k], sc[k], alt_m[k]};
 		double sh = (fast & (1 << k)) ? ssh[k] : ext_shape(noise, &pt);
-		if (sh > pt.thr)
+		if (!(sh <= pt.thr))
 			out[k] = ext_finish(l, noise, &pt, sh);
 	}
 }

@@ -134,9 +134,10 @@ CS_HD double cs_cloud_extinction(const struct cs_cloud_layer *l,
 			   const struct cs_volume *noise, double x, double y,
 			   double alt_m);
 
-/* out[i] = cs_cloud_extinction(l, noise, x[i], y[i], alt_m[i]) for n <=
+/* out[i] = cs_cloud_extinction(l, noise, x[i], y[i], alt_m[i]) for n
  * points, the same bits: where the code is built for AVX2 (the renderer's
- * kernel, cpu/kernel.c), four points at a time. */
+ * kernel, cpu/kernel.c), four points at a time.  out must not overlap the
+ * inputs. */
 CS_HD void cs_cloud_extinction_n(const struct cs_cloud_layer *l, const struct cs_volume *noise,
 				 int n, const double *x, const double *y, const double *alt_m,
 				 double *out);

@@ -64,8 +64,8 @@ extern "C" {
  * density itself near the threshold, left the cumulonimbus 8.3e-4 off
  * (1080p low and medium 87 and 60 frames/s on an H200 with both, 70.5
  * and 48.6 with the detail alone, 53.1 and 36.2 with neither).  Halves
- * hold noisebake's volumes exactly.  Set by scene_struct; 0: the loads
- * below. */
+ * hold noisebake's volumes exactly.  One handle for the device: each
+ * launch sets its scene's (launch()); 0: the loads below. */
 __constant__ unsigned long long dev_noise_tex;
 
 struct dev_corners {
@@ -337,6 +337,8 @@ static int noise_texture(struct cs_cuda_scene *c, const struct cs_volume *v)
 {
 	if (c->noise_arr != NULL && c->noise_src == v->data)
 		return CS_OK;
+	unsigned long long zero = 0;
+	cudaMemcpyToSymbol(dev_noise_tex, &zero, sizeof zero);
 	if (c->noise_tex)
 		cudaDestroyTextureObject(c->noise_tex);
 	cudaFreeArray(c->noise_arr);
@@ -488,8 +490,8 @@ extern "C" void cs_cuda_scene_free(struct cs_cuda_scene *c)
 	for (int k = 0; k < 5; k++)
 		cudaFree(c->arrays[k]);
 	if (c->noise_tex) {
-		/* the device's lookups fall back to the loads until another
-		 * scene sets its texture */
+		/* no handle left to a destroyed texture (each launch publishes
+		 * its scene's own) */
 		unsigned long long zero = 0;
 		cudaMemcpyToSymbol(dev_noise_tex, &zero, sizeof zero);
 		cudaDestroyTextureObject(c->noise_tex);
@@ -531,12 +533,18 @@ static int launch(struct cs_cuda_scene *c, const struct cs_camera *cam,
 		return rc;
 	if ((rc = frame_alloc(c, cam)) != CS_OK)
 		return rc;
+	/* the device's one texture handle is this scene's (another scene may
+	 * have set it since; 0 without a noise texture: the loads) */
+	unsigned long long tex = (unsigned long long)c->noise_tex;
+	cudaError_t e = cudaMemcpyToSymbol(dev_noise_tex, &tex, sizeof tex);
+	if (e != cudaSuccess)
+		return cuda_error(e, "the noise texture");
 	dim3 block(BLOCK_W, BLOCK_H);
 	dim3 grid((cam->width + BLOCK_W - 1) / BLOCK_W, (cam->height + BLOCK_H - 1) / BLOCK_H);
 	cudaEventRecord(c->ev[0]);
 	for (int k = 0; k < n; k++)
 		render_kernel<<<grid, block>>>(c->d, *cam, *s, c->frame, stats);
-	cudaError_t e = cudaGetLastError();
+	e = cudaGetLastError();
 	if (e != cudaSuccess)
 		return cuda_error(e, "launching the render kernel");
 	cudaEventRecord(c->ev[1]);
