@@ -346,6 +346,18 @@ static inline void corners4(const struct cs_volume *v, __m256d gx, __m256d gy, _
 		c->off[k] = _mm_slli_epi32(_mm_add_epi32(zy[k >> 1], k & 1 ? x1 : x0), 2);
 }
 
+/* volume.c's trilinear() of the eight corner values q, lane by lane */
+static inline __m128 lerp3_4(const __m128 q[8], const struct corners4 *c)
+{
+	__m128 c00 = _mm_add_ps(q[0], _mm_mul_ps(c->tx, _mm_sub_ps(q[1], q[0])));
+	__m128 c10 = _mm_add_ps(q[2], _mm_mul_ps(c->tx, _mm_sub_ps(q[3], q[2])));
+	__m128 c01 = _mm_add_ps(q[4], _mm_mul_ps(c->tx, _mm_sub_ps(q[5], q[4])));
+	__m128 c11 = _mm_add_ps(q[6], _mm_mul_ps(c->tx, _mm_sub_ps(q[7], q[6])));
+	__m128 c0 = _mm_add_ps(c00, _mm_mul_ps(c->ty, _mm_sub_ps(c10, c00)));
+	__m128 c1 = _mm_add_ps(c01, _mm_mul_ps(c->ty, _mm_sub_ps(c11, c01)));
+	return _mm_add_ps(c0, _mm_mul_ps(c->tz, _mm_sub_ps(c1, c0)));
+}
+
 /* volume.c's trilinear() of channel 0 (the base shape) at the lanes'
  * corners */
 static inline __m128 trilinear4_r(const struct cs_volume *v, const struct corners4 *c)
@@ -357,13 +369,7 @@ static inline __m128 trilinear4_r(const struct cs_volume *v, const struct corner
 		_mm_storeu_si128((__m128i *)o, c->off[k]);
 		q[k] = _mm_setr_ps(d[o[0]], d[o[1]], d[o[2]], d[o[3]]);
 	}
-	__m128 c00 = _mm_add_ps(q[0], _mm_mul_ps(c->tx, _mm_sub_ps(q[1], q[0])));
-	__m128 c10 = _mm_add_ps(q[2], _mm_mul_ps(c->tx, _mm_sub_ps(q[3], q[2])));
-	__m128 c01 = _mm_add_ps(q[4], _mm_mul_ps(c->tx, _mm_sub_ps(q[5], q[4])));
-	__m128 c11 = _mm_add_ps(q[6], _mm_mul_ps(c->tx, _mm_sub_ps(q[7], q[6])));
-	__m128 c0 = _mm_add_ps(c00, _mm_mul_ps(c->ty, _mm_sub_ps(c10, c00)));
-	__m128 c1 = _mm_add_ps(c01, _mm_mul_ps(c->ty, _mm_sub_ps(c11, c01)));
-	return _mm_add_ps(c0, _mm_mul_ps(c->tz, _mm_sub_ps(c1, c0)));
+	return lerp3_4(q, c);
 }
 
 /* volume.c's trilinear() of channels 1, 2 and 3 (the detail) at the
@@ -382,16 +388,8 @@ static inline void trilinear4_gba(const struct cs_volume *v, const struct corner
 		_MM_TRANSPOSE4_PS(r0, r1, r2, r3);
 		q[0][k] = r1, q[1][k] = r2, q[2][k] = r3;
 	}
-	for (int ch = 0; ch < 3; ch++) {
-		const __m128 *p = q[ch];
-		__m128 c00 = _mm_add_ps(p[0], _mm_mul_ps(c->tx, _mm_sub_ps(p[1], p[0])));
-		__m128 c10 = _mm_add_ps(p[2], _mm_mul_ps(c->tx, _mm_sub_ps(p[3], p[2])));
-		__m128 c01 = _mm_add_ps(p[4], _mm_mul_ps(c->tx, _mm_sub_ps(p[5], p[4])));
-		__m128 c11 = _mm_add_ps(p[6], _mm_mul_ps(c->tx, _mm_sub_ps(p[7], p[6])));
-		__m128 c0 = _mm_add_ps(c00, _mm_mul_ps(c->ty, _mm_sub_ps(c10, c00)));
-		__m128 c1 = _mm_add_ps(c01, _mm_mul_ps(c->ty, _mm_sub_ps(c11, c01)));
-		g[ch] = _mm_add_ps(c0, _mm_mul_ps(c->tz, _mm_sub_ps(c1, c0)));
-	}
+	for (int ch = 0; ch < 3; ch++)
+		g[ch] = lerp3_4(q[ch], c);
 }
 
 /* A mask of the lanes whose three coordinates are below 2^40 in size
@@ -458,9 +456,10 @@ static void extinction4(const struct cs_cloud_layer *l, const struct cs_volume *
 							     _mm256_sub_pd(one, thr)));
 		thr = _mm256_blendv_pd(thr, t, _mm256_cmp_pd(H, _mm256_set1_pd(0.78), _CMP_GT_OQ));
 	}
-	__m256d nx = _mm256_set1_pd((double)noise->nx), half = _mm256_set1_pd(0.5);
+	__m256d nx = _mm256_set1_pd((double)noise->nx), ny = _mm256_set1_pd((double)noise->ny);
+	__m256d nz = _mm256_set1_pd((double)noise->nz), half = _mm256_set1_pd(0.5);
 	__m256d gx = _mm256_sub_pd(_mm256_mul_pd(U, nx), half);
-	__m256d gy = _mm256_sub_pd(_mm256_mul_pd(V, _mm256_set1_pd((double)noise->ny)), half);
+	__m256d gy = _mm256_sub_pd(_mm256_mul_pd(V, ny), half);
 	if (l->bound_n > 0) {
 		__m256d lim = _mm256_set1_pd(0x1p30), sign = _mm256_set1_pd(-0.0);
 		__m256d in = _mm256_and_pd(_mm256_cmp_pd(W, _mm256_set1_pd(l->bound_w0), _CMP_GE_OQ),
@@ -484,12 +483,11 @@ static void extinction4(const struct cs_cloud_layer *l, const struct cs_volume *
 	_mm256_storeu_pd(out, zero);
 	if (lanes == 0)
 		return;
-	__m256d half4 = _mm256_set1_pd(0.5);
 	/* the lanes in play within the lookup's own limit (the rare other
 	 * lane the scalar way); lanes not in play look up voxel 0 harmlessly */
 	int fast = small4(U, V, W) & lanes;
 	__m256d keep = lanes4(fast);
-	__m256d gz = _mm256_sub_pd(_mm256_mul_pd(W, _mm256_set1_pd((double)noise->nz)), half4);
+	__m256d gz = _mm256_sub_pd(_mm256_mul_pd(W, nz), half);
 	struct corners4 cb;
 	corners4(noise, _mm256_and_pd(gx, keep), _mm256_and_pd(gy, keep), _mm256_and_pd(gz, keep),
 		 &cb);
@@ -504,11 +502,9 @@ static void extinction4(const struct cs_cloud_layer *l, const struct cs_volume *
 	int detail = small4(du, dv, dw) & cloud;
 	if (detail) {
 		__m256d dk = lanes4(detail);
-		__m256d hx = _mm256_and_pd(_mm256_sub_pd(_mm256_mul_pd(du, nx), half4), dk);
-		__m256d hy = _mm256_and_pd(
-			_mm256_sub_pd(_mm256_mul_pd(dv, _mm256_set1_pd((double)noise->ny)), half4), dk);
-		__m256d hz = _mm256_and_pd(
-			_mm256_sub_pd(_mm256_mul_pd(dw, _mm256_set1_pd((double)noise->nz)), half4), dk);
+		__m256d hx = _mm256_and_pd(_mm256_sub_pd(_mm256_mul_pd(du, nx), half), dk);
+		__m256d hy = _mm256_and_pd(_mm256_sub_pd(_mm256_mul_pd(dv, ny), half), dk);
+		__m256d hz = _mm256_and_pd(_mm256_sub_pd(_mm256_mul_pd(dw, nz), half), dk);
 		struct corners4 cd;
 		corners4(noise, hx, hy, hz, &cd);
 		__m128 gba[3];
@@ -624,14 +620,14 @@ static void build_bound(struct cs_cloud_layer *l, const struct cs_volume *noise)
 CS_HD double cs_cloud_column(const struct cs_cloud_layer *l, const struct cs_volume *noise,
 			     double x, double y, double z0_m, double z1_m, int steps)
 {
+#ifdef __CUDA_ARCH__
+	enum { B = 1 }; /* a GPU thread one point at a time (march.h's CS_MARCH_BATCH) */
+#else
 	enum { B = 8 };
+#endif
 	double dz = (z1_m - z0_m) / steps, tau = 0.0;
 	if (!(dz > 0.0))
 		return 0.0;
-#ifdef __CUDA_ARCH__
-	for (int k = 0; k < steps; k++)
-		tau += cs_cloud_extinction(l, noise, x, y, z0_m + (k + 0.5) * dz) * dz;
-#else
 	double px[B], py[B], pz[B], e[B];
 	for (int b = 0; b < B; b++)
 		px[b] = x, py[b] = y;
@@ -643,7 +639,6 @@ CS_HD double cs_cloud_column(const struct cs_cloud_layer *l, const struct cs_vol
 		for (int b = 0; b < m; b++)
 			tau += e[b] * dz;
 	}
-#endif
 	return tau;
 }
 

@@ -514,7 +514,6 @@ CS_HD static void march_crossing(const struct ray_ctx *c, double t0, double t1,
 		double bx[CS_MARCH_BATCH], by[CS_MARCH_BATCH], bz[CS_MARCH_BATCH], balt[CS_MARCH_BATCH];
 		double sigma[CS_MARCH_BATCH];
 		int amb[CS_MARCH_BATCH], m = 0, end = 0;
-		cs_v3 bp[CS_MARCH_BATCH];
 		for (; m < CS_MARCH_BATCH && j < ns; m++, j++, ts += grown, grown *= growth) {
 			/* the last step ends where the crossing does */
 			double dt = j == ns - 1 ? t1 - ts : grown;
@@ -524,15 +523,16 @@ CS_HD static void march_crossing(const struct ray_ctx *c, double t0, double t1,
 			}
 			double t = naive ? ts : ts + c->jitter_u * dt;
 			cs_v3 p = v3_mad(c->o, c->d, t);
-			bts[m] = ts, bt[m] = t, bdt[m] = dt, bp[m] = p;
+			bts[m] = ts, bt[m] = t, bdt[m] = dt;
 			bx[m] = p.x, by[m] = p.y, bz[m] = p.z;
 		}
 		cs_altitude_n(m, bx, by, bz, sc->earth_radius_m, balt);
 		cs_extinction_at_n(sc, mask, m, bx, by, balt, sigma, amb);
 		c->st->density_samples += (uint64_t)m;
 		for (int k = 0; k < m; k++)
-			if (sigma[k] > 0.0 && march_sample(c, P, mask, bts[k], bt[k], bdt[k], bp[k],
-							   balt[k], sigma[k], amb[k]))
+			if (sigma[k] > 0.0 && march_sample(c, P, mask, bts[k], bt[k], bdt[k],
+							   v3(bx[k], by[k], bz[k]), balt[k], sigma[k],
+							   amb[k]))
 				return;
 		if (end)
 			break;
