@@ -288,6 +288,7 @@ int cs_lattice_lut_new(struct cs_lattice_lut *t, const int period[3], uint32_t s
 		t->period[a] = period[a];
 	}
 	t->seed = seed;
+	t->cells = n;
 	if (worley)
 		t->feat = malloc((size_t)n * 3 * sizeof *t->feat);
 	else
@@ -298,8 +299,12 @@ int cs_lattice_lut_new(struct cs_lattice_lut *t, const int period[3], uint32_t s
 	for (int z = 0; z < period[2]; z++)
 		for (int y = 0; y < period[1]; y++)
 			for (int x = 0; x < period[0]; x++, i++) {
-				if (worley)
-					cs_worley_feature(x, y, z, period, seed, t->feat + 3 * i);
+				if (worley) {
+					double p[3];
+					cs_worley_feature(x, y, z, period, seed, p);
+					for (int a = 0; a < 3; a++)
+						t->feat[(size_t)a * (size_t)n + i] = p[a];
+				}
 				else
 					t->grad[i] = (uint8_t)(cs_hash3i(x, y, z, seed) & 15u);
 			}
@@ -334,12 +339,12 @@ static void worley_gather(const struct cs_lattice_lut *t, int X, int Y, int Z,
 	int k = 0;
 	for (int dz = -1; dz <= 1; dz++)
 		for (int dy = -1; dy <= 1; dy++) {
-			const double *row = t->feat + 3 * ((size_t)zs[dz + 1] * period[1] + (size_t)ys[dy + 1]) * period[0];
+			size_t row = ((size_t)zs[dz + 1] * period[1] + (size_t)ys[dy + 1]) * period[0];
 			for (int dx = -1; dx <= 1; dx++, k++) {
-				const double *p = row + 3 * xs[dx + 1];
+				const double *p = t->feat + row + xs[dx + 1];
 				w->c[0][k] = dx + p[0];
-				w->c[1][k] = dy + p[1];
-				w->c[2][k] = dz + p[2];
+				w->c[1][k] = dy + p[t->cells];
+				w->c[2][k] = dz + p[2 * t->cells];
 			}
 		}
 	w->key[0] = X, w->key[1] = Y, w->key[2] = Z;
@@ -472,6 +477,315 @@ double cs_perlin3p_lut(const struct cs_lattice_lut *t, double x, double y, doubl
 		    g[z1 * sz + Y * sy + X],  g[z1 * sz + Y * sy + x1],
 		    g[z1 * sz + y1 * sy + X], g[z1 * sz + y1 * sy + x1]};
 	return perlin_cell(fx, fy, fz, h);
+}
+
+/* Rows: the points (x[i], y, z) of one row of voxels share y and z, so
+ * they share the 9 rows of cells (dy, dz) around their own and each of
+ * those cells' squared distances along y and along z.  Those are
+ * computed once a row, per column of cells; a query then adds only its
+ * x part.  Every squared distance is formed as cs_worley3p() forms it,
+ * ((ex^2 + ey^2) + ez^2) with ex = (dx + px) - fx (dx + px is exact: a
+ * feature coordinate has 24 bits), so every minimum is its, bit for bit. */
+
+int cs_worley_row_init(struct cs_worley_row *r, const struct cs_lattice_lut *t)
+{
+	r->Y = -1;
+	r->buf = (double *)malloc(3 * 9 * ((size_t)t->period[0] + 3) * sizeof *r->buf);
+	return r->buf != NULL ? CS_OK : cs_error(CS_ENOMEM, "out of memory for a noise row");
+}
+
+void cs_worley_row_free(struct cs_worley_row *r)
+{
+	free(r->buf);
+	r->buf = NULL;
+}
+
+/* The candidates of cell X: of the 27 points around it, those that can be
+ * the nearest to some point of the cell.  A point's squared distance is
+ * at least its y and z part (s = ey^2 + ez^2, rounded: the sum is
+ * monotonic in each term, and so is rounding), and the own column's
+ * point j is at most (max(px, 1 - px)^2 + ey^2) + ez^2 away from every
+ * point of the cell (|ex| <= max(px, 1 - px) as fx runs over [0, 1)).  A
+ * point whose s exceeds the least such bound is never the nearest; the
+ * one that gives the bound is kept (its s is at most its bound).  The
+ * list is padded to a multiple of 4 with points at infinity. */
+struct row_cands {
+	int n;
+	double c[32], a[32], b[32];
+};
+
+static void row_cands(const double *C, const double *A, const double *B,
+		      size_t w, int X, struct row_cands *k)
+{
+	double ub = INFINITY;
+	for (int j = 0; j < 9; j++) {
+		size_t o = (size_t)j * w + (size_t)X + 1;
+		double c = C[o], m = c > 1.0 - c ? c : 1.0 - c;
+		double u = (m * m + A[o]) + B[o];
+		ub = u < ub ? u : ub;
+	}
+	int n = 0;
+	for (int dx = -1; dx <= 1; dx++)
+		for (int j = 0; j < 9; j++) {
+			/* written whether kept or not (no branch to mispredict):
+			 * a point left out is overwritten by the next */
+			size_t o = (size_t)j * w + (size_t)(X + 1 + dx);
+			k->c[n] = dx + C[o], k->a[n] = A[o], k->b[n] = B[o];
+			n += A[o] + B[o] <= ub;
+		}
+	for (; n & 3; n++)
+		k->c[n] = INFINITY, k->a[n] = 0.0, k->b[n] = 0.0;
+	k->n = n;
+}
+
+static double row_nearest_base(const struct row_cands *k, double fx)
+{
+	double best = INFINITY;
+	for (int i = 0; i < k->n; i++) {
+		double ex = k->c[i] - fx;
+		double d2 = (ex * ex + k->a[i]) + k->b[i];
+		best = d2 < best ? d2 : best;
+	}
+	return best;
+}
+
+/* All 27 points around cell X, straight from the row's columns. */
+static double row_direct_base(const double *C, const double *A, const double *B, size_t w,
+			      int X, double fx)
+{
+	double best = INFINITY;
+	for (int j = 0; j < 9; j++)
+		for (int dx = -1; dx <= 1; dx++) {
+			size_t o = (size_t)j * w + (size_t)(X + 1 + dx);
+			double ex = (dx + C[o]) - fx;
+			double d2 = (ex * ex + A[o]) + B[o];
+			best = d2 < best ? d2 : best;
+		}
+	return best;
+}
+
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
+/* The same, the columns X - 1 .. X + 2 as four lanes, the fourth moved
+ * to infinity. */
+__attribute__((target("avx2"))) static double row_direct_avx2(const double *C, const double *A,
+							      const double *B, size_t w, int X,
+							      double fx)
+{
+	__m256d vx = _mm256_set1_pd(fx), best = _mm256_set1_pd(INFINITY);
+	__m256d dx = _mm256_setr_pd(-1.0, 0.0, 1.0, INFINITY);
+	for (int j = 0; j < 9; j++) {
+		size_t o = (size_t)j * w + (size_t)X;
+		__m256d ex = _mm256_sub_pd(_mm256_add_pd(dx, _mm256_loadu_pd(C + o)), vx);
+		__m256d d = _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(ex, ex),
+							_mm256_loadu_pd(A + o)),
+					  _mm256_loadu_pd(B + o));
+		best = _mm256_min_pd(d, best);
+	}
+	__m128d h = _mm_min_pd(_mm256_castpd256_pd128(best), _mm256_extractf128_pd(best, 1));
+	return _mm_cvtsd_f64(_mm_min_sd(h, _mm_unpackhi_pd(h, h)));
+}
+
+__attribute__((target("avx2"))) static double row_nearest_avx2(const struct row_cands *k, double fx)
+{
+	__m256d vx = _mm256_set1_pd(fx), best = _mm256_set1_pd(INFINITY);
+	for (int i = 0; i < k->n; i += 4) {
+		__m256d ex = _mm256_sub_pd(_mm256_loadu_pd(k->c + i), vx);
+		__m256d d = _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(ex, ex),
+							_mm256_loadu_pd(k->a + i)),
+					  _mm256_loadu_pd(k->b + i));
+		best = _mm256_min_pd(d, best);
+	}
+	__m128d h = _mm_min_pd(_mm256_castpd256_pd128(best), _mm256_extractf128_pd(best, 1));
+	return _mm_cvtsd_f64(_mm_min_sd(h, _mm_unpackhi_pd(h, h)));
+}
+#define ROW_NEAREST(k, fx) (avx2 ? row_nearest_avx2(k, fx) : row_nearest_base(k, fx))
+#define ROW_DIRECT(C, A, B, w, X, fx)                                                        \
+	(avx2 ? row_direct_avx2(C, A, B, w, X, fx) : row_direct_base(C, A, B, w, X, fx))
+#else
+#define ROW_NEAREST(k, fx) row_nearest_base(k, fx)
+#define ROW_DIRECT(C, A, B, w, X, fx) row_direct_base(C, A, B, w, X, fx)
+#endif
+
+void cs_worley_row_lut(const struct cs_lattice_lut *t, struct cs_worley_row *r, double y,
+		       double z, const double *x, int n, double *f1)
+{
+	const int *period = t->period;
+	int P = period[0];
+	/* columns -1 .. P at X + 1, and one of zeros (the direct path's fourth lane) */
+	size_t w = (size_t)P + 3;
+	double fy, fz;
+	int Y = split(y, period[1], &fy), Z = split(z, period[2], &fz);
+	int ys[3], zs[3];
+	neighbours(Y, period[1], ys);
+	neighbours(Z, period[2], zs);
+	double *C = r->buf, *A = C + 9 * w, *B = A + 9 * w;
+	/* C and B stay while the row's cells and fz do (the rows of a slice) */
+	int keep = r->Y == Y && r->Z == Z && r->fz == fz;
+	r->Y = Y, r->Z = Z, r->fz = fz;
+	for (int j = 0; j < 9; j++) {
+		int dy = j % 3 - 1, dz = j / 3 - 1;
+		size_t row = ((size_t)zs[dz + 1] * period[1] + (size_t)ys[dy + 1]) * P;
+		const double *p0 = t->feat + row, *p1 = p0 + t->cells, *p2 = p1 + t->cells;
+		double *c = C + j * w, *a = A + j * w, *b = B + j * w;
+		/* column -1 is P - 1, column P is 0, P + 1 zeros */
+		a[0] = ((dy + p1[P - 1]) - fy) * ((dy + p1[P - 1]) - fy);
+		a[P + 1] = ((dy + p1[0]) - fy) * ((dy + p1[0]) - fy);
+		a[P + 2] = 0.0;
+		for (int i = 0; i < P; i++) {
+			double e = (dy + p1[i]) - fy;
+			a[i + 1] = e * e;
+		}
+		if (keep)
+			continue;
+		c[0] = p0[P - 1], c[P + 1] = p0[0], c[P + 2] = 0.0;
+		b[0] = ((dz + p2[P - 1]) - fz) * ((dz + p2[P - 1]) - fz);
+		b[P + 1] = ((dz + p2[0]) - fz) * ((dz + p2[0]) - fz);
+		b[P + 2] = 0.0;
+		for (int i = 0; i < P; i++) {
+			double e = (dz + p2[i]) - fz;
+			c[i + 1] = p0[i], b[i + 1] = e * e;
+		}
+	}
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
+	int avx2 = __builtin_cpu_supports("avx2");
+#endif
+	/* fewer than 8 points a cell: the candidates would cost more than they
+	 * save */
+	int direct = (long)n < 8L * P;
+	struct row_cands k;
+	int cur = -1;
+	for (int i = 0; i < n; i++) {
+		double fx;
+		int X = split(x[i], P, &fx);
+		double best;
+		if (direct) {
+			best = ROW_DIRECT(C, A, B, w, X, fx);
+		} else {
+			if (X != cur)
+				row_cands(C, A, B, w, X, &k), cur = X;
+			best = ROW_NEAREST(&k, fx);
+		}
+		f1[i] = best;
+	}
+	/* the square roots, two at a time (the same roots); a point whose
+	 * nearest of the 27 is farther than a cell: cs_worley3p_lut()'s
+	 * search beyond them */
+	int i = 0;
+#if defined(__SSE2__)
+	for (; i + 2 <= n; i += 2) {
+		__m128d b = _mm_loadu_pd(f1 + i);
+		_mm_storeu_pd(f1 + i, _mm_sqrt_pd(b));
+		int far = _mm_movemask_pd(_mm_cmpgt_pd(b, _mm_set1_pd(1.0)));
+		for (int l = 0; far; l++, far >>= 1)
+			if (far & 1)
+				f1[i + l] = cs_worley3p(x[i + l], y, z, period, t->seed);
+	}
+#endif
+	for (; i < n; i++)
+		f1[i] = f1[i] > 1.0 ? cs_worley3p(x[i], y, z, period, t->seed) : sqrt(f1[i]);
+}
+
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
+/* grad()'s choices for each hash as bit masks: which of x, y, z are u and
+ * v, and their signs.  Selecting bits and flipping the sign bit are what
+ * the choices and the negations do, so the sums are the same. */
+struct grad_masks {
+	uint64_t ux, vx, vy, vz, su, sv;
+};
+#define ALL1 0xffffffffffffffffull
+#define SIGN 0x8000000000000000ull
+#define GRAD_MASKS(h)                                                                        \
+	{(h) < 8 ? ALL1 : 0, (h) == 12 || (h) == 14 ? ALL1 : 0, (h) < 4 ? ALL1 : 0,          \
+	 (h) >= 4 && (h) != 12 && (h) != 14 ? ALL1 : 0, (h) & 1 ? SIGN : 0, (h) & 2 ? SIGN : 0}
+static const struct grad_masks grad_mask[16] = {
+	GRAD_MASKS(0),  GRAD_MASKS(1),  GRAD_MASKS(2),  GRAD_MASKS(3),
+	GRAD_MASKS(4),  GRAD_MASKS(5),  GRAD_MASKS(6),  GRAD_MASKS(7),
+	GRAD_MASKS(8),  GRAD_MASKS(9),  GRAD_MASKS(10), GRAD_MASKS(11),
+	GRAD_MASKS(12), GRAD_MASKS(13), GRAD_MASKS(14), GRAD_MASKS(15),
+};
+#undef GRAD_MASKS
+#undef SIGN
+#undef ALL1
+
+__attribute__((target("avx2"))) static inline __m256d fade4(__m256d t)
+{
+	__m256d a = _mm256_mul_pd(_mm256_mul_pd(t, t), t);
+	__m256d b = _mm256_sub_pd(_mm256_mul_pd(t, _mm256_set1_pd(6.0)), _mm256_set1_pd(15.0));
+	return _mm256_mul_pd(a, _mm256_add_pd(_mm256_mul_pd(t, b), _mm256_set1_pd(10.0)));
+}
+
+__attribute__((target("avx2"))) static inline __m256d lerp4(__m256d t, __m256d a, __m256d b)
+{
+	return _mm256_add_pd(a, _mm256_mul_pd(t, _mm256_sub_pd(b, a)));
+}
+
+__attribute__((target("avx2"))) static inline __m256d grad4(const struct grad_masks *g,
+							    __m256d x, __m256d y, __m256d z)
+{
+	__m256d u = _mm256_or_pd(_mm256_and_pd(x, _mm256_castsi256_pd(_mm256_set1_epi64x((long long)g->ux))),
+				 _mm256_andnot_pd(_mm256_castsi256_pd(_mm256_set1_epi64x((long long)g->ux)), y));
+	__m256d v = _mm256_or_pd(
+		_mm256_or_pd(_mm256_and_pd(x, _mm256_castsi256_pd(_mm256_set1_epi64x((long long)g->vx))),
+			     _mm256_and_pd(y, _mm256_castsi256_pd(_mm256_set1_epi64x((long long)g->vy)))),
+		_mm256_and_pd(z, _mm256_castsi256_pd(_mm256_set1_epi64x((long long)g->vz))));
+	u = _mm256_xor_pd(u, _mm256_castsi256_pd(_mm256_set1_epi64x((long long)g->su)));
+	v = _mm256_xor_pd(v, _mm256_castsi256_pd(_mm256_set1_epi64x((long long)g->sv)));
+	return _mm256_add_pd(u, v);
+}
+
+/* perlin_cell() at four points of one cell (fx[] differ, fy and fz are
+ * shared), lane by lane the same operations. */
+__attribute__((target("avx2"))) static void perlin_cell4(const double *fx, double fy, double fz,
+							  const int h[8], double *out)
+{
+	const struct grad_masks *m = grad_mask;
+	__m256d x = _mm256_loadu_pd(fx), y = _mm256_set1_pd(fy), z = _mm256_set1_pd(fz);
+	__m256d one = _mm256_set1_pd(1.0);
+	__m256d x1 = _mm256_sub_pd(x, one), y1 = _mm256_sub_pd(y, one), z1 = _mm256_sub_pd(z, one);
+	__m256d u = fade4(x), v = fade4(y), w = fade4(z);
+	__m256d r = lerp4(w,
+			  lerp4(v, lerp4(u, grad4(&m[h[0]], x, y, z), grad4(&m[h[1]], x1, y, z)),
+				lerp4(u, grad4(&m[h[2]], x, y1, z), grad4(&m[h[3]], x1, y1, z))),
+			  lerp4(v, lerp4(u, grad4(&m[h[4]], x, y, z1), grad4(&m[h[5]], x1, y, z1)),
+				lerp4(u, grad4(&m[h[6]], x, y1, z1), grad4(&m[h[7]], x1, y1, z1))));
+	_mm256_storeu_pd(out, r);
+}
+#endif
+
+void cs_perlin_row_lut(const struct cs_lattice_lut *t, double y, double z, const double *x,
+		       int n, double *out)
+{
+	const int *period = t->period;
+	double fy, fz;
+	int Y = split(y, period[1], &fy), Z = split(z, period[2], &fz);
+	int y1 = Y + 1 < period[1] ? Y + 1 : 0, z1 = Z + 1 < period[2] ? Z + 1 : 0;
+	size_t sy = (size_t)period[0], sz = sy * (size_t)period[1];
+	const uint8_t *g00 = t->grad + Z * sz + Y * sy, *g10 = t->grad + Z * sz + y1 * sy;
+	const uint8_t *g01 = t->grad + z1 * sz + Y * sy, *g11 = t->grad + z1 * sz + y1 * sy;
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
+	int avx2 = __builtin_cpu_supports("avx2");
+#endif
+	for (int i = 0; i < n;) {
+		double fx[4];
+		int X = split(x[i], period[0], &fx[0]);
+		int x1 = X + 1 < period[0] ? X + 1 : 0;
+		int h[8] = {g00[X], g00[x1], g10[X], g10[x1], g01[X], g01[x1], g11[X], g11[x1]};
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
+		/* four points in one cell share its gradients: four lanes */
+		if (avx2 && i + 4 <= n) {
+			int same = 1;
+			for (int l = 1; l < 4; l++)
+				same &= split(x[i + l], period[0], &fx[l]) == X;
+			if (same) {
+				perlin_cell4(fx, fy, fz, h, out + i);
+				i += 4;
+				continue;
+			}
+		}
+#endif
+		out[i] = perlin_cell(fx[0], fy, fz, h);
+		i++;
+	}
 }
 
 int cs_fbm_check(const struct cs_fbm *fbm)

@@ -6,6 +6,7 @@
 #ifndef CS_NOISE_H
 #define CS_NOISE_H
 
+#include <stddef.h>
 #include <stdint.h>
 
 /* Ken Perlin's Improved Noise (SIGGRAPH 2002): quintic fade, 12 gradient
@@ -69,7 +70,9 @@ double cs_perlin_worley3p(double x, double y, double z, const int period[3],
 struct cs_lattice_lut {
 	int period[3];   /* cells per axis, each >= 1 */
 	uint32_t seed;
-	double *feat;    /* Worley: 3 per cell, x fastest; or NULL */
+	double *feat;    /* Worley: the cells' x, then y, then z coordinates,
+			  * x fastest; or NULL */
+	long cells;      /* cells in all */
 	uint8_t *grad;   /* Perlin: gradient hash & 15 per cell; or NULL */
 };
 /* The largest lattice tabulated (cells); larger ones are left to the direct
@@ -91,6 +94,23 @@ struct cs_worley_cache {
 double cs_worley3p_lut(const struct cs_lattice_lut *t, struct cs_worley_cache *cache,
 		       double x, double y, double z);
 double cs_perlin3p_lut(const struct cs_lattice_lut *t, double x, double y, double z);
+
+/* The same at the n points (x[i], y, z) of a row (any x; runs of points
+ * in one cell, as a row of voxels gives, are fastest), into f1[] or
+ * out[]: what cs_worley3p_lut() and cs_perlin3p_lut() return at each, bit
+ * for bit.  A cs_worley_row holds what rows of the same cells share (one
+ * per table and thread); cs_worley_row_init() gives 0 or CS_ENOMEM. */
+struct cs_worley_row {
+	double *buf;
+	int Y, Z; /* the cells of the last row; Y = -1: none */
+	double fz;
+};
+int cs_worley_row_init(struct cs_worley_row *r, const struct cs_lattice_lut *t);
+void cs_worley_row_free(struct cs_worley_row *r);
+void cs_worley_row_lut(const struct cs_lattice_lut *t, struct cs_worley_row *r, double y,
+		       double z, const double *x, int n, double *f1);
+void cs_perlin_row_lut(const struct cs_lattice_lut *t, double y, double z, const double *x,
+		       int n, double *out);
 
 /* Validates an fBm description; 0 or CS_EINVAL with a message. */
 int cs_fbm_check(const struct cs_fbm *fbm);

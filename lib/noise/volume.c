@@ -197,6 +197,88 @@ static void bake_voxel(const struct bake_job *job, struct cs_worley_cache wc[4][
 	}
 }
 
+/* One octave of a channel along a row of voxels: ox[] the row's
+ * coordinates in the octave's lattice, (oy, oz) their shared ones. */
+static void octave_row(const struct octave *o, struct cs_worley_cache *wc, struct cs_worley_row *wr,
+		       const double *ox, int n, double oy, double oz, double *val)
+{
+	if (!o->tabulated) {
+		for (int i = 0; i < n; i++)
+			val[i] = octave_noise(o, wc, ox[i], oy, oz);
+		return;
+	}
+	if (!o->worley) {
+		cs_perlin_row_lut(&o->lut, oy, oz, ox, n, val);
+		return;
+	}
+	cs_worley_row_lut(&o->lut, wr, oy, oz, ox, n, val);
+	for (int i = 0; i < n; i++)
+		val[i] = 1.0 - (val[i] < 1.0 ? val[i] : 1.0);
+}
+
+/* fbm() along a row: px[] the row's coordinates in the base lattice, (py,
+ * pz) their shared ones; the same sums, term by term, into sum[]. */
+static void fbm_row(const struct octave *o, struct cs_worley_cache *wc, struct cs_worley_row *wr,
+		    int noct, double gain, const double *px, int n, double py, double pz,
+		    double *ox, double *val, double *sum)
+{
+	double norm = 0.0, amp = 1.0;
+	long freq = 1;
+	for (int i = 0; i < n; i++)
+		sum[i] = 0.0;
+	for (int k = 0; k < noct; k++) {
+		for (int i = 0; i < n; i++)
+			ox[i] = px[i] * (double)freq;
+		octave_row(&o[k], wc ? &wc[k] : NULL, wr ? &wr[k] : NULL, ox, n, py * (double)freq,
+			   pz * (double)freq, val);
+		for (int i = 0; i < n; i++)
+			sum[i] += amp * val[i];
+		norm += amp;
+		amp *= gain;
+		freq *= 2;
+	}
+	for (int i = 0; i < n; i++)
+		sum[i] /= norm;
+}
+
+/* Row y of slice z, as bake_voxel() bakes each voxel of it.  buf: 5 nx
+ * doubles; wr: each Worley table's row state. */
+static void bake_row(const struct bake_job *job, struct cs_worley_cache wc[4][MAX_OCT],
+		     struct cs_worley_row wr[4][MAX_OCT], double *buf, int y, int z)
+{
+	const struct cs_volume *v = job->v;
+	const struct cs_noise_recipe *r = &v->recipe;
+	int n = v->nx;
+	double *px = buf, *ox = px + n, *val = ox + n, *sum = val + n, *wsum = sum + n;
+	double w = (y + 0.5) / v->ny, t = (z + 0.5) / v->nz;
+	float *out = v->data + ((size_t)z * v->ny + y) * (size_t)n * 4;
+	for (int c = 0; c < 4; c++) {
+		const int *p = job->period[c];
+		for (int i = 0; i < n; i++)
+			px[i] = (i + 0.5) / n * p[0];
+		double py = w * p[1], pz = t * p[2];
+		if (c == 0) {
+			fbm_row(job->oct[0][1], NULL, NULL, r->octaves[0], r->gain, px, n, py, pz,
+				ox, val, sum);
+			fbm_row(job->oct[0][0], wc[0], wr[0], r->worley_octaves, r->gain, px, n,
+				py, pz, ox, val, wsum);
+			for (int i = 0; i < n; i++) {
+				double pf = sum[i];
+				pf = pf < -1.0 ? -1.0 : pf > 1.0 ? 1.0 : pf;
+				double pp = 0.5 + 0.5 * pf;
+				pp = pp < 0.0 ? 0.0 : pp > 1.0 ? 1.0 : pp;
+				double wf = wsum[i];
+				out[4 * i] = (float)((pp - wf + 1.0) / (2.0 - wf));
+			}
+		} else {
+			fbm_row(job->oct[c][0], wc[c], wr[c], r->octaves[c], r->gain, px, n, py,
+				pz, ox, val, sum);
+			for (int i = 0; i < n; i++)
+				out[4 * i + c] = (float)sum[i];
+		}
+	}
+}
+
 static void bake_slice(void *user, int z, int worker)
 {
 	(void)worker;
@@ -206,6 +288,25 @@ static void bake_slice(void *user, int z, int worker)
 	for (int c = 0; c < 4; c++)
 		for (int i = 0; i < MAX_OCT; i++)
 			wc[c][i].key[0] = -1; /* no cell yet */
+	struct cs_worley_row wr[4][MAX_OCT] = {0};
+	int ok = 1;
+	for (int c = 0; c < 4; c++)
+		for (int i = 0; i < MAX_OCT; i++) {
+			const struct octave *o = &job->oct[c][0][i];
+			if (o->tabulated && o->worley)
+				ok &= cs_worley_row_init(&wr[c][i], &o->lut) == CS_OK;
+		}
+	double *buf = (double *)malloc(5 * (size_t)v->nx * sizeof *buf);
+	if (buf != NULL && ok)
+		for (int y = 0; y < v->ny; y++)
+			bake_row(job, wc, wr, buf, y, z);
+	free(buf);
+	for (int c = 0; c < 4; c++)
+		for (int i = 0; i < MAX_OCT; i++)
+			cs_worley_row_free(&wr[c][i]);
+	if (buf != NULL && ok)
+		return;
+	/* no memory for the rows: voxel by voxel, the same values */
 	for (int y = 0; y < v->ny; y++)
 		for (int x = 0; x < v->nx; x++)
 			bake_voxel(job, wc, x, y, z,

@@ -76,6 +76,88 @@ static void perlin_lut_equals_direct(void)
 	}
 }
 
+/* A row's x coordinates: voxel centres across the period (runs in one
+ * cell, n / period of them: the candidate and the direct paths), then
+ * points anywhere, out of order, negative, huge and on the lattice. */
+static void row_x(uint32_t *k, const int p[3], int n, int kind, double *x)
+{
+	for (int i = 0; i < n; i++) {
+		if (kind == 0) {
+			x[i] = (i + 0.5) / n * p[0];
+		} else {
+			double q[3];
+			point(k, p, i, q);
+			x[i] = q[0];
+		}
+	}
+}
+
+/* Row y, z of the point set: the baker's (inside the period) or any. */
+static void row_yz(uint32_t *k, const int p[3], int r, double *y, double *z)
+{
+	double q[3];
+	point(k, p, r % 2 == 0 ? 0 : r, q);
+	*y = q[1], *z = q[2];
+}
+
+static void worley_rows_equal_direct(void)
+{
+	uint32_t k = 3;
+	long n = 0, far = 0;
+	enum { N = 256 };
+	double x[N], f1[N];
+	for (size_t j = 0; j < sizeof periods / sizeof periods[0]; j++) {
+		struct cs_lattice_lut t;
+		uint32_t seed = 4321u + (uint32_t)j;
+		CHECK(cs_lattice_lut_new(&t, periods[j], seed, 1) == 0);
+		struct cs_worley_row wr;
+		CHECK(cs_worley_row_init(&wr, &t) == 0);
+		for (int r = 0; r < 60; r++) {
+			/* 256 points: 8 or more a cell up to a period of 32;
+			 * 5 points: fewer */
+			int m = r % 3 == 2 ? 5 : N;
+			double y, z;
+			row_yz(&k, periods[j], r, &y, &z);
+			row_x(&k, periods[j], m, r % 3 == 1, x);
+			cs_worley_row_lut(&t, &wr, y, z, x, m, f1);
+			for (int i = 0; i < m; i++) {
+				double b = cs_worley3p(x[i], y, z, periods[j], seed);
+				CHECK(memcmp(&f1[i], &b, sizeof b) == 0);
+				far += b > 1.0;
+				n++;
+			}
+		}
+		cs_worley_row_free(&wr);
+		cs_lattice_lut_free(&t);
+	}
+	printf("  %ld points in rows, %ld with the nearest feature farther than a cell\n", n, far);
+	CHECK(far > 0);
+}
+
+static void perlin_rows_equal_direct(void)
+{
+	uint32_t k = 9;
+	enum { N = 256 };
+	double x[N], v[N];
+	for (size_t j = 0; j < sizeof periods / sizeof periods[0]; j++) {
+		struct cs_lattice_lut t;
+		uint32_t seed = 99u + (uint32_t)j;
+		CHECK(cs_lattice_lut_new(&t, periods[j], seed, 0) == 0);
+		for (int r = 0; r < 60; r++) {
+			int m = r % 3 == 2 ? 7 : N;
+			double y, z;
+			row_yz(&k, periods[j], r, &y, &z);
+			row_x(&k, periods[j], m, r % 3 == 1, x);
+			cs_perlin_row_lut(&t, y, z, x, m, v);
+			for (int i = 0; i < m; i++) {
+				double b = cs_perlin3p(x[i], y, z, periods[j], seed);
+				CHECK(memcmp(&v[i], &b, sizeof b) == 0);
+			}
+		}
+		cs_lattice_lut_free(&t);
+	}
+}
+
 static void oversized_lattice_is_refused(void)
 {
 	struct cs_lattice_lut t;
@@ -87,6 +169,8 @@ static void oversized_lattice_is_refused(void)
 static const struct t_case t_cases[] = {
 	CASE(worley_lut_equals_direct),
 	CASE(perlin_lut_equals_direct),
+	CASE(worley_rows_equal_direct),
+	CASE(perlin_rows_equal_direct),
 	CASE(oversized_lattice_is_refused),
 };
 
