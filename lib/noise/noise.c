@@ -510,7 +510,7 @@ void cs_worley_row_free(struct cs_worley_row *r)
  * one that gives the bound is kept (its s is at most its bound).  The
  * list is padded to a multiple of 4 with points at infinity. */
 struct row_cands {
-	int n;
+	int n, kept; /* padded, and before the padding */
 	double c[32], a[32], b[32];
 };
 
@@ -533,6 +533,7 @@ static void row_cands(const double *C, const double *A, const double *B,
 			k->c[n] = dx + C[o], k->a[n] = A[o], k->b[n] = B[o];
 			n += A[o] + B[o] <= ub;
 		}
+	k->kept = n;
 	for (; n & 3; n++)
 		k->c[n] = INFINITY, k->a[n] = 0.0, k->b[n] = 0.0;
 	k->n = n;
@@ -598,6 +599,21 @@ __attribute__((target("avx2"))) static double row_nearest_avx2(const struct row_
 	__m128d h = _mm_min_pd(_mm256_castpd256_pd128(best), _mm256_extractf128_pd(best, 1));
 	return _mm_cvtsd_f64(_mm_min_sd(h, _mm_unpackhi_pd(h, h)));
 }
+/* The least squared distances of four points of the cell (lanes) to its
+ * candidates, into out[]. */
+__attribute__((target("avx2"))) static void row_nearest4_avx2(const struct row_cands *k,
+							       const double *fx, double *out)
+{
+	__m256d vx = _mm256_loadu_pd(fx), best = _mm256_set1_pd(INFINITY);
+	for (int i = 0; i < k->kept; i++) {
+		__m256d ex = _mm256_sub_pd(_mm256_broadcast_sd(k->c + i), vx);
+		__m256d d = _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(ex, ex),
+							_mm256_broadcast_sd(k->a + i)),
+					  _mm256_broadcast_sd(k->b + i));
+		best = _mm256_min_pd(d, best);
+	}
+	_mm256_storeu_pd(out, best);
+}
 #define ROW_NEAREST(k, fx) (avx2 ? row_nearest_avx2(k, fx) : row_nearest_base(k, fx))
 #define ROW_DIRECT(C, A, B, w, X, fx)                                                        \
 	(avx2 ? row_direct_avx2(C, A, B, w, X, fx) : row_direct_base(C, A, B, w, X, fx))
@@ -654,18 +670,29 @@ void cs_worley_row_lut(const struct cs_lattice_lut *t, struct cs_worley_row *r, 
 	int direct = (long)n < 8L * P;
 	struct row_cands k;
 	int cur = -1;
-	for (int i = 0; i < n; i++) {
-		double fx;
-		int X = split(x[i], P, &fx);
-		double best;
+	for (int i = 0; i < n;) {
+		double fx[4];
+		int X = split(x[i], P, &fx[0]);
 		if (direct) {
-			best = ROW_DIRECT(C, A, B, w, X, fx);
-		} else {
-			if (X != cur)
-				row_cands(C, A, B, w, X, &k), cur = X;
-			best = ROW_NEAREST(&k, fx);
+			f1[i++] = ROW_DIRECT(C, A, B, w, X, fx[0]);
+			continue;
 		}
-		f1[i] = best;
+		if (X != cur)
+			row_cands(C, A, B, w, X, &k), cur = X;
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
+		/* four points in the cell: four lanes */
+		if (avx2 && i + 4 <= n) {
+			int same = 1;
+			for (int l = 1; l < 4; l++)
+				same &= split(x[i + l], P, &fx[l]) == X;
+			if (same) {
+				row_nearest4_avx2(&k, fx, f1 + i);
+				i += 4;
+				continue;
+			}
+		}
+#endif
+		f1[i++] = ROW_NEAREST(&k, fx[0]);
 	}
 	/* the square roots, two at a time (the same roots); a point whose
 	 * nearest of the 27 is farther than a cell: cs_worley3p_lut()'s
