@@ -200,7 +200,7 @@ static void bake_voxel(const struct bake_job *job, struct cs_worley_cache wc[4][
 /* One octave of a channel along a row of voxels: ox[] the row's
  * coordinates in the octave's lattice, (oy, oz) their shared ones. */
 static void octave_row(const struct octave *o, struct cs_worley_cache *wc, struct cs_worley_row *wr,
-		       const double *restrict ox, int n, double oy, double oz, double *restrict val)
+		       const double *ox, int n, double oy, double oz, double *val)
 {
 	if (!o->tabulated) {
 		for (int i = 0; i < n; i++)
@@ -219,8 +219,8 @@ static void octave_row(const struct octave *o, struct cs_worley_cache *wc, struc
 /* fbm() along a row: px[] the row's coordinates in the base lattice, (py,
  * pz) their shared ones; the same sums, term by term, into sum[]. */
 static void fbm_row(const struct octave *o, struct cs_worley_cache *wc, struct cs_worley_row *wr,
-		    int noct, double gain, const double *restrict px, int n, double py, double pz,
-		    double *restrict ox, double *restrict val, double *restrict sum)
+		    int noct, double gain, const double *px, int n, double py, double pz,
+		    double *ox, double *val, double *sum)
 {
 	double norm = 0.0, amp = 1.0;
 	long freq = 1;
