@@ -62,7 +62,7 @@ CS_HD static cs_v3 local_dir(const struct cs_camera *c, double th, double az)
 	return v3_norm(v3_add(v3_scale(h, sin(th)), v3_scale(c->zenith, cos(th))));
 }
 
-CS_HD int cs_camera_ray(const struct cs_camera *c, int i, int j, cs_v3 *d)
+CS_HD CS_COLD int cs_camera_ray(const struct cs_camera *c, int i, int j, cs_v3 *d)
 {
 	double u = (i + 0.5) / c->width, v = (j + 0.5) / c->height;
 	if (c->projection == CS_PROJ_FISHEYE) {

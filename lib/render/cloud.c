@@ -266,7 +266,7 @@ CS_HD static inline int site_threshold(const struct cs_cloud_layer *l, double x,
 	return 1;
 }
 
-CS_HD double cs_cloud_extinction(const struct cs_cloud_layer *l,
+CS_HD CS_SHARED double cs_cloud_extinction(const struct cs_cloud_layer *l,
 			   const struct cs_volume *noise, double x, double y,
 			   double alt_m)
 {
@@ -617,7 +617,7 @@ static void build_bound(struct cs_cloud_layer *l, const struct cs_volume *noise)
 	l->bound_w1 = w1;
 }
 
-CS_HD double cs_cloud_column(const struct cs_cloud_layer *l, const struct cs_volume *noise,
+CS_HD CS_SHARED double cs_cloud_column(const struct cs_cloud_layer *l, const struct cs_volume *noise,
 			     double x, double y, double z0_m, double z1_m, int steps)
 {
 #ifdef __CUDA_ARCH__

@@ -67,7 +67,7 @@ CS_HD static double slab_diffuse(int k, double f, double tau)
 	return t < 1.0 ? t : 1.0;
 }
 
-CS_HD double cs_slab_beam_transmittance(double tau, double mu0)
+CS_HD CS_COLD double cs_slab_beam_transmittance(double tau, double mu0)
 {
 	if (!(tau > 0.0))
 		return 1.0;
@@ -77,7 +77,7 @@ CS_HD double cs_slab_beam_transmittance(double tau, double mu0)
 	return slab_beam(k, f, tau, mu0);
 }
 
-CS_HD double cs_slab_diffuse_transmittance(double tau)
+CS_HD CS_COLD double cs_slab_diffuse_transmittance(double tau)
 {
 	if (!(tau > 0.0))
 		return 1.0;
@@ -93,7 +93,7 @@ CS_HD double cs_slab_escape(double mu)
 	return 3.0 / 7.0 * (1.0 + 2.0 * mu);
 }
 
-CS_HD void cs_slab_transmittances(double tau, double mu0, double *beam, double *diffuse)
+CS_HD CS_COLD void cs_slab_transmittances(double tau, double mu0, double *beam, double *diffuse)
 {
 	if (!(tau > 0.0)) {
 		*beam = *diffuse = 1.0;

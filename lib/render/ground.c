@@ -19,7 +19,7 @@ static CS_CONST const double snow[3] = {0.80, 0.82, 0.88};
 /* Soft shadow of the terrain on itself toward the sun: the smallest ratio
  * of clearance to distance along the way (a penumbra cone of about 1/8
  * radian), 0 when the path is blocked. */
-CS_HD static double terrain_shadow(const struct cs_hfield *f, cs_v3 p, cs_v3 sun)
+CS_HD CS_COLD static double terrain_shadow(const struct cs_hfield *f, cs_v3 p, cs_v3 sun)
 {
 	double res = 1.0, t = 2.0;
 	for (int k = 0; k < 48 && t < 20000.0; k++) {
@@ -39,7 +39,7 @@ CS_HD static double terrain_shadow(const struct cs_hfield *f, cs_v3 p, cs_v3 sun
 
 /* Ambient occlusion from the terrain's horizon: the mean over 8 directions
  * of the sine of the highest elevation seen within 600 m. */
-CS_HD static double terrain_ao(const struct cs_hfield *f, cs_v3 p, double h0)
+CS_HD CS_COLD static double terrain_ao(const struct cs_hfield *f, cs_v3 p, double h0)
 {
 	double occ = 0.0;
 	for (int k = 0; k < 8; k++) {
@@ -109,7 +109,7 @@ CS_HD static int water_at(const struct cs_scene *sc, double x, double y)
 	return sc->terrain_water[(size_t)j * f->w + i] >= 0.5f;
 }
 
-CS_HD void cs_water_light(const struct cs_scene *sc, const struct cs_render_settings *s,
+CS_HD CS_COLD void cs_water_light(const struct cs_scene *sc, const struct cs_render_settings *s,
 			  cs_v3 p, cs_v3 d, int on_terrain, struct cs_render_stats *st,
 			  double rgb[3])
 {
@@ -150,7 +150,7 @@ CS_HD void cs_water_light(const struct cs_scene *sc, const struct cs_render_sett
 			 glint * sc->sun_illuminance[k] * sunT;
 }
 
-CS_HD void cs_ground_surface(const struct cs_scene *sc, cs_v3 p, int on_terrain,
+CS_HD CS_COLD void cs_ground_surface(const struct cs_scene *sc, cs_v3 p, int on_terrain,
 			     cs_v3 *normal, double alb[3])
 {
 	cs_v3 n = v3_norm(v3(p.x, p.y, p.z + sc->earth_radius_m));
@@ -176,7 +176,7 @@ CS_HD void cs_ground_surface(const struct cs_scene *sc, cs_v3 p, int on_terrain,
 	*normal = n;
 }
 
-CS_HD void cs_ground_light(const struct cs_scene *sc,
+CS_HD CS_COLD void cs_ground_light(const struct cs_scene *sc,
 			 const struct cs_render_settings *s, cs_v3 p, cs_v3 d,
 			 int on_terrain, struct cs_render_stats *st, double rgb[3])
 {

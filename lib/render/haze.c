@@ -13,7 +13,7 @@
  * degree up.  Of that, what exceeds the clear dome's cosine-mean radiance
  * (which an isotropic dome scatters back) is the sun's part, which a
  * cloud's shadow takes away. */
-CS_HD void cs_haze_light(const struct cs_scene *sc, cs_v3 d, double clear[3], double sun[3])
+CS_HD CS_COLD void cs_haze_light(const struct cs_scene *sc, cs_v3 d, double clear[3], double sun[3])
 {
 	for (int k = 0; k < 3; k++)
 		clear[k] = sun[k] = 0.0;

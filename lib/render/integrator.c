@@ -128,7 +128,7 @@ CS_HD static void haze_to(const struct ray_ctx *c, struct path *P, double t)
  * height, or a hair inside it by rounding, g0 < 0 <= g1) a ray that points
  * down meets it at once, and one that points up leaves it and never meets
  * it. */
-CS_HD double cs_find_ground(const struct cs_scene *sc, cs_v3 o, cs_v3 d,
+CS_HD CS_COLD double cs_find_ground(const struct cs_scene *sc, cs_v3 o, cs_v3 d,
 			    int *on_terrain, struct cs_render_stats *st)
 {
 	double tg = INFINITY, g0, g1;
@@ -158,7 +158,7 @@ CS_HD double cs_find_ground(const struct cs_scene *sc, cs_v3 o, cs_v3 d,
 
 /* The intervals of [0, tmax] the ray spends in each layer and in the rain,
  * in order along the ray. */
-CS_HD static int gather_intervals(const struct cs_scene *sc, cs_v3 o, cs_v3 d,
+CS_HD CS_COLD static int gather_intervals(const struct cs_scene *sc, cs_v3 o, cs_v3 d,
 				  double tmax, struct interval *iv)
 {
 	double R = sc->earth_radius_m;
@@ -197,7 +197,7 @@ CS_HD double cs_rain_shaft(const struct cs_scene *sc, double x, double y)
 
 /* Rain and snow: grey shafts under the raining cells, lit by the diffuse
  * light under the clouds, marched in steps of at most 250 m (at most 48). */
-CS_HD static void march_rain(const struct ray_ctx *c, const struct interval *iv,
+CS_HD CS_COLD static void march_rain(const struct ray_ctx *c, const struct interval *iv,
 			     struct path *P)
 {
 	const struct cs_scene *sc = c->sc;
@@ -253,7 +253,7 @@ CS_HD static void march_rain(const struct ray_ctx *c, const struct interval *iv,
  * -11 % -> +5 %; from inside stratocumulus the lower half of the view,
  * 43 % too dark, now within 5 %, which leaves its upper half's 35 % too
  * bright in the mean: +2 % -> +22 %). */
-CS_HD static void cloud_ambient(const struct cs_scene *sc, int li, double hb,
+CS_HD CS_COLD static void cloud_ambient(const struct cs_scene *sc, int li, double hb,
 				double tau, double tau_sun, double w_up, const double *sky_d,
 				double escape, double A[3])
 {
@@ -564,7 +564,7 @@ CS_HD static void march_intervals(const struct ray_ctx *c, struct interval *iv,
  * radiance already holds the haze of a clear path (so the haze gathered in
  * front of the clouds counts only for the light they took away); then the
  * ray's result into out. */
-CS_HD static void finish_ray(const struct ray_ctx *c, double tg, int on_terrain,
+CS_HD CS_COLD static void finish_ray(const struct ray_ctx *c, double tg, int on_terrain,
 			     struct path *P, struct cs_ray_result *out)
 {
 	const struct cs_scene *sc = c->sc;

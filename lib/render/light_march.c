@@ -7,7 +7,7 @@
 
 #include <math.h>
 
-CS_HD int cs_shell_intervals(const struct cs_scene *sc, cs_v3 o, cs_v3 d,
+CS_HD CS_COLD int cs_shell_intervals(const struct cs_scene *sc, cs_v3 o, cs_v3 d,
 			     double r_in, double r_out, double tmax,
 			     double iv[2][2])
 {
@@ -82,7 +82,7 @@ CS_HD void cs_extinction_at_n(const struct cs_scene *sc, unsigned mask, int n, c
  * (q > 1), r = q^(2/n), so that the first step is about the thickness / n
  * that a vertical path takes (finer for very long paths), else equal;
  * each sample at its step's middle, weighted by its length. */
-CS_HD double cs_light_depth(const struct cs_scene *sc,
+CS_HD CS_SHARED double cs_light_depth(const struct cs_scene *sc,
 			    const struct cs_render_settings *s, cs_v3 p,
 			    unsigned mask, struct cs_render_stats *st)
 {

@@ -46,7 +46,7 @@ void cs_scene_night(struct cs_scene *sc, double time_utc, double lat_deg, double
 	sc->effects |= CS_FX_MOON;
 }
 
-CS_HD void cs_scene_sky(const struct cs_scene *sc, cs_v3 d, double rgb[3])
+CS_HD CS_COLD void cs_scene_sky(const struct cs_scene *sc, cs_v3 d, double rgb[3])
 {
 	cs_sky_radiance(&sc->sky, d, rgb);
 	if (sc->effects & CS_FX_MOON) {
@@ -57,7 +57,7 @@ CS_HD void cs_scene_sky(const struct cs_scene *sc, cs_v3 d, double rgb[3])
 	}
 }
 
-CS_HD void cs_scene_disk(const struct cs_scene *sc, cs_v3 d, double rgb[3])
+CS_HD CS_COLD void cs_scene_disk(const struct cs_scene *sc, cs_v3 d, double rgb[3])
 {
 	cs_sky_sun_disk(&sc->sky, d, rgb);
 	if (sc->effects & CS_FX_MOON) {
@@ -78,7 +78,7 @@ CS_HD void cs_scene_disk(const struct cs_scene *sc, cs_v3 d, double rgb[3])
 enum { STAR_RA = 2048, STAR_DEC = 1024 };
 #define STAR_RADIUS_RAD (0.05 * CS_PI / 180.0)
 
-CS_HD void cs_scene_stars(const struct cs_scene *sc, cs_v3 d, double rgb[3])
+CS_HD CS_COLD void cs_scene_stars(const struct cs_scene *sc, cs_v3 d, double rgb[3])
 {
 	rgb[0] = rgb[1] = rgb[2] = 0.0;
 	if (!(sc->effects & CS_FX_STARS) || d.z <= 0.0)

@@ -250,7 +250,7 @@ void cs_sky_init_beam(struct cs_sky *sky, cs_v3 sun, double turbidity, double be
 	init_ambient(sky, elev);
 }
 
-CS_HD void cs_sky_radiance(const struct cs_sky *sky, cs_v3 dir, double rgb[3])
+CS_HD CS_COLD void cs_sky_radiance(const struct cs_sky *sky, cs_v3 dir, double rgb[3])
 {
 	double v[3] = {dir.x, dir.y, dir.z};
 	if (v[2] < 0.0) {
@@ -293,7 +293,7 @@ CS_HD void cs_sky_radiance(const struct cs_sky *sky, cs_v3 dir, double rgb[3])
 	}
 }
 
-CS_HD void cs_sky_sun_disk(const struct cs_sky *sky, cs_v3 dir, double rgb[3])
+CS_HD CS_COLD void cs_sky_sun_disk(const struct cs_sky *sky, cs_v3 dir, double rgb[3])
 {
 	rgb[0] = rgb[1] = rgb[2] = 0.0;
 	if (!(v3_dot(dir, sky->sun_dir) >= sky->cos_sun_radius) || dir.z < 0.0)
