@@ -229,11 +229,14 @@ struct dev_scene {
 /* The thread block, and the blocks a multiprocessor should hold at once
  * (__launch_bounds__: the registers a thread may use follow from it).
  * The kernel is bound by latency, not by a unit's throughput, and more
- * warps hide more of it: on an H200 at 1920x1080 (scripts/gpu-check's benchmark) 8 blocks of 128
- * threads (64 registers, the rest spilled) ran low at 63 and medium at 31
- * frames/s, against 54/27 with 6 blocks (80 registers), 48/23 with 4
- * (128) and 44/21 with 1 (255); 10 and 12 blocks (48, 40 registers) gave
- * 65/32 and 65/33, 16 (32 registers) 51/26. */
+ * warps hide more of it: on an H200 at 1920x1080 (scripts/gpu-check's
+ * benchmark) 8 blocks of 128 threads (64 registers) run low at 80.7 and
+ * medium at 55.4 frames/s, against 72.8/50.1 with 6 blocks (80
+ * registers), 70.1/47.6 with 4 (128), 75.1/50.6 with 10 (48) and
+ * 72.3/48.5 with 12 (40); blocks of 32 x 4 threads 76.1/52.6.  (Before
+ * the functions a ray calls were compiled once, CS_COLD and CS_SHARED:
+ * 63/31 with 8 blocks, 54/27 with 6, 48/23 with 4, 44/21 with 1, 65/32
+ * and 65/33 with 10 and 12, 51/26 with 16.) */
 #ifndef CS_CUDA_BLOCK_W
 #define CS_CUDA_BLOCK_W 16
 #endif
