@@ -231,9 +231,11 @@ struct dev_scene {
  * The kernel is bound by latency, not by a unit's throughput, and more
  * warps hide more of it: on an H200 at 1920x1080 (scripts/gpu-check's
  * benchmark) 8 blocks of 128 threads (64 registers) run low at 80.7 and
- * medium at 55.4 frames/s, against 72.8/50.1 with 6 blocks (80
- * registers), 70.1/47.6 with 4 (128), 75.1/50.6 with 10 (48) and
- * 72.3/48.5 with 12 (40); blocks of 32 x 4 threads 76.1/52.6.  (Before
+ * medium at 55.4 frames/s, against 75.1/50.6 with 10 (48 registers) and
+ * 72.3/48.5 with 12 (40); blocks of 32 x 4 threads 76.1/52.6; 6 blocks
+ * (80 registers) and 4 (128) were 3 and 8 % slower than 8 (measured
+ * before the fmod below was taken out: 72.8/50.1 and 70.1/47.6 against
+ * 75.7/51.8).  (Before
  * the functions a ray calls were compiled once, CS_COLD and CS_SHARED:
  * 63/31 with 8 blocks, 54/27 with 6, 48/23 with 4, 44/21 with 1, 65/32
  * and 65/33 with 10 and 12, 51/26 with 16.) */
