@@ -234,7 +234,7 @@ struct dev_scene {
  * medium at 55.4 frames/s, against 75.1/50.6 with 10 (48 registers) and
  * 72.3/48.5 with 12 (40); blocks of 32 x 4 threads 76.1/52.6; 6 blocks
  * (80 registers) and 4 (128) were 3 and 8 % slower than 8 (measured
- * before the fmod below was taken out: 72.8/50.1 and 70.1/47.6 against
+ * before dev_corners lost its fmod: 72.8/50.1 and 70.1/47.6 against
  * 75.7/51.8).  (Before
  * the functions a ray calls were compiled once, CS_COLD and CS_SHARED:
  * 63/31 with 8 blocks, 54/27 with 6, 48/23 with 4, 44/21 with 1, 65/32
