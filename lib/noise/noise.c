@@ -489,6 +489,7 @@ double cs_perlin3p_lut(const struct cs_lattice_lut *t, double x, double y, doubl
 
 int cs_worley_row_init(struct cs_worley_row *r, const struct cs_lattice_lut *t)
 {
+	r->t = t;
 	r->Y = -1;
 	r->buf = (double *)malloc(3 * 9 * ((size_t)t->period[0] + 3) * sizeof *r->buf);
 	return r->buf != NULL ? CS_OK : cs_error(CS_ENOMEM, "out of memory for a noise row");
@@ -622,9 +623,10 @@ __attribute__((target("avx2"))) static void row_nearest4_avx2(const struct row_c
 #define ROW_DIRECT(C, A, B, w, X, fx) row_direct_base(C, A, B, w, X, fx)
 #endif
 
-void cs_worley_row_lut(const struct cs_lattice_lut *t, struct cs_worley_row *r, double y,
-		       double z, const double *x, int n, double *f1)
+void cs_worley_row_lut(struct cs_worley_row *r, double y, double z, const double *x, int n,
+		       double *f1)
 {
+	const struct cs_lattice_lut *t = r->t;
 	const int *period = t->period;
 	int P = period[0];
 	/* columns -1 .. P at X + 1, and one of zeros (the direct path's fourth lane) */
@@ -635,7 +637,8 @@ void cs_worley_row_lut(const struct cs_lattice_lut *t, struct cs_worley_row *r, 
 	neighbours(Y, period[1], ys);
 	neighbours(Z, period[2], zs);
 	double *C = r->buf, *A = C + 9 * w, *B = A + 9 * w;
-	/* C and B stay while the row's cells and fz do (the rows of a slice) */
+	/* C and B stay while the row's cells and fz do (rows of a slice in
+	 * one row of cells) */
 	int keep = r->Y == Y && r->Z == Z && r->fz == fz;
 	r->Y = Y, r->Z = Z, r->fz = fz;
 	for (int j = 0; j < 9; j++) {

@@ -97,18 +97,22 @@ double cs_perlin3p_lut(const struct cs_lattice_lut *t, double x, double y, doubl
 
 /* The same at the n points (x[i], y, z) of a row (any x; runs of points
  * in one cell, as a row of voxels gives, are fastest), into f1[] or
- * out[]: what cs_worley3p_lut() and cs_perlin3p_lut() return at each, bit
- * for bit.  A cs_worley_row holds what rows of the same cells share (one
- * per table and thread); cs_worley_row_init() gives 0 or CS_ENOMEM. */
+ * out[], which must not overlap x[]: what cs_worley3p_lut() and
+ * cs_perlin3p_lut() return at each, bit for bit (with the library's
+ * -ffp-contract=off: no fused multiply-adds).  A cs_worley_row is one
+ * table's state for rows, one per table and thread: what rows of the same
+ * cells share.  cs_worley_row_init() gives 0 or CS_ENOMEM;
+ * cs_worley_row_free() releases it (any number of times). */
 struct cs_worley_row {
-	double *buf;
-	int Y, Z; /* the cells of the last row; Y = -1: none */
-	double fz;
+	const struct cs_lattice_lut *t; /* the table it is for */
+	double *buf;                    /* 3 x 9 rows of period[0] + 3 columns */
+	int Y, Z;                       /* the cells of the last row; Y = -1: none */
+	double fz;                      /* and its position inside cell Z */
 };
 int cs_worley_row_init(struct cs_worley_row *r, const struct cs_lattice_lut *t);
 void cs_worley_row_free(struct cs_worley_row *r);
-void cs_worley_row_lut(const struct cs_lattice_lut *t, struct cs_worley_row *r, double y,
-		       double z, const double *x, int n, double *f1);
+void cs_worley_row_lut(struct cs_worley_row *r, double y, double z, const double *x, int n,
+		       double *f1);
 void cs_perlin_row_lut(const struct cs_lattice_lut *t, double y, double z, const double *x,
 		       int n, double *out);
 

@@ -211,7 +211,7 @@ static void octave_row(const struct octave *o, struct cs_worley_cache *wc, struc
 		cs_perlin_row_lut(&o->lut, oy, oz, ox, n, val);
 		return;
 	}
-	cs_worley_row_lut(&o->lut, wr, oy, oz, ox, n, val);
+	cs_worley_row_lut(wr, oy, oz, ox, n, val);
 	for (int i = 0; i < n; i++)
 		val[i] = 1.0 - (val[i] < 1.0 ? val[i] : 1.0);
 }

@@ -5,6 +5,7 @@
 #include "noise/noise.h"
 #include "test.h"
 
+#include <math.h>
 #include <string.h>
 
 static const int periods[][3] = {
@@ -116,15 +117,20 @@ static void worley_rows_equal_direct(void)
 			/* 256 points: 8 or more a cell up to a period of 32;
 			 * 5 points: fewer */
 			int m = r % 3 == 2 ? 5 : N;
-			double y, z;
-			row_yz(&k, periods[j], r, &y, &z);
+			double y0, z;
+			row_yz(&k, periods[j], r, &y0, &z);
 			row_x(&k, periods[j], m, r % 3 == 1, x);
-			cs_worley_row_lut(&t, &wr, y, z, x, m, f1);
-			for (int i = 0; i < m; i++) {
-				double b = cs_worley3p(x[i], y, z, periods[j], seed);
-				CHECK(memcmp(&f1[i], &b, sizeof b) == 0);
-				far += b > 1.0;
-				n++;
+			/* then two more rows in the same row of cells, as the
+			 * rows of a slice come (what the rows keep between them) */
+			double ys[3] = {y0, floor(y0) + 0.3125, floor(y0) + 0.8125};
+			for (int q = 0; q < 3; q++) {
+				cs_worley_row_lut(&wr, ys[q], z, x, m, f1);
+				for (int i = 0; i < m; i++) {
+					double b = cs_worley3p(x[i], ys[q], z, periods[j], seed);
+					CHECK(memcmp(&f1[i], &b, sizeof b) == 0);
+					far += b > 1.0;
+					n++;
+				}
 			}
 		}
 		cs_worley_row_free(&wr);
