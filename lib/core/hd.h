@@ -26,13 +26,14 @@
 #endif
 
 /* CS_COLD marks a function a ray calls once or a few times (the sky, the
- * ground, the crossings of the layers), CS_SHARED one every sample calls
- * from several places (the density, the light march): on a GPU each is
- * compiled once and called, not copied into every caller, which keeps the
- * kernel's code small enough for the instruction cache (inlined, the
- * kernel was 960 KB of code and its warps stalled on instruction fetch
- * 61 % of the time).  In C they are empty: the CPU's objects are as
- * before. */
+ * ground, the crossings of the layers), CS_SHARED one a cloudy sample
+ * calls (the density, the light march and its shells, the diffuse light):
+ * on a GPU each is compiled once and called, not copied into every
+ * caller, which keeps the kernel's code small enough for the instruction
+ * cache (inlined, the kernel was 960 KB of code and its warps stalled on
+ * instruction fetch 61 % of the time).  In C they are empty: the CPU's
+ * objects are as before.  -DCS_CUDA_INLINE_COLD or -DCS_CUDA_INLINE_SHARED
+ * inline them again, to measure the difference. */
 #if defined(__CUDACC__) && !defined(CS_CUDA_INLINE_COLD)
 #define CS_COLD __noinline__
 #else

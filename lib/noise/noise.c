@@ -390,8 +390,23 @@ static double nearest27_base(const struct cs_worley_cache *w, double fx, double 
 	return best;
 }
 
+/* AVX2 paths (GCC's function targets; a CPU without AVX2, another
+ * compiler or architecture takes the plain C, with the same results). */
 #if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
+#define NOISE_AVX2 1
+#else
+#define NOISE_AVX2 0
+#endif
+
+#if NOISE_AVX2
 #include <immintrin.h>
+/* The least of four lanes. */
+__attribute__((target("avx2"))) static inline double min4(__m256d v)
+{
+	__m128d h = _mm_min_pd(_mm256_castpd256_pd128(v), _mm256_extractf128_pd(v, 1));
+	return _mm_cvtsd_f64(_mm_min_sd(h, _mm_unpackhi_pd(h, h)));
+}
+
 /* The same, four points at a time with AVX2 (no FMA: the same roundings),
  * on a CPU that has it. */
 __attribute__((target("avx2"))) static double nearest27_avx2(const struct cs_worley_cache *w,
@@ -415,9 +430,7 @@ __attribute__((target("avx2"))) static double nearest27_avx2(const struct cs_wor
 				  _mm256_mul_pd(ez, ez));
 		b1 = _mm256_min_pd(d, b1);
 	}
-	b0 = _mm256_min_pd(b0, b1);
-	__m128d h = _mm_min_pd(_mm256_castpd256_pd128(b0), _mm256_extractf128_pd(b0, 1));
-	double best = _mm_cvtsd_f64(_mm_min_sd(h, _mm_unpackhi_pd(h, h)));
+	double best = min4(_mm256_min_pd(b0, b1));
 	for (; k < 27; k++) {
 		double ex = cx[k] - fx, ey = cy[k] - fy, ez = cz[k] - fz;
 		double d2 = ex * ex + ey * ey + ez * ez;
@@ -478,6 +491,18 @@ double cs_perlin3p_lut(const struct cs_lattice_lut *t, double x, double y, doubl
 		    g[z1 * sz + y1 * sy + X], g[z1 * sz + y1 * sy + x1]};
 	return perlin_cell(fx, fy, fz, h);
 }
+
+#if NOISE_AVX2
+/* Whether points x[i + 1 .. i + 3] lie in cell X of a lattice of period
+ * P, as x[i] does, with their positions in it into fx[1 .. 3]. */
+static inline int same_cell4(const double *x, int i, int P, int X, double fx[4])
+{
+	int same = 1;
+	for (int l = 1; l < 4; l++)
+		same &= split(x[i + l], P, &fx[l]) == X;
+	return same;
+}
+#endif
 
 /* Rows: the points (x[i], y, z) of one row of voxels share y and z, so
  * they share the 9 rows of cells (dy, dz) around their own and each of
@@ -566,7 +591,7 @@ static double row_direct_base(const double *C, const double *A, const double *B,
 	return best;
 }
 
-#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
+#if NOISE_AVX2
 /* The same, the columns X - 1 .. X + 2 as four lanes, the fourth moved
  * to infinity. */
 __attribute__((target("avx2"))) static double row_direct_avx2(const double *C, const double *A,
@@ -583,8 +608,7 @@ __attribute__((target("avx2"))) static double row_direct_avx2(const double *C, c
 					  _mm256_loadu_pd(B + o));
 		best = _mm256_min_pd(d, best);
 	}
-	__m128d h = _mm_min_pd(_mm256_castpd256_pd128(best), _mm256_extractf128_pd(best, 1));
-	return _mm_cvtsd_f64(_mm_min_sd(h, _mm_unpackhi_pd(h, h)));
+	return min4(best);
 }
 
 __attribute__((target("avx2"))) static double row_nearest_avx2(const struct row_cands *k, double fx)
@@ -597,8 +621,7 @@ __attribute__((target("avx2"))) static double row_nearest_avx2(const struct row_
 					  _mm256_loadu_pd(k->b + i));
 		best = _mm256_min_pd(d, best);
 	}
-	__m128d h = _mm_min_pd(_mm256_castpd256_pd128(best), _mm256_extractf128_pd(best, 1));
-	return _mm_cvtsd_f64(_mm_min_sd(h, _mm_unpackhi_pd(h, h)));
+	return min4(best);
 }
 /* The least squared distances of four points of the cell (lanes) to its
  * candidates, into out[]. */
@@ -665,7 +688,7 @@ void cs_worley_row_lut(struct cs_worley_row *r, double y, double z, const double
 			c[i + 1] = p0[i], b[i + 1] = e * e;
 		}
 	}
-#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
+#if NOISE_AVX2
 	int avx2 = __builtin_cpu_supports("avx2");
 #endif
 	/* fewer than 8 points a cell: the candidates would cost more than they
@@ -673,6 +696,7 @@ void cs_worley_row_lut(struct cs_worley_row *r, double y, double z, const double
 	int direct = (long)n < 8L * P;
 	struct row_cands k;
 	int cur = -1;
+	k.n = k.kept = 0; /* (filled at the first cell) */
 	for (int i = 0; i < n;) {
 		double fx[4];
 		int X = split(x[i], P, &fx[0]);
@@ -682,17 +706,12 @@ void cs_worley_row_lut(struct cs_worley_row *r, double y, double z, const double
 		}
 		if (X != cur)
 			row_cands(C, A, B, w, X, &k), cur = X;
-#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
+#if NOISE_AVX2
 		/* four points in the cell: four lanes */
-		if (avx2 && i + 4 <= n) {
-			int same = 1;
-			for (int l = 1; l < 4; l++)
-				same &= split(x[i + l], P, &fx[l]) == X;
-			if (same) {
-				row_nearest4_avx2(&k, fx, f1 + i);
-				i += 4;
-				continue;
-			}
+		if (avx2 && i + 4 <= n && same_cell4(x, i, P, X, fx)) {
+			row_nearest4_avx2(&k, fx, f1 + i);
+			i += 4;
+			continue;
 		}
 #endif
 		f1[i++] = ROW_NEAREST(&k, fx[0]);
@@ -715,7 +734,7 @@ void cs_worley_row_lut(struct cs_worley_row *r, double y, double z, const double
 		f1[i] = f1[i] > 1.0 ? cs_worley3p(x[i], y, z, period, t->seed) : sqrt(f1[i]);
 }
 
-#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
+#if NOISE_AVX2
 /* grad()'s choices for each hash as bit masks: which of x, y, z are u and
  * v, and their signs.  Selecting bits and flipping the sign bit are what
  * the choices and the negations do, so the sums are the same. */
@@ -792,7 +811,7 @@ void cs_perlin_row_lut(const struct cs_lattice_lut *t, double y, double z, const
 	size_t sy = (size_t)period[0], sz = sy * (size_t)period[1];
 	const uint8_t *g00 = t->grad + Z * sz + Y * sy, *g10 = t->grad + Z * sz + y1 * sy;
 	const uint8_t *g01 = t->grad + z1 * sz + Y * sy, *g11 = t->grad + z1 * sz + y1 * sy;
-#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
+#if NOISE_AVX2
 	int avx2 = __builtin_cpu_supports("avx2");
 #endif
 	for (int i = 0; i < n;) {
@@ -800,17 +819,12 @@ void cs_perlin_row_lut(const struct cs_lattice_lut *t, double y, double z, const
 		int X = split(x[i], period[0], &fx[0]);
 		int x1 = X + 1 < period[0] ? X + 1 : 0;
 		int h[8] = {g00[X], g00[x1], g10[X], g10[x1], g01[X], g01[x1], g11[X], g11[x1]};
-#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
+#if NOISE_AVX2
 		/* four points in one cell share its gradients: four lanes */
-		if (avx2 && i + 4 <= n) {
-			int same = 1;
-			for (int l = 1; l < 4; l++)
-				same &= split(x[i + l], period[0], &fx[l]) == X;
-			if (same) {
-				perlin_cell4(fx, fy, fz, h, out + i);
-				i += 4;
-				continue;
-			}
+		if (avx2 && i + 4 <= n && same_cell4(x, i, period[0], X, fx)) {
+			perlin_cell4(fx, fy, fz, h, out + i);
+			i += 4;
+			continue;
 		}
 #endif
 		out[i] = perlin_cell(fx[0], fy, fz, h);

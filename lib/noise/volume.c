@@ -121,14 +121,27 @@ struct octave {
 	struct cs_lattice_lut lut;
 };
 
+/* The inverted Worley noise of noise.c's fbm3p: 1 - min(F1, 1). */
+static inline double inverted(double f1)
+{
+	return 1.0 - (f1 < 1.0 ? f1 : 1.0);
+}
+
+/* cs_perlin_worley3p()'s mix of the Perlin fBm pf and the Worley fBm wf. */
+static inline float perlin_worley(double pf, double wf)
+{
+	pf = pf < -1.0 ? -1.0 : pf > 1.0 ? 1.0 : pf;
+	double pp = 0.5 + 0.5 * pf;
+	pp = pp < 0.0 ? 0.0 : pp > 1.0 ? 1.0 : pp;
+	return (float)((pp - wf + 1.0) / (2.0 - wf));
+}
+
 static double octave_noise(const struct octave *o, struct cs_worley_cache *wc,
 			   double x, double y, double z)
 {
-	if (o->worley) {
-		double f1 = o->tabulated ? cs_worley3p_lut(&o->lut, wc, x, y, z)
-					 : cs_worley3p(x, y, z, o->period, o->seed);
-		return 1.0 - (f1 < 1.0 ? f1 : 1.0);
-	}
+	if (o->worley)
+		return inverted(o->tabulated ? cs_worley3p_lut(&o->lut, wc, x, y, z)
+					     : cs_worley3p(x, y, z, o->period, o->seed));
 	return o->tabulated ? cs_perlin3p_lut(&o->lut, x, y, z)
 			    : cs_perlin3p(x, y, z, o->period, o->seed);
 }
@@ -186,11 +199,8 @@ static void bake_voxel(const struct bake_job *job, struct cs_worley_cache wc[4][
 		double px = u * p[0], py = w * p[1], pz = t * p[2];
 		if (c == 0) {
 			double pf = fbm(job->oct[0][1], NULL, r->octaves[0], r->gain, px, py, pz);
-			pf = pf < -1.0 ? -1.0 : pf > 1.0 ? 1.0 : pf;
-			double pp = 0.5 + 0.5 * pf;
-			pp = pp < 0.0 ? 0.0 : pp > 1.0 ? 1.0 : pp;
 			double wf = fbm(job->oct[0][0], wc[0], r->worley_octaves, r->gain, px, py, pz);
-			out[c] = (float)((pp - wf + 1.0) / (2.0 - wf));
+			out[c] = perlin_worley(pf, wf);
 		} else {
 			out[c] = (float)fbm(job->oct[c][0], wc[c], r->octaves[c], r->gain, px, py, pz);
 		}
@@ -213,7 +223,7 @@ static void octave_row(const struct octave *o, struct cs_worley_cache *wc, struc
 	}
 	cs_worley_row_lut(wr, oy, oz, ox, n, val);
 	for (int i = 0; i < n; i++)
-		val[i] = 1.0 - (val[i] < 1.0 ? val[i] : 1.0);
+		val[i] = inverted(val[i]);
 }
 
 /* fbm() along a row: px[] the row's coordinates in the base lattice, (py,
@@ -262,14 +272,8 @@ static void bake_row(const struct bake_job *job, struct cs_worley_cache wc[4][MA
 				ox, val, sum);
 			fbm_row(job->oct[0][0], wc[0], wr[0], r->worley_octaves, r->gain, px, n,
 				py, pz, ox, val, wsum);
-			for (int i = 0; i < n; i++) {
-				double pf = sum[i];
-				pf = pf < -1.0 ? -1.0 : pf > 1.0 ? 1.0 : pf;
-				double pp = 0.5 + 0.5 * pf;
-				pp = pp < 0.0 ? 0.0 : pp > 1.0 ? 1.0 : pp;
-				double wf = wsum[i];
-				out[4 * i] = (float)((pp - wf + 1.0) / (2.0 - wf));
-			}
+			for (int i = 0; i < n; i++)
+				out[4 * i] = perlin_worley(sum[i], wsum[i]);
 		} else {
 			fbm_row(job->oct[c][0], wc[c], wr[c], r->octaves[c], r->gain, px, n, py,
 				pz, ox, val, sum);

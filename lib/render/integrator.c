@@ -253,7 +253,7 @@ CS_HD CS_COLD static void march_rain(const struct ray_ctx *c, const struct inter
  * -11 % -> +5 %; from inside stratocumulus the lower half of the view,
  * 43 % too dark, now within 5 %, which leaves its upper half's 35 % too
  * bright in the mean: +2 % -> +22 %). */
-CS_HD CS_COLD static void cloud_ambient(const struct cs_scene *sc, int li, double hb,
+CS_HD CS_SHARED static void cloud_ambient(const struct cs_scene *sc, int li, double hb,
 				double tau, double tau_sun, double w_up, const double *sky_d,
 				double escape, double A[3])
 {

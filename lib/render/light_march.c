@@ -7,7 +7,7 @@
 
 #include <math.h>
 
-CS_HD CS_COLD int cs_shell_intervals(const struct cs_scene *sc, cs_v3 o, cs_v3 d,
+CS_HD CS_SHARED int cs_shell_intervals(const struct cs_scene *sc, cs_v3 o, cs_v3 d,
 			     double r_in, double r_out, double tmax,
 			     double iv[2][2])
 {
