@@ -164,6 +164,8 @@ $(KERNEL_OBJ): $(B)/lib/render/cpu/kernel_%.o: lib/render/cpu/kernel.c
 $(B)/lib/render/cuda/device_none.o: ALL_CFLAGS += -DCS_CUDA_WHY='"$(CUDA_WHY)"'
 # the baker's row loops vectorized (-O3; no contraction: the same bits)
 $(B)/lib/noise/noise.o $(B)/lib/noise/volume.o: ALL_CFLAGS += -O3 -ffp-contract=off
+# the fog's orders of scattering (lib/render/fog.c): dot products, vectorized
+$(B)/lib/render/fog.o: ALL_CFLAGS += -O3
 $(B)/tools/%.o: tools/%.c
 	@mkdir -p $(@D)
 	$(CC) $(ALL_CFLAGS) -c $< -o $@

@@ -193,16 +193,13 @@ CS_HD CS_COLD void cs_ground_light(const struct cs_scene *sc,
 		ao = terrain_ao(sc->terrain, p, h);
 	}
 	double cosi = v3_dot(n, sc->sun_dir), alt = cs_scene_altitude(sc, p);
-	int key = (sc->effects & CS_FX_KEY) != 0, up = key && sc->sun_dir.z > 0.0;
+	int key = (sc->effects & CS_FX_KEY) != 0;
 	int fog = sc->fog_beta_per_m > 0.0 && alt < sc->fog_top_m;
 	if (key && cosi > 0.0 && on_terrain)
 		self = terrain_shadow(sc->terrain, p, sc->sun_dir);
-	/* the clouds' transmittance of the sun's beam: for the direct light,
-	 * and for the beam the fog diffuses down (fog under a stratocumulus
-	 * deck at a low sun: the ground +51 % against the path tracer with the
-	 * fog's share of the unclouded sun, +15 % with the deck's shadow) */
+	/* the clouds' transmittance of the sun's beam */
 	double Tc = 1.0, direct = 0.0;
-	if (key && (sc->effects & CS_FX_CLOUD_SHADOWS) && ((cosi > 0.0 && self > 0.0) || (fog && up)))
+	if (key && (sc->effects & CS_FX_CLOUD_SHADOWS) && cosi > 0.0 && self > 0.0)
 		Tc = cs_render_sun_transmittance(sc, s, p, st);
 	if (key && cosi > 0.0) {
 		/* and the fog's beam transmittance: in fog at a low sun the
@@ -211,21 +208,19 @@ CS_HD CS_COLD void cs_ground_light(const struct cs_scene *sc,
 		double T = Tc * cs_fog_sun_transmittance(sc, alt);
 		direct = cosi * T * self / CS_PI;
 	}
-	/* the sky light, or under clouds what they let through; in fog what
-	 * the fog above lets through of it (diffuse) and of the sun's beam (at
-	 * its elevation), by the slab transmittance of its droplets */
+	/* the sky light, or under clouds what they let through; in fog the
+	 * light the fog scatters down there (its solution: the sky's and the
+	 * sun's light through the fog above and the ground's own returned) */
 	const double *sky = sc->deck.on ? sc->deck.sky_below : sc->ambient_up;
-	double fog_T = 1.0, fog_sun = 0.0;
-	if (fog) {
-		double tau = sc->fog_beta_per_m * (sc->fog_top_m - alt);
-		fog_T = cs_slab_diffuse_transmittance(tau);
-		if (up) { /* of the beam that reaches the fog through the clouds */
-			double beam = cs_fog_sun_transmittance(sc, alt);
-			double Tb = cs_slab_beam_transmittance(tau, sc->sun_dir.z);
-			fog_sun = Tb > beam ? sc->sun_dir.z * (Tb - beam) * Tc / CS_PI : 0.0;
-		}
+	double diffuse[3];
+	if (fog && sc->fog.on) {
+		cs_fog_down(sc, alt, diffuse);
+		for (int k = 0; k < 3; k++)
+			diffuse[k] *= ao / CS_PI;
+	} else {
+		for (int k = 0; k < 3; k++)
+			diffuse[k] = (sc->effects & CS_FX_SKY) ? sky[k] * ao : 0.0;
 	}
 	for (int k = 0; k < 3; k++)
-		rgb[k] = alb[k] * (sc->sun_illuminance[k] * (direct + fog_sun) +
-				   ((sc->effects & CS_FX_SKY) ? sky[k] * ao * fog_T : 0.0));
+		rgb[k] = alb[k] * (sc->sun_illuminance[k] * direct + diffuse[k]);
 }

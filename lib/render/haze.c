@@ -75,3 +75,53 @@ CS_HD double cs_fog_sun_transmittance(const struct cs_scene *sc, double alt_m)
 		return 0.0;
 	return exp(-sc->fog_beta_per_m * (sc->fog_top_m - alt_m) / mu);
 }
+
+/* The fog's level (0 at its top, CS_FOG_LEVELS - 1 at the ground) at
+ * altitude alt_m, fractional, clamped: the levels are at heights depth (1
+ * - k / (CS_FOG_LEVELS - 1))^2 above the ground. */
+CS_HD static double fog_level(const struct cs_scene *sc, double alt_m)
+{
+	double depth = sc->fog_top_m - sc->ground_alt_m;
+	double h = depth > 0.0 ? (alt_m - sc->ground_alt_m) / depth : 0.0;
+	h = h < 0.0 ? 0.0 : h > 1.0 ? 1.0 : h;
+	return (1.0 - sqrt(h)) * (CS_FOG_LEVELS - 1);
+}
+
+CS_HD void cs_fog_source(const struct cs_scene *sc, double alt_m, double up_out, double cos_phi,
+			 double out[3])
+{
+	const struct cs_fog_field *f = &sc->fog;
+	double u = fog_level(sc, alt_m);
+	double v = (up_out + 1.0) * 0.5 * (CS_FOG_DIRS - 1);
+	v = v < 0.0 ? 0.0 : v > CS_FOG_DIRS - 1 ? CS_FOG_DIRS - 1 : v;
+	int k = (int)u < CS_FOG_LEVELS - 1 ? (int)u : CS_FOG_LEVELS - 2;
+	int m = (int)v < CS_FOG_DIRS - 1 ? (int)v : CS_FOG_DIRS - 2;
+	double a = u - k, b = v - m;
+	double w[4] = {(1.0 - a) * (1.0 - b), (1.0 - a) * b, a * (1.0 - b), a * b};
+	/* (n ? 2 : 1) cos(n phi) by the recurrence of Chebyshev's polynomials */
+	double cm[CS_FOG_MODES];
+	cm[0] = 1.0;
+	double c1 = cos_phi < -1.0 ? -1.0 : cos_phi > 1.0 ? 1.0 : cos_phi, prev = 1.0, cur = c1;
+	for (int n = 1; n < CS_FOG_MODES; n++) {
+		cm[n] = 2.0 * cur;
+		double next = 2.0 * c1 * cur - prev;
+		prev = cur, cur = next;
+	}
+	for (int c = 0; c < 3; c++)
+		out[c] = 0.0;
+	for (int q = 0; q < 4; q++) {
+		const float(*s)[3] = f->src[k + (q >> 1)][m + (q & 1)];
+		for (int n = 0; n < CS_FOG_MODES; n++)
+			for (int c = 0; c < 3; c++)
+				out[c] += w[q] * cm[n] * s[n][c];
+	}
+}
+
+CS_HD void cs_fog_down(const struct cs_scene *sc, double alt_m, double out[3])
+{
+	double u = fog_level(sc, alt_m);
+	int k = (int)u < CS_FOG_LEVELS - 1 ? (int)u : CS_FOG_LEVELS - 2;
+	double a = u - k;
+	for (int c = 0; c < 3; c++)
+		out[c] = (1.0 - a) * sc->fog.down[k][c] + a * sc->fog.down[k + 1][c];
+}

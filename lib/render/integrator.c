@@ -27,7 +27,9 @@ struct path {
 	double tau_h, tau_f; /* haze and fog optical depths to it */
 	double t_haze;   /* its distance */
 	double H[3];     /* haze light so far, weighted by T where it arose */
-	double Hw[3];    /* the clear sky's haze light over the same stretches */
+	double Hw[3];    /* the clear sky's haze light over the same stretches,
+			    in clear air (what the sky's radiance holds) */
+	double thh;      /* the haze's transmittance alone to the last haze point */
 	double F[3];     /* fog light so far, weighted by T */
 };
 
@@ -45,8 +47,10 @@ struct ray_ctx {
 	double hclear[3]; /* the haze's light under a clear sky */
 	double hsun[3];  /* of the haze's light, the sun's part (clear sky) */
 	double hdome[3]; /* and the dome's */
-	double fsun[3];  /* of the fog's light, the sun's part */
-	double fdome[3]; /* and the dome's */
+	double fsun[3];  /* the fog's single scattering of the sun's beam
+			    above the fog and clouds (albedo x phase x beam) */
+	double fog_cphi; /* the azimuth between d and the sun (cosine) */
+	double fog_cross; /* where the ray crosses the fog's top, or -1 */
 	double tsun;     /* the sun's transmittance through the clouds, area mean */
 	double shaft_dt; /* > 0: sample the clouds' shadows this often, m */
 	double below_share; /* of the diffuse light in the clouds that scatters
@@ -84,21 +88,26 @@ CS_HD static void haze_step(const struct ray_ctx *c, struct path *P, double t, d
 	/* the sun's beam inside the fog where most of the stretch's fog light
 	 * comes from: its middle, or one mean free path into it when it is
 	 * longer than two */
-	double fog_sun = 1.0;
+	double fog_sun = 1.0, fsrc[3] = {0.0, 0.0, 0.0};
 	if (wf > 0.0) {
 		double half = 0.5 * (t - P->t_haze), mfp = 1.0 / c->sc->fog_beta_per_m;
-		double tc = P->t_haze + (half < mfp ? half : mfp);
-		fog_sun = cs_fog_sun_transmittance(c->sc, c->h0 + c->dz * tc);
+		double tc = P->t_haze + (half < mfp ? half : mfp), alt = c->h0 + c->dz * tc;
+		fog_sun = cs_fog_sun_transmittance(c->sc, alt);
+		cs_fog_source(c->sc, alt, -c->dz, c->fog_cphi, fsrc);
 	}
+	/* the haze's transmittance alone, as the clear sky's radiance knows it */
+	double trh = tf > 0.0 ? exp(-th) : tr;
 	for (int k = 0; k < 3; k++) {
-		double hz = c->hsun[k] * tsun + c->hdome[k];
-		double hf = c->fsun[k] * tsun * fog_sun + c->fdome[k];
+		double hf = c->fsun[k] * tsun * fog_sun + fsrc[k];
+		/* in fog the haze is lit as the fog is, by the fog's light */
+		double hz = wf > 0.0 ? hf : c->hsun[k] * tsun + c->hdome[k];
 		P->H[k] += P->T * (1.0 - wf) * hz * (P->th - tr);
-		/* what the clear sky's radiance holds of this stretch */
-		P->Hw[k] += (1.0 - wf) * c->hclear[k] * (P->th - tr);
+		/* what the clear sky's radiance holds of this stretch: its
+		 * haze's light in clear air (no fog) */
+		P->Hw[k] += c->hclear[k] * (P->thh - trh);
 		P->F[k] += P->T * wf * hf * (P->th - tr);
 	}
-	P->th = tr, P->tau_h = th, P->tau_f = tf, P->t_haze = t;
+	P->th = tr, P->thh = trh, P->tau_h = th, P->tau_f = tf, P->t_haze = t;
 }
 
 /* The haze and fog up to distance t: within CS_SHAFTS_RANGE_M in steps of
@@ -106,10 +115,8 @@ CS_HD static void haze_step(const struct ray_ctx *c, struct path *P, double t, d
  * middle (crepuscular rays), beyond with the area mean.  The steps are not
  * jittered: neighbouring pixels see the same slices of a shaft, which
  * bands a little where per-pixel jitter would speckle a lot. */
-CS_HD static void haze_to(const struct ray_ctx *c, struct path *P, double t)
+CS_HD static void haze_part(const struct ray_ctx *c, struct path *P, double t)
 {
-	if (!c->haze || !(t > P->t_haze))
-		return;
 	while (c->shaft_dt > 0.0 && P->t_haze < CS_SHAFTS_RANGE_M && P->t_haze < t) {
 		double t1 = P->t_haze + c->shaft_dt;
 		t1 = t1 < t ? t1 : t;
@@ -122,6 +129,21 @@ CS_HD static void haze_to(const struct ray_ctx *c, struct path *P, double t)
 	}
 	if (t > P->t_haze)
 		haze_step(c, P, t, c->tsun);
+}
+
+/* The haze and fog up to distance t, a stretch ending where the ray
+ * crosses the fog's top: a stretch shares its light between haze and fog
+ * by their optical depths as if they were mixed, and the haze above a fog
+ * is seen through all of it (one stretch from the eye in fog to a cloud
+ * far above showed the haze's light, bright toward a low sun, unveiled
+ * where the ray met the cloud: the clouds' pattern printed on the fog). */
+CS_HD static void haze_to(const struct ray_ctx *c, struct path *P, double t)
+{
+	if (!c->haze || !(t > P->t_haze))
+		return;
+	if (c->fog_cross > P->t_haze && c->fog_cross < t)
+		haze_part(c, P, c->fog_cross);
+	haze_part(c, P, t);
 }
 
 /* The ground is solid: from an eye on it (a camera at exactly ground
@@ -585,9 +607,14 @@ CS_HD CS_COLD static void finish_ray(const struct ray_ctx *c, double tg, int on_
 			cs_scene_disk(sc, c->d, disk);
 			cs_scene_stars(sc, c->d, stars);
 			for (int k = 0; k < 3; k++) {
-				/* the stars are behind the haze too */
+				/* the stars are behind the haze too; the clear
+				 * air's haze light, which the sky's radiance
+				 * holds, is the actual haze's (H) instead, and the
+				 * fog dims what it held of it as the rest (with
+				 * it undimmed, fog under a low sun went dark where
+				 * it met the sky and bright where a cloud hid it) */
 				bg[k] = (bg[k] + disk[k]) * tf + stars[k] * P->th;
-				P->H[k] -= P->T * P->Hw[k];
+				P->H[k] -= P->T * tf * P->Hw[k];
 			}
 		}
 	}
@@ -609,7 +636,7 @@ CS_HD void cs_render_ray(const struct cs_scene *sc, const struct cs_render_setti
 	int n = gather_intervals(sc, o, d, isfinite(tg) ? tg : 1e7, iv);
 
 	struct ray_ctx c = {sc, s, o, d, jitter_u, {0.0}, {0.0}, st, 0, 0.0, 0.0,
-			    {0.0}, {0.0}, {0.0}, {0.0}, {0.0}, 1.0, 0.0, 0.0, 0, {0.0}, 0.0, 1.0, 1.0};
+			    {0.0}, {0.0}, {0.0}, {0.0}, 0.0, -1.0, 1.0, 0.0, 0.0, 0, {0.0}, 0.0, 1.0, 1.0};
 	c.eye_alt_m = cs_scene_altitude(sc, o);
 	c.escape_sheet = cs_slab_escape(fabs(d.z));
 	c.escape_wall = cs_slab_escape(0.25 * CS_PI * sqrt(fmax(0.0, 1.0 - d.z * d.z)));
@@ -626,20 +653,26 @@ CS_HD void cs_render_ray(const struct cs_scene *sc, const struct cs_render_setti
 		c.dz = v3_dot(d, v3_norm(v3(o.x, o.y, o.z + sc->earth_radius_m)));
 		cs_haze_light(sc, d, c.hclear, c.hsun);
 		c.tsun = sc->deck.on ? sc->deck.direct_below : 1.0;
-		/* fog droplets are grey and their light diffuse: the radiance
-		 * of the light from above, the sun's beam and the dome, in a
-		 * fog's nearly isotropic field averaged with what comes back up
-		 * from the ground (its albedo of it): (1 + albedo) / 2 of the
-		 * light from above (the reference integrator showed the fog
-		 * 1.9 times too bright with the light from above alone) */
-		double sun_h = (sc->effects & CS_FX_KEY) && sc->sun_dir.z > 0.0 ? sc->sun_dir.z : 0.0;
-		const double *dm = sc->deck.on ? sc->deck.sky_below : sc->ambient_up;
-		double wet = sc->ground_wet > 0.0 ? sc->ground_wet : 1.0;
+		/* the fog's light: its scattered field from the scene's
+		 * solution (cs_fog_source) and the sun's beam scattered once,
+		 * with the droplets' phase function: the glow around the sun */
+		int sun_up = (sc->effects & CS_FX_KEY) && sc->sun_dir.z > 0.0;
+		double fphase = sun_up ? sc->albedo * cs_phase_two_lobe(v3_dot(d, sc->sun_dir),
+									 sc->g_forward, sc->g_back,
+									 sc->w_forward, 1.0)
+				       : 0.0;
 		for (int k = 0; k < 3; k++) {
-			double iso = 0.5 * (1.0 + sc->ground_albedo[k] * wet);
-			c.hdome[k] = sc->deck.on ? dm[k] : c.hclear[k] - c.hsun[k];
-			c.fsun[k] = iso * sc->sun_illuminance[k] * sun_h / CS_PI;
-			c.fdome[k] = iso * dm[k];
+			c.hdome[k] = sc->deck.on ? sc->deck.sky_below[k] : c.hclear[k] - c.hsun[k];
+			c.fsun[k] = fphase * sc->sun_illuminance[k];
+		}
+		double dh = d.x * d.x + d.y * d.y, sh = sc->sun_dir.x * sc->sun_dir.x +
+							   sc->sun_dir.y * sc->sun_dir.y;
+		c.fog_cphi = dh > 1e-24 && sh > 1e-24
+				     ? (d.x * sc->sun_dir.x + d.y * sc->sun_dir.y) / sqrt(dh * sh)
+				     : 1.0;
+		if (sc->fog_beta_per_m > 0.0 && fabs(c.dz) > 1e-12) {
+			double tc = (sc->fog_top_m - c.h0) / c.dz;
+			c.fog_cross = tc > 0.0 ? tc : -1.0;
 		}
 		if ((sc->effects & CS_FX_SHAFTS) && s->haze_steps > 0)
 			c.shaft_dt = CS_SHAFTS_RANGE_M / s->haze_steps;
@@ -651,7 +684,7 @@ CS_HD void cs_render_ray(const struct cs_scene *sc, const struct cs_render_setti
 	for (int k = 0; k < 3 && (sc->effects & CS_FX_HALO); k++)
 		c.halo[k] = cs_phase_halo(cos_theta, k);
 	struct path P = {{0.0, 0.0, 0.0}, 1.0, 1.0, CS_SKY_DEPTH_M, 0, 1.0, 0.0, 0.0, 0.0,
-			 {0.0, 0.0, 0.0}, {0.0, 0.0, 0.0}, {0.0, 0.0, 0.0}};
+			 {0.0, 0.0, 0.0}, {0.0, 0.0, 0.0}, 1.0, {0.0, 0.0, 0.0}};
 	march_intervals(&c, iv, n, &P);
 	if (P.terminated)
 		st->rays_terminated_early++;

@@ -50,6 +50,16 @@ CS_HD double cs_haze_depth(const struct cs_scene *sc, double h0, double dz,
 CS_HD double cs_fog_depth(const struct cs_scene *sc, double h0, double dz,
 			  double t);
 
+/* The fog's light (haze.c, from sc->fog, bilinear): the scattered light
+ * it sends toward the eye at altitude alt_m along a direction of travel
+ * with vertical component up_out whose horizontal part makes an angle of
+ * cosine cos_phi with the sun beam's (kcd/m^2; the sun's beam scattered
+ * once is not in it), and the scattered light coming down on a
+ * horizontal plane there (klux). */
+CS_HD void cs_fog_source(const struct cs_scene *sc, double alt_m, double up_out, double cos_phi,
+			 double out[3]);
+CS_HD void cs_fog_down(const struct cs_scene *sc, double alt_m, double out[3]);
+
 /* The sun's beam through the fog from above down to altitude alt_m (flat
  * Earth): 1 above the fog, exp(-beta (top - alt) / sin(elevation)) in it
  * (haze.c). */

@@ -41,8 +41,11 @@ void cs_irradiance_at(const struct cs_scene *sc, const struct cs_render_settings
 	cs_v3 n = v3_cross(up, e);
 	double mu0 = v3_dot(sc->sun_dir, up);
 	double dni_klux = 0.0;
+	/* the beam through the clouds and through the fog above p */
 	if ((sc->effects & CS_FX_KEY) && mu0 > 0.0)
-		dni_klux = cs_luminance(sc->sun_illuminance[0], sc->sun_illuminance[1], sc->sun_illuminance[2]) * cs_render_sun_transmittance(sc, s, p, st);
+		dni_klux = cs_luminance(sc->sun_illuminance[0], sc->sun_illuminance[1], sc->sun_illuminance[2]) *
+			   cs_render_sun_transmittance(sc, s, p, st) *
+			   cs_fog_sun_transmittance(sc, cs_scene_altitude(sc, p));
 	/* cosine-weighted stratified directions: E = pi x their mean radiance */
 	double sum = 0.0;
 	for (int i = 0; i < N_THETA; i++)

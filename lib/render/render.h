@@ -159,6 +159,59 @@ struct cs_deck {
 };
 #define CS_DECK_SHARES 33
 
+/* The light field inside fog (fog.c): the radiance of a plane-parallel
+ * layer of droplets over a Lambertian ground, lit from above by the sky
+ * (or what comes through the clouds) and the sun's beam, with multiple
+ * scattering, by Fourier modes of the azimuth.  Levels k =
+ * 0..CS_FOG_LEVELS-1 lie at heights depth (1 - k / (CS_FOG_LEVELS - 1))^2
+ * above the ground, from the fog's top (0) to the ground, closer
+ * together toward it (the light along the ground changes within metres of
+ * it: below, nothing comes up from a dark ground; a metre up, a ray along
+ * it has crossed kilometres of fog); table directions
+ * m = 0..CS_FOG_DIRS-1 are directions of travel with vertical component
+ * -1 + 2 m / (CS_FOG_DIRS - 1).  Radiances in kcd/m^2, irradiances in klux
+ * (the units of sun_illuminance). */
+#define CS_FOG_LEVELS 17
+#define CS_FOG_DIRS 33
+#define CS_FOG_SKY 17
+#define CS_FOG_MODES 4
+struct cs_fog_field {
+	int on;
+	int orders;    /* orders of scattering the solution took (most of any mode) */
+	/* the source toward a direction: albedo times the phase function
+	 * over the scattered light (not the sun's unscattered beam, whose
+	 * single scattering the march adds with the full phase function), by
+	 * Fourier mode n of the azimuth phi between the direction's and the
+	 * sun's beam's (horizontal) directions of travel: the source is
+	 * sum over n of (n ? 2 : 1) src[n] cos(n phi) */
+	float src[CS_FOG_LEVELS][CS_FOG_DIRS][CS_FOG_MODES][3];
+	double down[CS_FOG_LEVELS][3]; /* scattered light down on a horizontal plane */
+	double up[CS_FOG_LEVELS][3];   /* and up */
+};
+
+/* What cs_fog_solve solves: the layer's optical depth, single-scattering
+ * albedo and two-lobe phase function; the sun's beam at its top (on a
+ * plane facing it) at cosine mu0 of its zenith angle (<= 0: none); the
+ * radiance coming down at its top at |cosine| j / (CS_FOG_SKY - 1) of the
+ * zenith angle, by Fourier mode n of the azimuth from the sun's beam's
+ * direction of travel ((1 / 2 pi) times the integral of L cos(n phi)); the
+ * ground's albedo. */
+struct cs_fog_problem {
+	double tau, albedo, g_forward, g_back, w_forward;
+	double mu0, sun[3];
+	double sky_down[CS_FOG_SKY][CS_FOG_MODES][3];
+	double albedo_ground[3];
+};
+
+/* Solves p into *out; CS_EINVAL for an optical depth outside [0, 1e4] or
+ * an albedo outside [0, 1]. */
+int cs_fog_solve(const struct cs_fog_problem *p, struct cs_fog_field *out);
+
+/* The azimuthal mean of the two-lobe phase function (1/sr) between
+ * directions of cosines mu and nu (exact: elliptic integrals). */
+double cs_fog_phase_mean(double mu, double nu, double g_forward, double g_back,
+			 double w_forward);
+
 struct cs_scene {
 	double earth_radius_m;
 	double ground_alt_m;          /* flat ground: the sphere at this altitude */
@@ -183,6 +236,7 @@ struct cs_scene {
 	double haze_scale_height_m;
 	double fog_beta_per_m;        /* fog extinction, constant below fog_top_m */
 	double fog_top_m;
+	struct cs_fog_field fog;      /* the light in it, when fog_beta_per_m > 0 */
 	double rain_extinction_per_m; /* grey extinction of falling rain, in a shaft */
 	double rain_top_m;            /* rain falls from here to the ground */
 	int rain_layer;               /* the raining layer: shafts under its cells */
@@ -245,6 +299,10 @@ CS_HD double cs_slab_escape(double mu);
 /* Fills sc->deck from the scene's layers, sun and clear-sky ambient (call
  * after those are set); sets CS_FX_DECK when there are layers. */
 void cs_scene_deck_light(struct cs_scene *sc);
+
+/* Fills sc->fog (fog.c) from the scene's fog, sky, sun, deck and ground
+ * (call after those are set; cleared without fog); CS_ENOMEM. */
+int cs_scene_fog_light(struct cs_scene *sc);
 
 struct cs_render_stats {
 	uint64_t pixels, density_samples, light_samples, rays_terminated_early,

@@ -238,5 +238,5 @@ int cs_scene_build(struct cs_scene *sc, const struct cs_wx *wx, double time_utc,
 		return rc;
 	build_air(sc, wx);
 	build_precipitation(sc, wx);
-	return CS_OK;
+	return cs_scene_fog_light(sc);
 }

@@ -16,9 +16,11 @@ T=$(mktemp -d "${TMPDIR:-/tmp}/cs-tool-test.XXXXXX")
 trap 'chmod -R u+w "$T" 2>/dev/null; rm -rf "$T"' EXIT
 case_name=""
 case_bad=""
-begin() { case_name=$1; case_bad=""; }
+begin() { case_name=$1; case_bad=""; case_skipped=0; }
 bad() { case_bad="${case_bad:+$case_bad; }$1"; }
+# end: the case's line, unless it said skip (a skipped case has its line)
 end() {
+	if [ "${case_skipped:-0}" -eq 1 ]; then case_skipped=0; return; fi
 	if [ -z "$case_bad" ]; then echo "ok $case_name"; else echo "FAIL $case_name: $case_bad"; fi
 }
 # run CMD...: runs it, keeping stdout in $T/out, stderr in $T/err, status in $rc
@@ -38,7 +40,7 @@ plan() { echo "plan $1"; }
 # fail_case NAME WHY: the case could not run here and that is an error
 fail_case() { echo "FAIL $1: $2"; }
 # skip NAME WHY: the case cannot run here (e.g. the shared data is absent)
-skip() { echo "skip $1: $2"; }
+skip() { echo "skip $1: $2"; case_skipped=1; }
 # same_pixels A B: the two images hold the same pixels (PNG: the samples as
 # pngtopnm decodes them; EXR: R G B A Z exactly), whatever their text chunks
 # or attributes say; for "cmp -s A B && bad ..." where the outputs' metadata

@@ -570,9 +570,10 @@ static void thick_slab_transmits_like_one_over_tau(void)
  * 64, the beam e^-64 / mu0) a fog of 300 m visibility (tau 3.9) adds no
  * sunlight to the ground, whose light is then at most what it is without
  * the fog (the fog only takes away); with nothing above, the fog's share of
- * the low sun is most of the ground's light.  (Before: the fog diffused the
+ * the low sun is most of the ground's light.  (Once the fog diffused the
  * unclouded sun under any deck; fog under stratocumulus at a low sun was
- * +51 % against the path tracer on the ground, +15 % now.) */
+ * +51 % against the path tracer on the ground.  The fog's solution takes
+ * the beam at its top through the deck, cs_scene_fog_light.) */
 static void fog_under_a_deck_adds_no_sunlight(void)
 {
 	static struct cs_scene sc;
@@ -587,11 +588,16 @@ static void fog_under_a_deck_adds_no_sunlight(void)
 	double with[3], without[3], open[3];
 	sc.fog_top_m = 300.0;
 	sc.fog_beta_per_m = 3.912 / 300.0;
+	cs_scene_deck_light(&sc);
+	CHECK(cs_scene_fog_light(&sc) == CS_OK);
 	cs_ground_light(&sc, &s, v3(0, 0, 0), v3(0, 0, -1), 0, &st, with);
 	sc.fog_beta_per_m = 0.0;
+	CHECK(cs_scene_fog_light(&sc) == CS_OK);
 	cs_ground_light(&sc, &s, v3(0, 0, 0), v3(0, 0, -1), 0, &st, without);
 	sc.nlayers = 0;
+	cs_scene_deck_light(&sc);
 	sc.fog_beta_per_m = 3.912 / 300.0;
+	CHECK(cs_scene_fog_light(&sc) == CS_OK);
 	cs_ground_light(&sc, &s, v3(0, 0, 0), v3(0, 0, -1), 0, &st, open);
 	printf("  ground under the deck: %.3g with fog, %.3g without; under fog alone %.3g\n",
 	       with[1], without[1], open[1]);
@@ -722,9 +728,15 @@ static void overcast_ground_sees_the_transmitted_light(void)
 }
 
 /* Koschmieder: in fog of visibility V a black object at distance V keeps
- * about 2 % of its contrast against the fog behind it (exp(-3.912)).
- * The camera stands 2 m up in fog 300 m deep; one ray meets black ground
- * 200 m away, the other runs just above the horizon through the fog. */
+ * about 2 % of its contrast against the fog's own light along the same
+ * line of sight (exp(-3.912)): its radiance is 98 % of that light.  The
+ * camera stands 2 m up in fog 300 m deep; the ray meets black ground 200
+ * m away, 0.01 down.  The fog's light is not the same in every direction
+ * (over a dark ground more of it travels down than up: cs_fog_source), so
+ * the contrast is against the fog's light toward the eye along that ray
+ * (at 1.5 m, the middle of the fog light the ray gathers), not against
+ * the horizon just above it; a ray 0.01 up sees that light and keeps
+ * nothing of the sky behind its 30 km of fog. */
 static void black_object_at_the_visibility_keeps_two_percent_contrast(void)
 {
 	static struct cs_scene sc;
@@ -740,15 +752,22 @@ static void black_object_at_the_visibility_keeps_two_percent_contrast(void)
 	sc.fog_beta_per_m = 3.912 / V;
 	sc.fog_top_m = 300.0;
 	sc.haze_scale_height_m = 1200.0;
+	sc.albedo = 0.99999; /* the droplets' (cs_scene_build's) */
+	sc.g_forward = 0.9, sc.g_back = -0.3, sc.w_forward = 0.96;
+	CHECK(cs_scene_fog_light(&sc) == CS_OK);
 	struct cs_render_settings s = plain(8, 4);
 	struct cs_ray_result obj, bg;
 	cs_v3 o = v3(0.0, 0.0, 2.0);
 	trace(&sc, &s, o, v3(sqrt(1.0 - 1e-4), 0.0, -0.01), &obj);
 	trace(&sc, &s, o, v3(sqrt(1.0 - 1e-4), 0.0, 0.01), &bg);
 	CHECK_NEAR(obj.depth_m, V, 0.5);
+	double along[3], above[3];
+	cs_fog_source(&sc, 1.5, 0.01, 0.0, along);
+	cs_fog_source(&sc, 2.5, -0.01, 0.0, above);
 	for (int k = 0; k < 3; k++) {
-		double contrast = 1.0 - obj.rgb[k] / bg.rgb[k];
-		CHECK_NEAR(contrast, 0.02, 0.002);
+		double contrast = 1.0 - obj.rgb[k] / along[k];
+		CHECK_NEAR(contrast, 0.02, 0.003);
+		CHECK_NEAR(bg.rgb[k], above[k], 0.01 * above[k]);
 	}
 	/* fog is grey: it takes the colour of the light, not the sky's blue */
 	CHECK(bg.rgb[2] / bg.rgb[0] < sc.ambient_up[2] / sc.ambient_up[0]);

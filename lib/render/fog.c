@@ -1,0 +1,430 @@
+/* fog.c - the light inside fog: the radiance field of a plane-parallel
+ * layer of the clouds' droplets over the ground, solved once a scene by
+ * successive orders of scattering over discrete ordinates, and tabulated as
+ * the source the view rays' march reads (render.h, struct cs_fog_field).
+ *
+ * Fog is thin in transport terms: at 300 m visibility and 300 m depth its
+ * optical depth is 3.8, but with the droplets' forward peak (g = 0.85) a
+ * photon keeps its direction for 500 m, more than the fog is deep.  The
+ * light inside it is then far from isotropic: looking up it is the sky's
+ * light, diffused; along the ground only what scattered sideways.  The
+ * reference path tracer measured the horizon 1.8 times dimmer than 20
+ * degrees up at the bottom of such a fog; an isotropic source (what the
+ * march used before) cannot show that.
+ *
+ * The solution is the azimuthal mean (the m = 0 Fourier mode, which the
+ * radiative transfer equation leaves on its own for the azimuthally
+ * averaged radiance): Gauss-Legendre ordinates in the cosine of the
+ * direction of travel, levels evenly spaced in optical depth, the
+ * source linear in optical depth between them (the formal solution's
+ * exact integral for that), a Lambertian ground below.  The sun's
+ * unscattered beam is not in the field: its single scattering is the
+ * march's own term, with the full phase function (the sun's glow).  The
+ * azimuthal mean of the Henyey-Greenstein phase function is a complete
+ * elliptic integral of the second kind (below), exact to rounding. */
+#include "render/render.h"
+
+#include "core/err.h"
+#include "render/phase.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#ifndef FOG_NG
+#define FOG_NG 16
+#endif
+#ifndef FOG_DTAU
+#define FOG_DTAU 0.1
+#endif
+enum {
+	NG = FOG_NG,    /* ordinates per hemisphere */
+	NO = 2 * NG,    /* 0..NG-1 travel down (mu < 0), NG.. up */
+	MAX_SUB = 16,   /* the solution's levels between two of the table's, at most */
+	MAX_LEV = MAX_SUB * (CS_FOG_LEVELS - 1) + 1,
+	NDIR = CS_FOG_DIRS,
+	NSKY = CS_FOG_SKY,
+	NMODE = CS_FOG_MODES,
+	NPSI = 256,     /* azimuth differences over [0, pi] for the modes' kernels */
+	MAX_ORDERS = 20000
+};
+
+/* The complete elliptic integral of the second kind E(m), m = k^2 in
+ * [0, 1], by the arithmetic-geometric mean (Abramowitz & Stegun 17.6). */
+static double ellip_e(double m)
+{
+	if (m >= 1.0)
+		return 1.0;
+	double a = 1.0, b = sqrt(1.0 - m), sum = 0.5 * m, pw = 1.0;
+	for (int i = 0; i < 40; i++) {
+		double c = 0.5 * (a - b);
+		if (c < 1e-17)
+			break;
+		double an = 0.5 * (a + b);
+		b = sqrt(a * b);
+		a = an;
+		sum += pw * c * c;
+		pw *= 2.0;
+	}
+	return CS_PI / (2.0 * a) * (1.0 - sum);
+}
+
+/* The azimuthal mean (1/sr) of the Henyey-Greenstein phase function
+ * between directions of cosines mu and nu: with a = 1 + g^2 - 2 g mu nu,
+ * b = 2 |g| sin sin', the integral over the azimuth of
+ * (a - b cos phi)^-3/2 is 4 E(2b / (a + b)) / ((a - b) sqrt(a + b)). */
+static double hg_mean(double mu, double nu, double g)
+{
+	double s = sqrt(fmax(0.0, 1.0 - mu * mu) * fmax(0.0, 1.0 - nu * nu));
+	double a = 1.0 + g * g - 2.0 * g * mu * nu, b = 2.0 * fabs(g) * s;
+	double lo = a - b > 1e-300 ? a - b : 1e-300;
+	return (1.0 - g * g) * ellip_e(2.0 * b / (a + b)) / (2.0 * CS_PI * CS_PI * lo * sqrt(a + b));
+}
+
+double cs_fog_phase_mean(double mu, double nu, double g_forward, double g_back,
+			 double w_forward)
+{
+	return w_forward * hg_mean(mu, nu, g_forward) + (1.0 - w_forward) * hg_mean(mu, nu, g_back);
+}
+
+/* Gauss-Legendre nodes and weights on [0, 1] (Newton on P_n). */
+static void gauss01(int n, double *x, double *w)
+{
+	for (int i = 0; i < n; i++) {
+		double z = cos(CS_PI * (i + 0.75) / (n + 0.5)), dp = 1.0;
+		for (int it = 0; it < 100; it++) {
+			double p0 = 1.0, p1 = z;
+			for (int k = 2; k <= n; k++) {
+				double p2 = ((2.0 * k - 1.0) * z * p1 - (k - 1.0) * p0) / k;
+				p0 = p1, p1 = p2;
+			}
+			dp = n * (z * p1 - p0) / (z * z - 1.0);
+			double dz = p1 / dp;
+			z -= dz;
+			if (fabs(dz) < 1e-16)
+				break;
+		}
+		x[i] = 0.5 * (1.0 - z);
+		w[i] = 1.0 / ((1.0 - z * z) * dp * dp);
+	}
+}
+
+/* The Fourier kernels of the two-lobe phase function (1/sr) between
+ * directions of cosines mu and nu: out[n] = (1 / 2 pi) times the integral
+ * over the azimuth difference psi of p cos(n psi), n < NMODE.  Mode 0 is
+ * cs_fog_phase_mean's closed form; the others by the midpoint rule on
+ * NPSI points over [0, pi] (the forward peak is 0.1 rad wide: 20 points
+ * across it along the horizon, more toward the poles). */
+static void phase_modes(const struct cs_fog_problem *p, const double (*cpsi)[NMODE], double mu,
+			double nu, double out[NMODE])
+{
+	double s = sqrt(fmax(0.0, 1.0 - mu * mu) * fmax(0.0, 1.0 - nu * nu));
+	out[0] = cs_fog_phase_mean(mu, nu, p->g_forward, p->g_back, p->w_forward);
+	for (int n = 1; n < NMODE; n++)
+		out[n] = 0.0;
+	if (NMODE < 2 || s < 1e-12)
+		return;
+	for (int q = 0; q < NPSI; q++) {
+		double f = cs_phase_two_lobe(mu * nu + s * cpsi[q][1], p->g_forward, p->g_back,
+					     p->w_forward, 1.0);
+		for (int n = 1; n < NMODE; n++)
+			out[n] += f * cpsi[q][n];
+	}
+	for (int n = 1; n < NMODE; n++)
+		out[n] *= 1.0 / NPSI; /* (1 / 2 pi) 2 int_0^pi = (1 / pi) pi / NPSI sum */
+}
+
+struct solver {
+	double mu[NO], wt[NO];   /* cosine of the direction of travel, weight */
+	/* of mode n: 2 pi w_j p_n(mu_i, mu_j), mode 0's columns summing to 1
+	 * (setup) */
+	double P[NMODE][NO][NO];
+	double Pout[NMODE][NDIR][NO]; /* the same from ordinate j into table direction m */
+	double psun[NMODE][NO];  /* p_n from the sun's beam, 1/sr */
+	double sky[NMODE][NSKY][3]; /* the sky's radiance at the top, by mode */
+	int nlev, sub;           /* levels of the solution, of them between the table's */
+	double L[MAX_LEV][NO], J[MAX_LEV][NO];
+	double dJ[MAX_LEV][NO];  /* the last order's change of J */
+};
+
+/* The ordinates nearest below and above cosine mu (*lo, *hi) and where
+ * mu lies between them (*f, 0 at lo); beyond the outermost, that one. */
+static void bracket(const struct solver *S, double mu, int *lo, int *hi, double *f)
+{
+	*lo = *hi = -1;
+	for (int j = 0; j < NO; j++) {
+		if (S->mu[j] <= mu && (*lo < 0 || S->mu[j] > S->mu[*lo]))
+			*lo = j;
+		if (S->mu[j] >= mu && (*hi < 0 || S->mu[j] < S->mu[*hi]))
+			*hi = j;
+	}
+	*lo = *lo < 0 ? *hi : *lo;
+	*hi = *hi < 0 ? *lo : *hi;
+	double span = S->mu[*hi] - S->mu[*lo];
+	*f = span > 0.0 ? (mu - S->mu[*lo]) / span : 0.0;
+}
+
+/* The quadrature's phase matrices.  Near the poles the forward peak is
+ * narrower than the ordinates' spacing, and the quadrature's sum over the
+ * light scattered out of a direction misses 4 % at the zenith: the
+ * missing part (or the excess) goes to the forward direction itself (the
+ * ordinate, or the two around a table direction or the sun's beam), where
+ * the peak is, and nowhere else.  (Scaling the whole row instead, the
+ * light sent back up from the sky at the fog's top came out 14 % too
+ * bright.) */
+static void setup(struct solver *S, const struct cs_fog_problem *p)
+{
+	double x[NG], w[NG], pm[NMODE], cpsi[NPSI][NMODE];
+	gauss01(NG, x, w);
+	for (int q = 0; q < NPSI; q++)
+		for (int n = 0; n < NMODE; n++)
+			cpsi[q][n] = cos(n * CS_PI * (q + 0.5) / NPSI);
+	for (int i = 0; i < NG; i++) {
+		S->mu[i] = -x[i], S->wt[i] = w[i];
+		S->mu[NG + i] = x[i], S->wt[NG + i] = w[i];
+	}
+	for (int j = 0; j < NO; j++) {
+		for (int i = 0; i <= j; i++) {
+			phase_modes(p, cpsi, S->mu[i], S->mu[j], pm);
+			for (int n = 0; n < NMODE; n++) {
+				S->P[n][i][j] = 2.0 * CS_PI * S->wt[j] * pm[n];
+				S->P[n][j][i] = 2.0 * CS_PI * S->wt[i] * pm[n];
+			}
+		}
+	}
+	for (int j = 0; j < NO; j++) {
+		double sum = 0.0;
+		for (int i = 0; i < NO; i++)
+			sum += S->P[0][i][j] * S->wt[i] / S->wt[j];
+		for (int n = 0; n < NMODE; n++)
+			S->P[n][j][j] += 1.0 - sum;
+	}
+	int lo, hi;
+	double f;
+	for (int m = 0; m < NDIR; m++) {
+		double mu = -1.0 + 2.0 * m / (NDIR - 1), sum = 0.0;
+		for (int j = 0; j < NO; j++) {
+			phase_modes(p, cpsi, mu, S->mu[j], pm);
+			for (int n = 0; n < NMODE; n++)
+				S->Pout[n][m][j] = 2.0 * CS_PI * S->wt[j] * pm[n];
+			sum += S->Pout[0][m][j];
+		}
+		bracket(S, mu, &lo, &hi, &f);
+		for (int n = 0; n < NMODE; n++) {
+			S->Pout[n][m][lo] += (1.0 - sum) * (1.0 - f);
+			S->Pout[n][m][hi] += (1.0 - sum) * f;
+		}
+	}
+	double sum = 0.0;
+	for (int i = 0; i < NO; i++) {
+		phase_modes(p, cpsi, S->mu[i], -p->mu0, pm);
+		for (int n = 0; n < NMODE; n++)
+			S->psun[n][i] = pm[n];
+		sum += 2.0 * CS_PI * S->wt[i] * pm[0];
+	}
+	bracket(S, -p->mu0, &lo, &hi, &f);
+	for (int n = 0; n < NMODE && p->mu0 > 0.0; n++) {
+		S->psun[n][lo] += (1.0 - sum) * (1.0 - f) / (2.0 * CS_PI * S->wt[lo]);
+		S->psun[n][hi] += (1.0 - sum) * f / (2.0 * CS_PI * S->wt[hi]);
+	}
+}
+
+/* The sun's beam at level k of n, on a plane facing it (klux). */
+static double beam_at(const struct cs_fog_problem *p, int k, int n, int c)
+{
+	if (!(p->mu0 > 0.0))
+		return 0.0;
+	double tau = p->tau * k / (n - 1);
+	return p->sun[c] * exp(-tau / p->mu0);
+}
+
+/* The radiance of mode n, channel c, along every ordinate from the
+ * sources J: down from the top, the ground's reflection (mode 0 only:
+ * Lambertian), up from the ground. */
+static void sweep(struct solver *S, const struct cs_fog_problem *p, int n, int c)
+{
+	double dt = p->tau / (S->nlev - 1);
+	for (int i = 0; i < NO; i++) {
+		double x = dt / fabs(S->mu[i]), E = exp(-x);
+		/* the linear source's weights: of the near level and the far */
+		double a = x > 1e-6 ? (1.0 - E) / x - E : 0.5 * x;
+		double b = x > 1e-6 ? 1.0 - (1.0 - E) / x : 0.5 * x;
+		if (i < NG) {
+			double u = -S->mu[i] * (NSKY - 1);
+			int q = (int)u < NSKY - 1 ? (int)u : NSKY - 2;
+			S->L[0][i] = S->sky[n][q][c] + (u - q) * (S->sky[n][q + 1][c] - S->sky[n][q][c]);
+			for (int k = 0; k + 1 < S->nlev; k++)
+				S->L[k + 1][i] = S->L[k][i] * E + S->J[k][i] * a + S->J[k + 1][i] * b;
+		} else {
+			if (i == NG) { /* the ground: all that arrives, diffused */
+				double e = n == 0 ? beam_at(p, S->nlev - 1, S->nlev, c) * p->mu0 : 0.0;
+				for (int j = 0; j < NG && n == 0; j++)
+					e += 2.0 * CS_PI * S->wt[j] * -S->mu[j] * S->L[S->nlev - 1][j];
+				for (int j = NG; j < NO; j++)
+					S->L[S->nlev - 1][j] = p->albedo_ground[c] * e / CS_PI;
+			}
+			for (int k = S->nlev - 1; k > 0; k--)
+				S->L[k - 1][i] = S->L[k][i] * E + S->J[k][i] * a + S->J[k - 1][i] * b;
+		}
+	}
+}
+
+/* The sources of mode n, channel c, from the radiance: the scattered
+ * field and the sun's beam scattered once; the sum of the changes' sizes
+ * into *norm; the largest change, relative to the largest source. */
+static double scatter(struct solver *S, const struct cs_fog_problem *p, int n, int c,
+		      double *norm)
+{
+	double change = 0.0, peak = 1e-300;
+	*norm = 0.0;
+	for (int k = 0; k < S->nlev; k++) {
+		double sun = beam_at(p, k, S->nlev, c);
+		for (int i = 0; i < NO; i++) {
+			double s = sun * S->psun[n][i];
+			const double *P = S->P[n][i], *L = S->L[k];
+			for (int j = 0; j < NO; j++)
+				s += P[j] * L[j];
+			s *= p->albedo;
+			double d = s - S->J[k][i];
+			S->dJ[k][i] = d;
+			d = fabs(d);
+			*norm += d;
+			change = d > change ? d : change;
+			peak = fabs(s) > peak ? fabs(s) : peak;
+			S->J[k][i] = s;
+		}
+	}
+	return change / peak;
+}
+
+/* Mode n, channel c, solved: orders of scattering until they add less
+ * than 1e-6 of the source.  Each order adds less than the one before, by
+ * a ratio that settles (the slowest mode's: near 1 in thick fog, where
+ * thousands of orders would be needed); once it has settled, the orders
+ * still to come are a geometric series, added at once (Aitken's
+ * extrapolation, as successive-orders codes such as 6S sum their tails),
+ * and the orders go on from there.  The orders taken. */
+static int solve_mode(struct solver *S, const struct cs_fog_problem *p, int n, int c)
+{
+	memset(S->J, 0, sizeof S->J);
+	int orders = 0;
+	double last = 0.0, ratio = 0.0;
+	sweep(S, p, n, c);
+	while (orders < MAX_ORDERS) {
+		orders++;
+		double norm, change = scatter(S, p, n, c, &norm);
+		sweep(S, p, n, c);
+		if (change < 1e-6)
+			break;
+		double r = last > 0.0 ? norm / last : 0.0;
+		if (orders > 8 && r > 0.0 && r < 0.999 && fabs(r - ratio) < 1e-3 * (1.0 - r)) {
+			double tail = r / (1.0 - r);
+			for (int k = 0; k < S->nlev; k++)
+				for (int i = 0; i < NO; i++)
+					S->J[k][i] += tail * S->dJ[k][i];
+			sweep(S, p, n, c);
+			r = 0.0, norm = 0.0;
+		}
+		ratio = r, last = norm;
+	}
+	return orders;
+}
+
+int cs_fog_solve(const struct cs_fog_problem *p, struct cs_fog_field *out)
+{
+	memset(out, 0, sizeof *out);
+	if (!(p->tau >= 0.0) || !(p->tau <= 1e4) || !(p->albedo >= 0.0 && p->albedo <= 1.0))
+		return cs_error(CS_EINVAL, "fog: optical depth %g or albedo %g out of range", p->tau,
+				p->albedo);
+	struct solver *S = calloc(1, sizeof *S);
+	if (S == NULL)
+		return cs_error(CS_ENOMEM, "out of memory");
+	/* levels at most FOG_DTAU apart in optical depth (the linear source
+	 * between them loses 1 % of the light at 0.125 in a conservative
+	 * slab of optical depth 16), up to MAX_LEV */
+	S->sub = (int)ceil(p->tau / (FOG_DTAU * (CS_FOG_LEVELS - 1)));
+	S->sub = S->sub < 2 ? 2 : S->sub > MAX_SUB ? MAX_SUB : S->sub;
+	S->nlev = S->sub * (CS_FOG_LEVELS - 1) + 1;
+	setup(S, p);
+	for (int q = 0; q < NSKY; q++)
+		for (int c = 0; c < 3; c++)
+			for (int n = 0; n < NMODE; n++)
+				S->sky[n][q][c] = p->sky_down[q][n][c];
+	for (int n = 0; n < NMODE; n++)
+		for (int c = 0; c < 3; c++) {
+			int orders = solve_mode(S, p, n, c);
+			out->orders = orders > out->orders ? orders : out->orders;
+			for (int t = 0; t < CS_FOG_LEVELS; t++) {
+				/* the table's level t, at the solution's x (linear
+				 * between its levels) */
+				double h = 1.0 - (double)t / (CS_FOG_LEVELS - 1);
+				double x = (1.0 - h * h) * (S->nlev - 1);
+				int k = (int)x < S->nlev - 1 ? (int)x : S->nlev - 2;
+				double a = x - k, L[NO];
+				for (int j = 0; j < NO; j++)
+					L[j] = (1.0 - a) * S->L[k][j] + a * S->L[k + 1][j];
+				/* the scattered field only: the sun's beam scattered
+				 * once is the march's own term, with the full phase
+				 * function */
+				for (int m = 0; m < NDIR; m++) {
+					double s = 0.0;
+					for (int j = 0; j < NO; j++)
+						s += S->Pout[n][m][j] * L[j];
+					out->src[t][m][n][c] = (float)(p->albedo * s);
+				}
+				if (n > 0)
+					continue;
+				double dn = 0.0, upf = 0.0;
+				for (int j = 0; j < NG; j++)
+					dn += 2.0 * CS_PI * S->wt[j] * -S->mu[j] * L[j];
+				for (int j = NG; j < NO; j++)
+					upf += 2.0 * CS_PI * S->wt[j] * S->mu[j] * L[j];
+				out->down[t][c] = dn;
+				out->up[t][c] = upf;
+			}
+		}
+	out->on = 1;
+	free(S);
+	return CS_OK;
+}
+
+/* The fog of a scene is lit at its top by the sky, or under clouds by
+ * what they let through (the deck's diffuse light, the sun's beam times
+ * the area's mean transmittance), over the wet or dry flat ground. */
+int cs_scene_fog_light(struct cs_scene *sc)
+{
+	memset(&sc->fog, 0, sizeof sc->fog);
+	if (!(sc->fog_beta_per_m > 0.0) || !(sc->fog_top_m > sc->ground_alt_m))
+		return CS_OK;
+	struct cs_fog_problem p;
+	memset(&p, 0, sizeof p);
+	p.tau = sc->fog_beta_per_m * (sc->fog_top_m - sc->ground_alt_m);
+	p.albedo = sc->albedo;
+	p.g_forward = sc->g_forward, p.g_back = sc->g_back, p.w_forward = sc->w_forward;
+	int sun = (sc->effects & CS_FX_KEY) && sc->sun_dir.z > 0.0;
+	p.mu0 = sun ? sc->sun_dir.z : 0.0;
+	double wet = sc->ground_wet > 0.0 ? sc->ground_wet : 1.0;
+	for (int c = 0; c < 3; c++) {
+		p.sun[c] = sun ? sc->sun_illuminance[c] * (sc->deck.on ? sc->deck.direct_below : 1.0)
+			       : 0.0;
+		p.albedo_ground[c] = sc->ground_albedo[c] * wet;
+	}
+	/* the sky's Fourier modes in the azimuth from the sun's (the light
+	 * seen at azimuth a travels toward a + pi, as the sun's beam toward
+	 * its azimuth + pi) */
+	enum { NAZ = 64 };
+	double sun_az = atan2(sc->sun_dir.x, sc->sun_dir.y);
+	for (int j = 0; j < CS_FOG_SKY && (sc->effects & CS_FX_SKY); j++) {
+		double up = (double)j / (CS_FOG_SKY - 1), flat = sqrt(1.0 - up * up);
+		for (int a = 0; a < NAZ && !sc->deck.on; a++) {
+			double phi = 2.0 * CS_PI * (a + 0.5) / NAZ, az = sun_az + phi, rgb[3];
+			cs_scene_sky(sc, v3(flat * sin(az), flat * cos(az), up), rgb);
+			for (int n = 0; n < CS_FOG_MODES; n++)
+				for (int c = 0; c < 3; c++)
+					p.sky_down[j][n][c] += rgb[c] * cos(n * phi) / NAZ;
+		}
+		for (int c = 0; c < 3 && sc->deck.on; c++)
+			p.sky_down[j][0][c] = sc->deck.sky_below[c];
+	}
+	return cs_fog_solve(&p, &sc->fog);
+}
