@@ -162,8 +162,10 @@ void cs_scene_deck_light(struct cs_scene *sc)
 {
 	struct cs_deck *d = &sc->deck;
 	memset(d, 0, sizeof *d);
-	if (sc->nlayers == 0)
+	if (sc->nlayers == 0) {
+		cs_scene_deck_fields(sc);
 		return;
+	}
 	d->on = 1;
 	phase_shares(sc, d->below_share);
 	int sun = (sc->effects & CS_FX_KEY) && sc->sun_dir.z > 0.0;
@@ -224,4 +226,5 @@ void cs_scene_deck_light(struct cs_scene *sc)
 		}
 	}
 	sc->effects |= CS_FX_DECK;
+	cs_scene_deck_fields(sc);
 }

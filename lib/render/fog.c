@@ -388,6 +388,42 @@ int cs_fog_solve(const struct cs_fog_problem *p, struct cs_fog_field *out)
 	return CS_OK;
 }
 
+/* A droplet layer of optical depth tau of scene sc, lit from above by
+ * the sun's beam sun[] (on a plane facing it) and, under other clouds, by
+ * their diffuse light dome[] (radiance, isotropic), else by the clear
+ * sky, over the ground of albedo ground[]. */
+static void problem_of(const struct cs_scene *sc, double tau, const double sun[3],
+		       const double *dome, const double ground[3], struct cs_fog_problem *p)
+{
+	memset(p, 0, sizeof *p);
+	p->tau = tau;
+	p->albedo = sc->albedo;
+	p->g_forward = sc->g_forward, p->g_back = sc->g_back, p->w_forward = sc->w_forward;
+	int up = (sc->effects & CS_FX_KEY) && sc->sun_dir.z > 0.0;
+	p->mu0 = up ? sc->sun_dir.z : 0.0;
+	for (int c = 0; c < 3; c++) {
+		p->sun[c] = up ? sun[c] : 0.0;
+		p->albedo_ground[c] = ground[c];
+	}
+	/* the sky's Fourier modes in the azimuth from the sun's (the light
+	 * seen at azimuth a travels toward a + pi, as the sun's beam toward
+	 * its azimuth + pi) */
+	enum { NAZ = 64 };
+	double sun_az = atan2(sc->sun_dir.x, sc->sun_dir.y);
+	for (int j = 0; j < CS_FOG_SKY && (sc->effects & CS_FX_SKY); j++) {
+		double mu = (double)j / (CS_FOG_SKY - 1), flat = sqrt(1.0 - mu * mu);
+		for (int a = 0; a < NAZ && dome == NULL; a++) {
+			double phi = 2.0 * CS_PI * (a + 0.5) / NAZ, az = sun_az + phi, rgb[3];
+			cs_scene_sky(sc, v3(flat * sin(az), flat * cos(az), mu), rgb);
+			for (int n = 0; n < CS_FOG_MODES; n++)
+				for (int c = 0; c < 3; c++)
+					p->sky_down[j][n][c] += rgb[c] * cos(n * phi) / NAZ;
+		}
+		for (int c = 0; c < 3 && dome != NULL; c++)
+			p->sky_down[j][0][c] = dome[c];
+	}
+}
+
 /* The fog of a scene is lit at its top by the sky, or under clouds by
  * what they let through (the deck's diffuse light, the sun's beam times
  * the area's mean transmittance), over the wet or dry flat ground. */
@@ -396,35 +432,40 @@ int cs_scene_fog_light(struct cs_scene *sc)
 	memset(&sc->fog, 0, sizeof sc->fog);
 	if (!(sc->fog_beta_per_m > 0.0) || !(sc->fog_top_m > sc->ground_alt_m))
 		return CS_OK;
-	struct cs_fog_problem p;
-	memset(&p, 0, sizeof p);
-	p.tau = sc->fog_beta_per_m * (sc->fog_top_m - sc->ground_alt_m);
-	p.albedo = sc->albedo;
-	p.g_forward = sc->g_forward, p.g_back = sc->g_back, p.w_forward = sc->w_forward;
-	int sun = (sc->effects & CS_FX_KEY) && sc->sun_dir.z > 0.0;
-	p.mu0 = sun ? sc->sun_dir.z : 0.0;
-	double wet = sc->ground_wet > 0.0 ? sc->ground_wet : 1.0;
+	double wet = sc->ground_wet > 0.0 ? sc->ground_wet : 1.0, sun[3], ground[3];
 	for (int c = 0; c < 3; c++) {
-		p.sun[c] = sun ? sc->sun_illuminance[c] * (sc->deck.on ? sc->deck.direct_below : 1.0)
-			       : 0.0;
-		p.albedo_ground[c] = sc->ground_albedo[c] * wet;
+		sun[c] = sc->sun_illuminance[c] * (sc->deck.on ? sc->deck.direct_below : 1.0);
+		ground[c] = sc->ground_albedo[c] * wet;
 	}
-	/* the sky's Fourier modes in the azimuth from the sun's (the light
-	 * seen at azimuth a travels toward a + pi, as the sun's beam toward
-	 * its azimuth + pi) */
-	enum { NAZ = 64 };
-	double sun_az = atan2(sc->sun_dir.x, sc->sun_dir.y);
-	for (int j = 0; j < CS_FOG_SKY && (sc->effects & CS_FX_SKY); j++) {
-		double up = (double)j / (CS_FOG_SKY - 1), flat = sqrt(1.0 - up * up);
-		for (int a = 0; a < NAZ && !sc->deck.on; a++) {
-			double phi = 2.0 * CS_PI * (a + 0.5) / NAZ, az = sun_az + phi, rgb[3];
-			cs_scene_sky(sc, v3(flat * sin(az), flat * cos(az), up), rgb);
-			for (int n = 0; n < CS_FOG_MODES; n++)
-				for (int c = 0; c < 3; c++)
-					p.sky_down[j][n][c] += rgb[c] * cos(n * phi) / NAZ;
-		}
-		for (int c = 0; c < 3 && sc->deck.on; c++)
-			p.sky_down[j][0][c] = sc->deck.sky_below[c];
-	}
+	struct cs_fog_problem p;
+	problem_of(sc, sc->fog_beta_per_m * (sc->fog_top_m - sc->ground_alt_m), sun,
+		   sc->deck.on ? sc->deck.sky_below : NULL, ground, &p);
 	return cs_fog_solve(&p, &sc->fog);
+}
+
+void cs_scene_deck_fields(struct cs_scene *sc)
+{
+	struct cs_deck *d = &sc->deck;
+	int used = 0;
+	for (int i = 0; i < CS_SCENE_MAX_LAYERS; i++)
+		d->field_of[i] = -1;
+	for (int i = 0; i < sc->nlayers && d->on && used < CS_DECK_FIELDS; i++) {
+		const struct cs_cloud_layer *l = &sc->layers[i];
+		if (l->coverage < CS_DECK_FULL_COVER || !(d->tau_in[i] > 0.0))
+			continue;
+		/* under other layers: their diffuse light, isotropic */
+		int under = 0;
+		for (int j = 0; j < sc->nlayers; j++)
+			under |= j != i && sc->layers[j].base_m >= l->top_m - 1.0;
+		double sun[3], dome[3];
+		for (int c = 0; c < 3; c++) {
+			sun[c] = d->mu0 > 0.0 ? d->sun_top[i][c] / d->mu0 : 0.0;
+			dome[c] = d->dif_top[i][c] / CS_PI;
+		}
+		struct cs_fog_problem p;
+		problem_of(sc, d->tau_in[i], sun, under ? dome : NULL, sc->ground_albedo, &p);
+		if (cs_fog_solve(&p, &d->field[used]) != CS_OK)
+			continue; /* (out of memory) the layer keeps the diffuse light's model */
+		d->field_of[i] = used++;
+	}
 }

@@ -87,11 +87,11 @@ CS_HD static double fog_level(const struct cs_scene *sc, double alt_m)
 	return (1.0 - sqrt(h)) * (CS_FOG_LEVELS - 1);
 }
 
-CS_HD void cs_fog_source(const struct cs_scene *sc, double alt_m, double up_out, double cos_phi,
-			 double out[3])
+CS_HD void cs_field_source(const struct cs_fog_field *f, double h, double up_out, double cos_phi,
+			   double out[3])
 {
-	const struct cs_fog_field *f = &sc->fog;
-	double u = fog_level(sc, alt_m);
+	h = h < 0.0 ? 0.0 : h > 1.0 ? 1.0 : h;
+	double u = (1.0 - sqrt(h)) * (CS_FOG_LEVELS - 1);
 	double v = (up_out + 1.0) * 0.5 * (CS_FOG_DIRS - 1);
 	v = v < 0.0 ? 0.0 : v > CS_FOG_DIRS - 1 ? CS_FOG_DIRS - 1 : v;
 	int k = (int)u < CS_FOG_LEVELS - 1 ? (int)u : CS_FOG_LEVELS - 2;
@@ -115,6 +115,14 @@ CS_HD void cs_fog_source(const struct cs_scene *sc, double alt_m, double up_out,
 			for (int c = 0; c < 3; c++)
 				out[c] += w[q] * cm[n] * s[n][c];
 	}
+}
+
+CS_HD void cs_fog_source(const struct cs_scene *sc, double alt_m, double up_out, double cos_phi,
+			 double out[3])
+{
+	double depth = sc->fog_top_m - sc->ground_alt_m;
+	cs_field_source(&sc->fog, depth > 0.0 ? (alt_m - sc->ground_alt_m) / depth : 0.0, up_out,
+			cos_phi, out);
 }
 
 CS_HD void cs_fog_down(const struct cs_scene *sc, double alt_m, double out[3])

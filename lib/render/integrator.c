@@ -49,7 +49,7 @@ struct ray_ctx {
 	double hdome[3]; /* and the dome's */
 	double fsun[3];  /* the fog's single scattering of the sun's beam
 			    above the fog and clouds (albedo x phase x beam) */
-	double fog_cphi; /* the azimuth between d and the sun (cosine) */
+	double cphi_sun; /* the azimuth between d and the sun (cosine) */
 	double fog_cross; /* where the ray crosses the fog's top, or -1 */
 	double tsun;     /* the sun's transmittance through the clouds, area mean */
 	double shaft_dt; /* > 0: sample the clouds' shadows this often, m */
@@ -93,7 +93,7 @@ CS_HD static void haze_step(const struct ray_ctx *c, struct path *P, double t, d
 		double half = 0.5 * (t - P->t_haze), mfp = 1.0 / c->sc->fog_beta_per_m;
 		double tc = P->t_haze + (half < mfp ? half : mfp), alt = c->h0 + c->dz * tc;
 		fog_sun = cs_fog_sun_transmittance(c->sc, alt);
-		cs_fog_source(c->sc, alt, -c->dz, c->fog_cphi, fsrc);
+		cs_fog_source(c->sc, alt, -c->dz, c->cphi_sun, fsrc);
 	}
 	/* the haze's transmittance alone, as the clear sky's radiance knows it */
 	double trh = tf > 0.0 ? exp(-th) : tr;
@@ -355,11 +355,14 @@ CS_HD static void sample_source(const struct ray_ctx *c, cs_v3 p, double alt,
 	const struct cs_scene *sc = c->sc;
 	S[0] = S[1] = S[2] = 0.0;
 	double tau_sun = INFINITY;
+	/* a deck's diffuse light, the sun's multiply scattered light with
+	 * it, from its light field: the octaves only for other layers */
+	int field = sc->deck.on ? sc->deck.field_of[li] : -1;
 	if (sc->effects & CS_FX_KEY) {
 		double tau = cs_light_depth(sc, c->s, p, mask, c->st);
 		tau_sun = tau;
 		double w = 0.0, a = 1.0, b = 1.0;
-		for (int k = 0; k < c->s->ms_octaves; k++) {
+		for (int k = 0; k < (field >= 0 ? 1 : c->s->ms_octaves); k++) {
 			w += a * exp(-b * tau) * c->phase[k];
 			a *= 0.5;
 			b *= 0.5;
@@ -387,8 +390,14 @@ CS_HD static void sample_source(const struct ray_ctx *c, cs_v3 p, double alt,
 			tau_above = cs_cloud_column(l, sc->noise, p.x, p.y, alt, l->top_m, n);
 			c->st->light_samples += alt < l->top_m ? (uint64_t)n : 0u;
 		}
-		cloud_ambient(sc, li, hb, tau_above, tau_sun, c->below_share,
-			      c->sky_on ? c->sky_d : NULL, escape_toward_eye(c, l), A);
+		if (field >= 0) {
+			double tin = sc->deck.tau_in[li];
+			cs_field_source(&sc->deck.field[field], tin > 0.0 ? 1.0 - tau_above / tin : 1.0,
+					-c->d.z, c->cphi_sun, A);
+		} else {
+			cloud_ambient(sc, li, hb, tau_above, tau_sun, c->below_share,
+				      c->sky_on ? c->sky_d : NULL, escape_toward_eye(c, l), A);
+		}
 		for (int k = 0; k < 3; k++)
 			S[k] += ss * A[k];
 	}
@@ -665,11 +674,6 @@ CS_HD void cs_render_ray(const struct cs_scene *sc, const struct cs_render_setti
 			c.hdome[k] = sc->deck.on ? sc->deck.sky_below[k] : c.hclear[k] - c.hsun[k];
 			c.fsun[k] = fphase * sc->sun_illuminance[k];
 		}
-		double dh = d.x * d.x + d.y * d.y, sh = sc->sun_dir.x * sc->sun_dir.x +
-							   sc->sun_dir.y * sc->sun_dir.y;
-		c.fog_cphi = dh > 1e-24 && sh > 1e-24
-				     ? (d.x * sc->sun_dir.x + d.y * sc->sun_dir.y) / sqrt(dh * sh)
-				     : 1.0;
 		if (sc->fog_beta_per_m > 0.0 && fabs(c.dz) > 1e-12) {
 			double tc = (sc->fog_top_m - c.h0) / c.dz;
 			c.fog_cross = tc > 0.0 ? tc : -1.0;
@@ -677,6 +681,11 @@ CS_HD void cs_render_ray(const struct cs_scene *sc, const struct cs_render_setti
 		if ((sc->effects & CS_FX_SHAFTS) && s->haze_steps > 0)
 			c.shaft_dt = CS_SHAFTS_RANGE_M / s->haze_steps;
 	}
+	double dh = d.x * d.x + d.y * d.y, sh = sc->sun_dir.x * sc->sun_dir.x +
+						   sc->sun_dir.y * sc->sun_dir.y;
+	c.cphi_sun = dh > 1e-24 && sh > 1e-24
+			     ? (d.x * sc->sun_dir.x + d.y * sc->sun_dir.y) / sqrt(dh * sh)
+			     : 1.0;
 	double cos_theta = v3_dot(d, sc->sun_dir);
 	for (int k = 0; k < s->ms_octaves; k++) /* octave k: eccentricity x 0.5^k */
 		c.phase[k] = cs_phase_two_lobe(cos_theta, sc->g_forward, sc->g_back,

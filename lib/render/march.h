@@ -58,6 +58,10 @@ CS_HD double cs_fog_depth(const struct cs_scene *sc, double h0, double dz,
  * horizontal plane there (klux). */
 CS_HD void cs_fog_source(const struct cs_scene *sc, double alt_m, double up_out, double cos_phi,
 			 double out[3]);
+/* The same for a light field f at height fraction h in [0, 1] of its
+ * layer (of optical depth from the bottom: 1 at the top). */
+CS_HD void cs_field_source(const struct cs_fog_field *f, double h, double up_out, double cos_phi,
+			   double out[3]);
 CS_HD void cs_fog_down(const struct cs_scene *sc, double alt_m, double out[3]);
 
 /* The sun's beam through the fog from above down to altitude alt_m (flat

@@ -126,39 +126,6 @@ enum {
  * NULL past the last. */
 const char *cs_effect_name(unsigned bit);
 
-/* The light under and inside the cloud layers (deck.c), from the
- * two-stream transmittance of the layers' column optical depths over an
- * area around the site: irradiances in klux, radiances in kcd/m^2. */
-struct cs_deck {
-	int on;                      /* 0: the clear-sky ambient everywhere */
-	double mu0;                  /* sine of the sun's elevation (>= 0) */
-	double sky_below[3];         /* radiance of the diffuse light under all
-					layers (cosine mean; irradiance / pi) */
-	double ground_below[3];      /* radiance of ground light from below
-					(albedo 0.2, lit by what comes through) */
-	double direct_below;         /* area mean of the sun's beam transmittance
-					through all layers */
-	double sun_top[CS_SCENE_MAX_LAYERS][3]; /* sun's beam on a horizontal
-						   plane at a layer's top, klux */
-	double dif_top[CS_SCENE_MAX_LAYERS][3]; /* diffuse irradiance there, klux */
-	double tau_in[CS_SCENE_MAX_LAYERS];     /* in-cloud column optical depth */
-	/* the light from above inside a layer with only the ground below it,
-	 * at its base, times this: the ground's return, reflected back down by
-	 * the cloud over and over, 1 / (1 - albedo (1 - Td(tau_in))); 1 for
-	 * layers over other layers */
-	double ground_gain[CS_SCENE_MAX_LAYERS][3];
-	/* of a layer under the open sky (none above it), the share of the
-	 * sky's light in it seen as the sky behind it along the ray: the
-	 * phase's forward weight times exp(-tau_in) (thin veils; 0 under
-	 * other layers) */
-	double sky_through[CS_SCENE_MAX_LAYERS];
-	/* the share of the clouds' phase function that takes light arriving
-	 * from below (travelling up) into a direction of travel whose vertical
-	 * component is -1 + 2 k / (CS_DECK_SHARES - 1) (k = 0..32) */
-	double below_share[33];
-};
-#define CS_DECK_SHARES 33
-
 /* The light field inside fog (fog.c): the radiance of a plane-parallel
  * layer of droplets over a Lambertian ground, lit from above by the sky
  * (or what comes through the clouds) and the sun's beam, with multiple
@@ -211,6 +178,46 @@ int cs_fog_solve(const struct cs_fog_problem *p, struct cs_fog_field *out);
  * directions of cosines mu and nu (exact: elliptic integrals). */
 double cs_fog_phase_mean(double mu, double nu, double g_forward, double g_back,
 			 double w_forward);
+
+/* The light under and inside the cloud layers (deck.c), from the
+ * two-stream transmittance of the layers' column optical depths over an
+ * area around the site: irradiances in klux, radiances in kcd/m^2. */
+struct cs_deck {
+	int on;                      /* 0: the clear-sky ambient everywhere */
+	double mu0;                  /* sine of the sun's elevation (>= 0) */
+	double sky_below[3];         /* radiance of the diffuse light under all
+					layers (cosine mean; irradiance / pi) */
+	double ground_below[3];      /* radiance of ground light from below
+					(albedo 0.2, lit by what comes through) */
+	double direct_below;         /* area mean of the sun's beam transmittance
+					through all layers */
+	double sun_top[CS_SCENE_MAX_LAYERS][3]; /* sun's beam on a horizontal
+						   plane at a layer's top, klux */
+	double dif_top[CS_SCENE_MAX_LAYERS][3]; /* diffuse irradiance there, klux */
+	double tau_in[CS_SCENE_MAX_LAYERS];     /* in-cloud column optical depth */
+	/* the light from above inside a layer with only the ground below it,
+	 * at its base, times this: the ground's return, reflected back down by
+	 * the cloud over and over, 1 / (1 - albedo (1 - Td(tau_in))); 1 for
+	 * layers over other layers */
+	double ground_gain[CS_SCENE_MAX_LAYERS][3];
+	/* of a layer under the open sky (none above it), the share of the
+	 * sky's light in it seen as the sky behind it along the ray: the
+	 * phase's forward weight times exp(-tau_in) (thin veils; 0 under
+	 * other layers) */
+	double sky_through[CS_SCENE_MAX_LAYERS];
+	/* the share of the clouds' phase function that takes light arriving
+	 * from below (travelling up) into a direction of travel whose vertical
+	 * component is -1 + 2 k / (CS_DECK_SHARES - 1) (k = 0..32) */
+	double below_share[33];
+	/* the light fields (cs_fog_solve) of up to CS_DECK_FIELDS layers of
+	 * at least CS_DECK_FULL_COVER: plane-parallel decks, whose diffuse
+	 * light the march reads from them; field_of[i] is layer i's, or -1 */
+	struct cs_fog_field field[2];
+	int field_of[CS_SCENE_MAX_LAYERS];
+};
+#define CS_DECK_SHARES 33
+#define CS_DECK_FIELDS 2
+#define CS_DECK_FULL_COVER 0.95
 
 struct cs_scene {
 	double earth_radius_m;
@@ -299,6 +306,12 @@ CS_HD double cs_slab_escape(double mu);
 /* Fills sc->deck from the scene's layers, sun and clear-sky ambient (call
  * after those are set); sets CS_FX_DECK when there are layers. */
 void cs_scene_deck_light(struct cs_scene *sc);
+
+/* The light fields of the scene's decks (fog.c: sc->deck.field,
+ * field_of), from the deck's light at their tops (call at the end of
+ * cs_scene_deck_light, which does); a layer whose field cannot be made
+ * (out of memory) keeps the march's model of the diffuse light. */
+void cs_scene_deck_fields(struct cs_scene *sc);
 
 /* Fills sc->fog (fog.c) from the scene's fog, sky, sun, deck and ground
  * (call after those are set; cleared without fog); CS_ENOMEM. */

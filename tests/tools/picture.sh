@@ -94,13 +94,14 @@ gt "$c60" "$c20" && gt "$c20" "$c8" || bad "contrast at V = 60, 20, 8 km: $c60, 
 gt "$c8" 0.001 || bad "no contrast left at V = 8 km: $c8"
 end
 
-# What the options must change, in the direction they must: from under an
-# overcast stratocumulus (every pixel cloud), fewer multiple-scattering
-# octaves and no sky light make the cloud darker; two stops of exposure
-# make the PNG brighter; looking down shows the ground (finite depth), up
-# only sky.
+# What the options must change, in the direction they must: from under a
+# stratocumulus of 90 % cover (every pixel cloud; not a deck, whose light
+# field holds its multiple scattering without octaves), fewer
+# multiple-scattering octaves and no sky light make the cloud darker; two
+# stops of exposure make the PNG brighter; looking down shows the ground
+# (finite depth), up only sky.
 begin picture_options_push_the_picture_the_right_way
-wx "$T/sc.json" '{"genus":"stratocumulus","coverage":1,"base_m":1200,"top_m":1800}'
+wx "$T/sc.json" '{"genus":"stratocumulus","coverage":0.9,"base_m":1200,"top_m":1800}'
 V="--wx $T/sc.json --camera 46.95,7.44,542 --look 0,60 --fov 40 --size 17x9 $Q"
 run "$CR" $V -o "$T/base.exr" -o "$T/base.png"; expect_rc 0
 run "$CR" $V --ms-octaves 1 -o "$T/ms1.exr"; expect_rc 0
