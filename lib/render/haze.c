@@ -87,7 +87,7 @@ CS_HD static double fog_level(const struct cs_scene *sc, double alt_m)
 	return (1.0 - sqrt(h)) * (CS_FOG_LEVELS - 1);
 }
 
-CS_HD void cs_field_source(const struct cs_fog_field *f, double h, double up_out, double cos_phi,
+CS_HD CS_SHARED void cs_field_source(const struct cs_fog_field *f, double h, double up_out, double cos_phi,
 			   double out[3])
 {
 	h = h < 0.0 ? 0.0 : h > 1.0 ? 1.0 : h;
