@@ -76,22 +76,26 @@ CS_HD double cs_fog_sun_transmittance(const struct cs_scene *sc, double alt_m)
 	return exp(-sc->fog_beta_per_m * (sc->fog_top_m - alt_m) / mu);
 }
 
-/* The fog's level (0 at its top, CS_FOG_LEVELS - 1 at the ground) at
- * altitude alt_m, fractional, clamped: the levels are at heights depth (1
- * - k / (CS_FOG_LEVELS - 1))^2 above the ground. */
-CS_HD static double fog_level(const struct cs_scene *sc, double alt_m)
+/* The level of a light field (0 at its layer's top, CS_FOG_LEVELS - 1
+ * at its bottom) at height fraction h, fractional, clamped: the levels
+ * are at heights (1 - k / (CS_FOG_LEVELS - 1))^2 of the layer. */
+CS_HD static double field_level(double h)
 {
-	double depth = sc->fog_top_m - sc->ground_alt_m;
-	double h = depth > 0.0 ? (alt_m - sc->ground_alt_m) / depth : 0.0;
 	h = h < 0.0 ? 0.0 : h > 1.0 ? 1.0 : h;
 	return (1.0 - sqrt(h)) * (CS_FOG_LEVELS - 1);
+}
+
+/* The fog's height fraction at altitude alt_m. */
+CS_HD static double fog_height(const struct cs_scene *sc, double alt_m)
+{
+	double depth = sc->fog_top_m - sc->ground_alt_m;
+	return depth > 0.0 ? (alt_m - sc->ground_alt_m) / depth : 0.0;
 }
 
 CS_HD CS_SHARED void cs_field_source(const struct cs_fog_field *f, double h, double up_out, double cos_phi,
 			   double out[3])
 {
-	h = h < 0.0 ? 0.0 : h > 1.0 ? 1.0 : h;
-	double u = (1.0 - sqrt(h)) * (CS_FOG_LEVELS - 1);
+	double u = field_level(h);
 	double v = (up_out + 1.0) * 0.5 * (CS_FOG_DIRS - 1);
 	v = v < 0.0 ? 0.0 : v > CS_FOG_DIRS - 1 ? CS_FOG_DIRS - 1 : v;
 	int k = (int)u < CS_FOG_LEVELS - 1 ? (int)u : CS_FOG_LEVELS - 2;
@@ -120,14 +124,12 @@ CS_HD CS_SHARED void cs_field_source(const struct cs_fog_field *f, double h, dou
 CS_HD void cs_fog_source(const struct cs_scene *sc, double alt_m, double up_out, double cos_phi,
 			 double out[3])
 {
-	double depth = sc->fog_top_m - sc->ground_alt_m;
-	cs_field_source(&sc->fog, depth > 0.0 ? (alt_m - sc->ground_alt_m) / depth : 0.0, up_out,
-			cos_phi, out);
+	cs_field_source(&sc->fog, fog_height(sc, alt_m), up_out, cos_phi, out);
 }
 
 CS_HD void cs_fog_down(const struct cs_scene *sc, double alt_m, double out[3])
 {
-	double u = fog_level(sc, alt_m);
+	double u = field_level(fog_height(sc, alt_m));
 	int k = (int)u < CS_FOG_LEVELS - 1 ? (int)u : CS_FOG_LEVELS - 2;
 	double a = u - k;
 	for (int c = 0; c < 3; c++)

@@ -655,32 +655,6 @@ CS_HD void cs_render_ray(const struct cs_scene *sc, const struct cs_render_setti
 		c.sky_on = 1;
 		cs_scene_sky(sc, d, c.sky_d);
 	}
-	c.haze = (sc->effects & CS_FX_HAZE) &&
-		 (sc->haze_beta0_per_m > 0.0 || sc->fog_beta_per_m > 0.0);
-	if (c.haze) {
-		c.h0 = cs_scene_altitude(sc, o);
-		c.dz = v3_dot(d, v3_norm(v3(o.x, o.y, o.z + sc->earth_radius_m)));
-		cs_haze_light(sc, d, c.hclear, c.hsun);
-		c.tsun = sc->deck.on ? sc->deck.direct_below : 1.0;
-		/* the fog's light: its scattered field from the scene's
-		 * solution (cs_fog_source) and the sun's beam scattered once,
-		 * with the droplets' phase function: the glow around the sun */
-		int sun_up = (sc->effects & CS_FX_KEY) && sc->sun_dir.z > 0.0;
-		double fphase = sun_up ? sc->albedo * cs_phase_two_lobe(v3_dot(d, sc->sun_dir),
-									 sc->g_forward, sc->g_back,
-									 sc->w_forward, 1.0)
-				       : 0.0;
-		for (int k = 0; k < 3; k++) {
-			c.hdome[k] = sc->deck.on ? sc->deck.sky_below[k] : c.hclear[k] - c.hsun[k];
-			c.fsun[k] = fphase * sc->sun_illuminance[k];
-		}
-		if (sc->fog_beta_per_m > 0.0 && fabs(c.dz) > 1e-12) {
-			double tc = (sc->fog_top_m - c.h0) / c.dz;
-			c.fog_cross = tc > 0.0 ? tc : -1.0;
-		}
-		if ((sc->effects & CS_FX_SHAFTS) && s->haze_steps > 0)
-			c.shaft_dt = CS_SHAFTS_RANGE_M / s->haze_steps;
-	}
 	double dh = d.x * d.x + d.y * d.y, sh = sc->sun_dir.x * sc->sun_dir.x +
 						   sc->sun_dir.y * sc->sun_dir.y;
 	c.cphi_sun = dh > 1e-24 && sh > 1e-24
@@ -692,6 +666,30 @@ CS_HD void cs_render_ray(const struct cs_scene *sc, const struct cs_render_setti
 					       sc->w_forward, pow(0.5, k));
 	for (int k = 0; k < 3 && (sc->effects & CS_FX_HALO); k++)
 		c.halo[k] = cs_phase_halo(cos_theta, k);
+	c.haze = (sc->effects & CS_FX_HAZE) &&
+		 (sc->haze_beta0_per_m > 0.0 || sc->fog_beta_per_m > 0.0);
+	if (c.haze) {
+		c.h0 = cs_scene_altitude(sc, o);
+		c.dz = v3_dot(d, v3_norm(v3(o.x, o.y, o.z + sc->earth_radius_m)));
+		cs_haze_light(sc, d, c.hclear, c.hsun);
+		c.tsun = sc->deck.on ? sc->deck.direct_below : 1.0;
+		/* the fog's light: its scattered field from the scene's
+		 * solution (cs_fog_source) and the sun's beam scattered once,
+		 * with the droplets' phase function (octave 0's, the full
+		 * one): the glow around the sun */
+		int sun_up = (sc->effects & CS_FX_KEY) && sc->sun_dir.z > 0.0;
+		double fphase = sun_up ? sc->albedo * c.phase[0] : 0.0;
+		for (int k = 0; k < 3; k++) {
+			c.hdome[k] = sc->deck.on ? sc->deck.sky_below[k] : c.hclear[k] - c.hsun[k];
+			c.fsun[k] = fphase * sc->sun_illuminance[k];
+		}
+		if (sc->fog_beta_per_m > 0.0 && fabs(c.dz) > 1e-12) {
+			double tc = (sc->fog_top_m - c.h0) / c.dz;
+			c.fog_cross = tc > 0.0 ? tc : -1.0;
+		}
+		if ((sc->effects & CS_FX_SHAFTS) && s->haze_steps > 0)
+			c.shaft_dt = CS_SHAFTS_RANGE_M / s->haze_steps;
+	}
 	struct path P = {{0.0, 0.0, 0.0}, 1.0, 1.0, CS_SKY_DEPTH_M, 0, 1.0, 0.0, 0.0, 0.0,
 			 {0.0, 0.0, 0.0}, {0.0, 0.0, 0.0}, 1.0, {0.0, 0.0, 0.0}};
 	march_intervals(&c, iv, n, &P);

@@ -182,6 +182,8 @@ double cs_fog_phase_mean(double mu, double nu, double g_forward, double g_back,
 /* The light under and inside the cloud layers (deck.c), from the
  * two-stream transmittance of the layers' column optical depths over an
  * area around the site: irradiances in klux, radiances in kcd/m^2. */
+#define CS_DECK_FIELDS 2
+#define CS_DECK_FULL_COVER 0.95
 struct cs_deck {
 	int on;                      /* 0: the clear-sky ambient everywhere */
 	double mu0;                  /* sine of the sun's elevation (>= 0) */
@@ -212,12 +214,10 @@ struct cs_deck {
 	/* the light fields (cs_fog_solve) of up to CS_DECK_FIELDS layers of
 	 * at least CS_DECK_FULL_COVER: plane-parallel decks, whose diffuse
 	 * light the march reads from them; field_of[i] is layer i's, or -1 */
-	struct cs_fog_field field[2];
+	struct cs_fog_field field[CS_DECK_FIELDS];
 	int field_of[CS_SCENE_MAX_LAYERS];
 };
 #define CS_DECK_SHARES 33
-#define CS_DECK_FIELDS 2
-#define CS_DECK_FULL_COVER 0.95
 
 struct cs_scene {
 	double earth_radius_m;

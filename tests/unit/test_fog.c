@@ -50,43 +50,54 @@ static void phase_mean_is_the_azimuth_integral(void)
 }
 
 /* Plane albedo R and total transmittance T of a slab over a black ground
- * lit by a beam against the adding-doubling table of
- * tests/reference/slab-table.txt (an independent solver that matches van
- * de Hulst's 1980 tables to 1e-6): isotropic, Henyey-Greenstein 0.85 and
- * a two-lobe mixture, with and without absorption, optical depths 0.5 to
- * 16; within 0.01 (measured at most 0.006, at optical depth 16). */
+ * lit by a beam against every row of optical depth 16 or less of the
+ * adding-doubling table tests/reference/slab-table.txt (an independent
+ * solver that matches van de Hulst's 1980 tables to 1e-6): isotropic,
+ * Henyey-Greenstein 0.85 and a two-lobe mixture, with and without
+ * absorption, optical depths 0.1 to 16, beams at cosines 1 and 0.5;
+ * within 0.01 (measured at most 0.006, at optical depth 16).  Thicker
+ * slabs are outside what fog and decks ask for at the levels' 0.1 (at 50
+ * the solver is 0.03 low in R). */
 static void slab_matches_adding_doubling(void)
 {
-	static const struct {
-		double tau, g1, g2, wf, w, mu0, R, T;
-	} c[] = {
-		{1.0, 0.0, 0.0, 1.0, 1.0, 1.0, 0.3413288, 0.6586712},
-		{4.0, 0.0, 0.0, 1.0, 1.0, 0.5, 0.7855334, 0.2144666},
-		{16.0, 0.0, 0.0, 1.0, 1.0, 1.0, 0.9036315, 0.0963685},
-		{4.0, 0.0, 0.0, 1.0, 0.9, 1.0, 0.4081422, 0.1285237},
-		{0.5, 0.85, 0.85, 1.0, 1.0, 0.5, 0.0870800, 0.9129200},
-		{4.0, 0.85, 0.85, 1.0, 1.0, 0.5, 0.4160225, 0.5839775},
-		{4.0, 0.85, 0.85, 1.0, 1.0, 1.0, 0.1909149, 0.8090851},
-		{16.0, 0.85, 0.85, 1.0, 1.0, 1.0, 0.5572094, 0.4427906},
-		{1.0, 0.8, -0.3, 0.75, 0.99, 1.0, 0.1790525, 0.8075669},
-		{8.0, 0.8, -0.3, 0.75, 0.99, 1.0, 0.5932428, 0.2578325},
-		{16.0, 0.8, -0.3, 0.75, 1.0, 0.5, 0.8716301, 0.1283699},
-	};
-	static struct cs_fog_field f;
-	int last = CS_FOG_LEVELS - 1;
-	for (size_t i = 0; i < sizeof c / sizeof c[0]; i++) {
+	char path[4096], line[512];
+	FILE *f = fopen(t_top_path(path, sizeof path, "tests/reference/slab-table.txt"), "r");
+	CHECK(f != NULL);
+	if (f == NULL)
+		return;
+	static struct cs_fog_field fld;
+	int rows = 0;
+	double worst = 0.0;
+	while (fgets(line, sizeof line, f)) {
+		char phase[16], params[64];
+		double w, mu0, tau, R, T, Td;
+		if (line[0] == '#' ||
+		    sscanf(line, "%15s %63s %lf %lf %lf %lf %lf %lf", phase, params, &w, &mu0, &tau, &R,
+			   &T, &Td) != 8 || tau > 16.0)
+			continue;
+		double g1 = 0.0, g2 = 0.0, wf = 1.0;
+		if (strcmp(phase, "HG") == 0) {
+			CHECK(sscanf(params, "g=%lf", &g1) == 1);
+			g2 = g1;
+		} else if (strcmp(phase, "2HG") == 0)
+			CHECK(sscanf(params, "wf=%lf,g1=%lf,g2=%lf", &wf, &g1, &g2) == 3);
+		else
+			CHECK(strcmp(phase, "isotropic") == 0);
 		struct cs_fog_problem p;
-		problem(&p, c[i].tau, c[i].g1, c[i].g2, c[i].wf, c[i].w);
-		p.mu0 = c[i].mu0;
+		problem(&p, tau, g1, g2, wf, w);
+		p.mu0 = mu0;
 		p.sun[0] = p.sun[1] = p.sun[2] = 1.0;
-		CHECK(cs_fog_solve(&p, &f) == CS_OK);
-		double R = f.up[0][1] / p.mu0, T = f.down[last][1] / p.mu0 + exp(-p.tau / p.mu0);
-		printf("  tau %g g %g/%g w %g mu0 %g: R %.4f (adding-doubling %.4f) T %.4f (%.4f), "
-		       "%d orders\n",
-		       c[i].tau, c[i].g1, c[i].g2, c[i].w, c[i].mu0, R, c[i].R, T, c[i].T, f.orders);
-		CHECK_NEAR(R, c[i].R, 0.01);
-		CHECK_NEAR(T, c[i].T, 0.01);
+		CHECK(cs_fog_solve(&p, &fld) == CS_OK);
+		double r = fld.up[0][1] / mu0;
+		double t = fld.down[CS_FOG_LEVELS - 1][1] / mu0 + exp(-tau / mu0);
+		CHECK_NEAR(r, R, 0.01);
+		CHECK_NEAR(t, T, 0.01);
+		worst = fmax(worst, fmax(fabs(r - R), fabs(t - T)));
+		rows++;
 	}
+	fclose(f);
+	printf("  %d rows, largest difference %.4f\n", rows, worst);
+	CHECK(rows == 59); /* the table's rows of optical depth 16 or less */
 }
 
 /* Conservative droplets over a white ground under an isotropic sky of
