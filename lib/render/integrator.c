@@ -266,7 +266,9 @@ CS_HD CS_COLD static void march_rain(const struct ray_ctx *c, const struct inter
  * transmittance of the layer's column below the point (its mean in-cloud
  * depth less the depth above).  The sun's diffuse light leaves the cloud
  * toward the eye with the escape function's share for the angle it leaves
- * at, escape (cs_slab_escape; 1 where the eye is inside the layer): seen
+ * at, escape (cs_slab_escape; 1 where the eye is inside the layer, which
+ * inside says; dz is the ray's vertical component, cos_sun the cosine of
+ * its angle to the sun): seen
  * from below at 12 degrees, fair cumulus against the path tracer went from
  * +13 % to -5 %, terrain under broken stratocumulus from +23 % to +2 %.
  * With the light from below comes the cloud's own reflection: the sun's
