@@ -168,6 +168,7 @@ void cs_scene_deck_light(struct cs_scene *sc)
 	}
 	d->on = 1;
 	phase_shares(sc, d->below_share);
+	d->g = sc->w_forward * sc->g_forward + (1.0 - sc->w_forward) * sc->g_back;
 	int sun = (sc->effects & CS_FX_KEY) && sc->sun_dir.z > 0.0;
 	d->mu0 = sun ? sc->sun_dir.z : 0.0;
 	double e_sun_h[3], e_sky[3];

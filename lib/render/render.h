@@ -187,6 +187,7 @@ double cs_fog_phase_mean(double mu, double nu, double g_forward, double g_back,
 struct cs_deck {
 	int on;                      /* 0: the clear-sky ambient everywhere */
 	double mu0;                  /* sine of the sun's elevation (>= 0) */
+	double g;                    /* the phase function's mean cosine */
 	double sky_below[3];         /* radiance of the diffuse light under all
 					layers (cosine mean; irradiance / pi) */
 	double ground_below[3];      /* radiance of ground light from below
