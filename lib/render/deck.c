@@ -218,6 +218,11 @@ void cs_scene_deck_light(struct cs_scene *sc)
 		for (int j = 0; j < n; j++)
 			over_layer |= above(sc, i, j), under_layer |= above(sc, j, i);
 		d->sky_through[i] = under_layer ? 0.0 : sc->w_forward * exp(-d->tau_in[i]);
+		/* deck.sky_forward: delta-M's truncated share, the phase's
+		 * second moment */
+		double chi2 = sc->w_forward * sc->g_forward * sc->g_forward +
+			      (1.0 - sc->w_forward) * sc->g_back * sc->g_back;
+		d->sky_forward[i] = under_layer ? 0.0 : sc->w_forward * exp(-(1.0 - chi2) * d->tau_in[i]);
 		double R = 1.0 - cs_slab_diffuse_transmittance(d->tau_in[i]);
 		for (int c = 0; c < 3; c++)
 			d->ground_gain[i][c] = over_layer ? 1.0 : 1.0 / (1.0 - sc->ground_albedo[c] * R);

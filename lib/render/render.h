@@ -204,10 +204,18 @@ struct cs_deck {
 	 * layers over other layers */
 	double ground_gain[CS_SCENE_MAX_LAYERS][3];
 	/* of a layer under the open sky (none above it), the share of the
-	 * sky's light in it seen as the sky behind it along the ray: the
-	 * phase's forward weight times exp(-tau_in) (thin veils; 0 under
-	 * other layers) */
+	 * sky's light in it that comes along the ray from the sky behind it,
+	 * not from the dome: the phase's forward weight times exp(-tau_in)
+	 * (thin veils; 0 under other layers) */
 	double sky_through[CS_SCENE_MAX_LAYERS];
+	/* and the share of its scattering that keeps that light in its
+	 * direction, left in the sky's beam (the path's Tsky): the forward
+	 * lobe's weight (the lobe, some 25 degrees wide, is narrow against
+	 * how the sky's radiance varies), times the share of the sky's light
+	 * that reaches the layer's inside through the lobe, by delta-M
+	 * similarity (Wiscombe 1977) exp(-(1 - chi2) tau_in), chi2 = sum
+	 * w g^2 the phase's second moment (0.78) */
+	double sky_forward[CS_SCENE_MAX_LAYERS];
 	/* the share of the clouds' phase function that takes light arriving
 	 * from below (travelling up) into a direction of travel whose vertical
 	 * component is -1 + 2 k / (CS_DECK_SHARES - 1) (k = 0..32) */
