@@ -217,12 +217,17 @@ void cs_scene_deck_light(struct cs_scene *sc)
 		int over_layer = 0, under_layer = 0;
 		for (int j = 0; j < n; j++)
 			over_layer |= above(sc, i, j), under_layer |= above(sc, j, i);
-		d->sky_through[i] = under_layer ? 0.0 : sc->w_forward * exp(-d->tau_in[i]);
-		/* deck.sky_forward: delta-M's truncated share, the phase's
-		 * second moment */
+		/* a layer no column met (sparse heaps) has no measured depth:
+		 * it is not taken for a thin veil (with tau_in 0 a cumulus
+		 * passed a fifth of the sky behind it) */
+		int veil = !under_layer && incloud[i] > 0;
+		d->sky_through[i] = veil ? sc->w_forward * exp(-d->tau_in[i]) : 0.0;
+		/* deck.sky_forward: the forward lobe's weight, dimmed by delta-M's
+		 * scaled depth, chi2 the phase's second moment (the share delta-M
+		 * truncates) */
 		double chi2 = sc->w_forward * sc->g_forward * sc->g_forward +
 			      (1.0 - sc->w_forward) * sc->g_back * sc->g_back;
-		d->sky_forward[i] = under_layer ? 0.0 : sc->w_forward * exp(-(1.0 - chi2) * d->tau_in[i]);
+		d->sky_forward[i] = veil ? sc->w_forward * exp(-(1.0 - chi2) * d->tau_in[i]) : 0.0;
 		double R = 1.0 - cs_slab_diffuse_transmittance(d->tau_in[i]);
 		for (int c = 0; c < 3; c++)
 			d->ground_gain[i][c] = over_layer ? 1.0 : 1.0 / (1.0 - sc->ground_albedo[c] * R);

@@ -383,9 +383,10 @@ static void silver_lining_matches_the_reference(void)
 /* Cirrus at dusk (sun 3 deg up), looked at 15 deg up toward the sun's
  * side: the default preset's march within 10 % of the reference path
  * tracer (measured -0.1 %; +6.3 % in the previous release; the accuracy
- * study at high: +5.7 % then, -0.4 % now).  A thin veil shows the bright sky
- * behind it, forward-scattered; with the dome's mean light instead
- * (deck.sky_through 0) the study measured -15 %, and this test fails. */
+ * study at high: +5.7 % then, -0.6 % now).  A thin veil shows the bright
+ * sky behind it, forward-scattered; with the dome's mean light instead
+ * (deck.sky_through and deck.sky_forward 0) this view measures -14.1 %
+ * (the study's scene -15 % in an earlier release), and this test fails. */
 static void cirrus_at_dusk_matches_the_reference(void)
 {
 	struct cs_wx wx;
