@@ -414,6 +414,23 @@ static void cirrus_low_over_the_horizon_matches_the_reference(void)
 		   1.0, 0.035);
 }
 
+/* Cirrocumulus (6 to 7 km, half the sky) toward the sun at dusk low over
+ * the horizon, a veil of another genus than the one the change was
+ * measured on (held out): the march at "high" within 7 % of the
+ * reference path tracer, measured -5.3 % against 1024 paths a pixel.
+ * The previous release measured +13.9 %, and with the similarity depth
+ * of deck.sky_forward 20 % larger, -8.5 %: both fail (20 % smaller,
+ * -1.7 %, does not).  Altocumulus the same way, not tested: -10.8 %
+ * (the previous release -13.1 %). */
+static void cirrocumulus_low_over_the_horizon_matches_the_reference(void)
+{
+	struct cs_wx wx;
+	one_layer(&wx, "2021-06-14T19:20:00Z", CS_CIRROCUMULUS, 0.5, 6000.0, 7000.0, 40000.0);
+	CHECK_NEAR(march_over_reference("cirrocumulus low at dusk", &wx, noise32(), 2.0, 300.0, 8.0,
+					70.0, 16, 3, "high", 1024),
+		   1.0, 0.07);
+}
+
 /* A stratus deck and cumulus at noon seen toward the horizon (about 5 to
  * 19 deg up): the diffuse light leaving a cloud's base at a grazing angle
  * is dimmer than toward the zenith (the deck's light field; the escape
@@ -504,6 +521,7 @@ static const struct t_case t_cases[] = {
 	CASE(inside_a_deck_the_cloud_below_lights_it),
 	CASE(cirrus_at_dusk_matches_the_reference),
 	CASE(cirrus_low_over_the_horizon_matches_the_reference),
+	CASE(cirrocumulus_low_over_the_horizon_matches_the_reference),
 };
 
 int main(void)
