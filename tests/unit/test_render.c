@@ -679,6 +679,31 @@ static void light_march_toward_any_sun_is_beer_lambert(void)
 	}
 }
 
+/* A tower's shadow reaches far under a low sun: a homogeneous cylinder
+ * 1 km in radius, 0.001/m, from 1200 to 11000 m, 25 km from a point on
+ * the ground toward a sun 15 deg up.  Beer's law over the chord, 2 km
+ * across the beam's horizontal path through the axis, 2 km / cos 15 deg
+ * along it (at 7 to 7.5 km altitude, inside the layer): T = exp(-0.001 x
+ * 2070.6) = 0.126, to the uniform march's 19 m steps.  A light march
+ * capped at 20 km of path, as in earlier releases, ends before it (T = 1:
+ * a cumulonimbus at a low sun shadowed none of the ground its towers
+ * shade, GHI 64 % too high against the path tracer). */
+static void a_far_tower_shadows_the_ground_under_a_low_sun(void)
+{
+	static struct cs_scene sc;
+	slab_scene(&sc, 0.001, 0.0, 1200.0, 11000.0);
+	sc.layers[0].homog_radius_m = 1000.0, sc.layers[0].homog_x = 25000.0;
+	sc.effects |= CS_FX_SUN;
+	double e = 15.0 * CS_PI / 180.0;
+	sc.sun_dir = v3(cos(e), 0.0, sin(e));
+	struct cs_render_settings s = plain(32, 2000);
+	struct cs_render_stats st = {0};
+	double T = cs_render_sun_transmittance(&sc, &s, v3(0.0, 0.0, 540.0), &st);
+	double want = exp(-0.001 * 2000.0 / cos(e));
+	printf("  sun transmittance %.4f, Beer's law over the chord %.4f\n", T, want);
+	CHECK_NEAR(T, want, 0.05 * want);
+}
+
 /* Under a homogeneous overcast of optical depth 64 the diffuse light is
  * what the deck transmits of the sun and sky above it, grey, and the
  * ground shows it: the ground's radiance is albedo x that light / pi (the
@@ -1169,6 +1194,7 @@ static const struct t_case t_cases[] = {
 	CASE(escape_function_is_chandrasekhars),
 	CASE(fog_under_a_deck_adds_no_sunlight),
 	CASE(light_march_toward_any_sun_is_beer_lambert),
+	CASE(a_far_tower_shadows_the_ground_under_a_low_sun),
 	CASE(overcast_ground_sees_the_transmitted_light),
 	CASE(slab_single_scattering_matches_closed_form),
 	CASE(doubling_steps_halves_the_error),
