@@ -169,6 +169,10 @@ void cs_scene_deck_light(struct cs_scene *sc)
 	d->on = 1;
 	phase_shares(sc, d->below_share);
 	d->g = sc->w_forward * sc->g_forward + (1.0 - sc->w_forward) * sc->g_back;
+	/* the share delta-M truncates, the phase's second moment
+	 * (deck.sky_forward) */
+	double chi2 = sc->w_forward * sc->g_forward * sc->g_forward +
+		      (1.0 - sc->w_forward) * sc->g_back * sc->g_back;
 	int sun = (sc->effects & CS_FX_KEY) && sc->sun_dir.z > 0.0;
 	d->mu0 = sun ? sc->sun_dir.z : 0.0;
 	double e_sun_h[3], e_sky[3];
@@ -222,11 +226,7 @@ void cs_scene_deck_light(struct cs_scene *sc)
 		 * passed a fifth of the sky behind it) */
 		int veil = !under_layer && incloud[i] > 0;
 		d->sky_through[i] = veil ? sc->w_forward * exp(-d->tau_in[i]) : 0.0;
-		/* deck.sky_forward: the forward lobe's weight, dimmed by delta-M's
-		 * scaled depth, chi2 the phase's second moment (the share delta-M
-		 * truncates) */
-		double chi2 = sc->w_forward * sc->g_forward * sc->g_forward +
-			      (1.0 - sc->w_forward) * sc->g_back * sc->g_back;
+		/* the forward lobe's weight, dimmed by delta-M's scaled depth */
 		d->sky_forward[i] = veil ? sc->w_forward * exp(-(1.0 - chi2) * d->tau_in[i]) : 0.0;
 		double R = 1.0 - cs_slab_diffuse_transmittance(d->tau_in[i]);
 		for (int c = 0; c < 3; c++)

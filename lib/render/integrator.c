@@ -37,6 +37,13 @@ struct path {
 			    (cloud_ambient's fwd) */
 };
 
+/* The path is done: nothing behind it can show, neither through the
+ * clouds' transmittance nor through the sky's beam. */
+CS_HD static int path_done(const struct path *P, const struct cs_render_settings *s)
+{
+	return P->T < s->min_transmittance && P->Tsky < s->min_transmittance;
+}
+
 /* The per-ray constants of the march. */
 struct ray_ctx {
 	const struct cs_scene *sc;
@@ -245,8 +252,7 @@ CS_HD CS_COLD static void march_rain(const struct ray_ctx *c, const struct inter
 			P->L[k] += P->T * P->th * (1.0 - tr) * sc->precip_albedo * sky[k];
 		P->T *= tr;
 		P->Tsky *= tr;
-		P->terminated = P->T < c->s->min_transmittance &&
-				P->Tsky < c->s->min_transmittance;
+		P->terminated = path_done(P, c->s);
 	}
 }
 
@@ -374,6 +380,9 @@ CS_HD CS_SHARED static void cloud_ambient(const struct cs_scene *sc, int li, dou
 	 * this: both within 4 to 19 %, +8.5 % in the mean from +17.5 %; a
 	 * horizontal view through altocumulus relative MSE 0.069 -> 0.047) */
 	double f = sky_behind ? d->sky_through[li] : 0.0;
+	/* the weight of the light from above toward the eye, the rest from
+	 * below's: the phase's shares outside, the diffusion form inside,
+	 * L0 + g L1 mu = 0.5 (above + below) + 0.75 g (above - below) dz */
 	double w_above = inside ? 0.5 + 0.75 * d->g * dz : 1.0 - w_up;
 	if (sky_behind) { /* at most all of it: the beam never grows */
 		double w = d->sky_forward[li] * (w_above > 0.0 ? w_above : 0.0);
@@ -385,13 +394,8 @@ CS_HD CS_SHARED static void cloud_ambient(const struct cs_scene *sc, int li, dou
 		double from_above = (d->sun_top[li][k] * sun_out / CS_PI + skyl) * gain;
 		double from_below = d->ground_below[k] * (1.0 - hb) +
 				    d->sun_top[li][k] * refl * escape / CS_PI;
-		if (inside) {
-			double v = 0.5 * (from_above + from_below) +
-				   0.75 * d->g * (from_above - from_below) * dz;
-			A[k] = v > 0.0 ? v : 0.0;
-		} else {
-			A[k] = (1.0 - w_up) * from_above + w_up * from_below;
-		}
+		double v = w_above * from_above + (1.0 - w_above) * from_below;
+		A[k] = v > 0.0 ? v : 0.0;
 	}
 }
 
@@ -566,7 +570,7 @@ CS_HD static int march_sample(const struct ray_ctx *c, struct path *P, unsigned 
 	P->T *= tr;
 	P->Tcloud *= tr;
 	P->Tsky *= fwd > 0.0 ? exp(-(sigma - fwd) * dt) : tr;
-	if (P->T < c->s->min_transmittance && P->Tsky < c->s->min_transmittance) {
+	if (path_done(P, c->s)) {
 		P->terminated = 1;
 		return 1;
 	}
