@@ -112,8 +112,13 @@ ALL_CFLAGS = -std=c17 -D_POSIX_C_SOURCE=200809L -DCS_VERSION='"$(VERSION)"' \
 LDLIBS     = $(if $(filter 1,$(CUDA)),-Wl$(comma)--as-needed) $(PKG_LIBS) $(CUDA_LIBS) -lm -pthread
 
 LIB_SRC   := $(wildcard lib/*/*.c)
-# the per-pixel loop as one translation unit, for baseline x86-64 and AVX2
-KERNEL_OBJ := $(B)/lib/render/cpu/kernel_base.o $(B)/lib/render/cpu/kernel_avx2.o
+# the per-pixel loop as one translation unit, for baseline x86-64, AVX2 and
+# x86-64-v4 (AVX-512: the same operations, with its 32 vector registers)
+KERNELS    := base avx2 avx512
+KERNEL_OBJ := $(KERNELS:%=$(B)/lib/render/cpu/kernel_%.o)
+KERNEL_ISA_base   :=
+KERNEL_ISA_avx2   := -mavx2
+KERNEL_ISA_avx512 := -march=x86-64-v4
 LIB_OBJ   := $(LIB_SRC:lib/%.c=$(B)/lib/%.o) $(DEVICE_OBJ) $(KERNEL_OBJ)
 CLI_OBJ   := $(B)/tools/cli.o
 BINS      := $(PROGRAMS:%=$(B)/bin/%)
@@ -152,11 +157,12 @@ $(B)/lib/render/cuda/render_cuda.o: lib/render/cuda/render_cuda.cu
 		-c $< -o $@.tmp
 	objcopy $(CUDA_API:%=-G %) $@.tmp $@
 	@rm -f $@.tmp
-# lib/render/cpu/kernel.c twice: -O3, no contraction (the same bits as the
-# library's objects), AVX2 in one; only the kernel's functions kept global
+# lib/render/cpu/kernel.c three times: -O3, no contraction (the same bits as
+# the library's objects), for each instruction set; only the kernel's
+# functions kept global
 $(KERNEL_OBJ): $(B)/lib/render/cpu/kernel_%.o: lib/render/cpu/kernel.c
 	@mkdir -p $(@D)
-	$(CC) $(ALL_CFLAGS) -O3 -ffp-contract=off $(if $(filter avx2,$*),-mavx2) \
+	$(CC) $(ALL_CFLAGS) -O3 -ffp-contract=off $(KERNEL_ISA_$*) \
 		-DCS_KERNEL=cs_kernel_rows_$* -DCS_KERNEL_EXTINCTION=cs_kernel_extinction_$* \
 		-MT $@ -MF $(@:.o=.d) -c $< -o $@.tmp
 	objcopy -G cs_kernel_rows_$* -G cs_kernel_extinction_$* $@.tmp $@

@@ -221,7 +221,8 @@ static void usage(void)
 	       "                         camera and over 10 km around the site\n"
 	       "  -q, --quiet            no progress bar\n"
 	       "  -v, --verbose          say what is rendered (time, site, sun, camera,\n"
-	       "                         layers, effects, quality) and the time of each phase\n"
+	       "                         layers, effects, quality), the time of each phase\n"
+	       "                         and where it rendered (the CPU's kernel or the GPU)\n"
 	       "  -h, --help             this help\n"
 	       "      --version          print the version\n"
 	       "\n");
@@ -478,8 +479,11 @@ enum {
 /* --device cuda: the GPU (with -v) and the benchmark's figures. */
 static void report_device(const struct cs_cloudrender_opts *o, const struct cs_cloudrender_result *r)
 {
-	if (o->device != CS_DEVICE_CUDA)
+	if (o->device != CS_DEVICE_CUDA) {
+		if (cli_verbose && !o->reference)
+			cli_err("rendered on the CPU: kernel %s", cs_render_kernel_name());
 		return;
+	}
 	if (cli_verbose)
 		cli_err("rendered on %s: kernel %.3f ms", r->device_name, r->device_kernel_ms);
 	if (o->device_bench > 0)

@@ -108,6 +108,12 @@ static int png_stream(FILE *fp, int width, int height, int channels, int bits,
 	png_set_IHDR(png, info, (png_uint_32)width, (png_uint_32)height, bits, types[channels],
 		     PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
 	png_set_sRGB_gAMA_and_cHRM(png, info, PNG_sRGB_INTENT_PERCEPTUAL);
+	/* deflate level 3 and every row the Sub filter (libpng's default:
+	 * level 6, each row's best of five filters): a 1280x720 render of the
+	 * default sky in 0.034 s instead of 0.129 s, 411 kB instead of 373 kB
+	 * (level 6 with Sub: 0.106 s, 348 kB; level 1: 0.018 s, 455 kB) */
+	png_set_compression_level(png, 3);
+	png_set_filter(png, PNG_FILTER_TYPE_BASE, PNG_FILTER_SUB);
 	for (int i = 0; i < ntext; i++) {
 		chunks[i].compression = text[i].itxt ? PNG_ITXT_COMPRESSION_NONE
 						     : PNG_TEXT_COMPRESSION_NONE;

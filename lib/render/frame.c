@@ -47,31 +47,60 @@ static void render_rows(void *user, int task, int worker)
 	stats_add(&job->stats[worker].s, &st);
 }
 
-/* Whether to run the AVX2 build of cpu/kernel.c (the same bits either
- * way): on a CPU that has it, unless CLOUDSCAPE_KERNEL=base. */
-static int kernel_avx2(void)
+/* The builds of cpu/kernel.c, best last (the same bits, each faster on a
+ * CPU that has its instructions). */
+static const struct kernel {
+	const char *name; /* CLOUDSCAPE_KERNEL's word */
+	cs_kernel_rows_fn *rows;
+	cs_kernel_extinction_fn *extinction;
+} kernels[] = {
+	{"base", cs_kernel_rows_base, cs_kernel_extinction_base},
+	{"avx2", cs_kernel_rows_avx2, cs_kernel_extinction_avx2},
+	{"avx512", cs_kernel_rows_avx512, cs_kernel_extinction_avx512},
+};
+enum { NKERNELS = sizeof kernels / sizeof kernels[0] };
+
+/* Whether this CPU has kernel k's instructions. */
+static int cpu_has(int k)
 {
-	const char *want = getenv("CLOUDSCAPE_KERNEL");
-	if (want != NULL && strcmp(want, "base") == 0)
-		return 0;
 #if defined(__x86_64__) && defined(__GNUC__)
-	return __builtin_cpu_supports("avx2");
+	switch (k) { /* the builtin takes a literal */
+	case 0:
+		return 1;
+	case 1:
+		return __builtin_cpu_supports("avx2");
+	default:
+		return __builtin_cpu_supports("x86-64-v4");
+	}
 #else
-	return 0;
+	return k == 0;
 #endif
 }
 
-/* The per-pixel loop this CPU runs fastest. */
-static cs_kernel_rows_fn *kernel_rows(void)
+/* The build to run: the best this CPU has, or, with CLOUDSCAPE_KERNEL
+ * naming one, that one where the CPU has it (else the best it has below
+ * it). */
+static const struct kernel *kernel(void)
 {
-	return kernel_avx2() ? cs_kernel_rows_avx2 : cs_kernel_rows_base;
+	const char *want = getenv("CLOUDSCAPE_KERNEL");
+	int top = NKERNELS - 1;
+	for (int k = 0; want != NULL && k < NKERNELS; k++)
+		if (strcmp(want, kernels[k].name) == 0)
+			top = k;
+	while (top > 0 && !cpu_has(top))
+		top--;
+	return &kernels[top];
+}
+
+const char *cs_render_kernel_name(void)
+{
+	return kernel()->name;
 }
 
 void cs_render_extinction(const struct cs_cloud_layer *l, const struct cs_volume *noise, int n,
 			  const double *xyz, double *out)
 {
-	(kernel_avx2() ? cs_kernel_extinction_avx2 : cs_kernel_extinction_base)(l, noise, n, xyz,
-										 out);
+	kernel()->extinction(l, noise, n, xyz, out);
 }
 
 int cs_render_image(const struct cs_scene *sc, const struct cs_camera *cam,
@@ -87,7 +116,7 @@ int cs_render_image(const struct cs_scene *sc, const struct cs_camera *cam,
 	struct frame_job *job = aligned_alloc(64, size);
 	if (job == NULL)
 		return cs_error(CS_ENOMEM, "out of memory");
-	*job = (struct frame_job){.rows = kernel_rows(), .sc = sc, .cam = cam, .s = s, .out = out};
+	*job = (struct frame_job){.rows = kernel()->rows, .sc = sc, .cam = cam, .s = s, .out = out};
 	int tasks = (cam->height + ROWS_PER_TASK - 1) / ROWS_PER_TASK, workers = 0;
 	rc = cs_pool_run(tasks, nthreads, render_rows, job, progress, user, &workers);
 	memset(stats, 0, sizeof *stats);

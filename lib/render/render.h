@@ -385,11 +385,16 @@ int cs_render_image(const struct cs_scene *sc, const struct cs_camera *cam,
 		    cs_progress_fn progress, void *user, float *out,
 		    struct cs_render_stats *stats);
 
+/* The build of the per-pixel code cs_render_image runs on this CPU
+ * (cpu/kernel.c, -O3): "avx512" where the CPU has x86-64-v4, else "avx2"
+ * where it has AVX2, else "base"; the environment's CLOUDSCAPE_KERNEL, one
+ * of these words, names the best to take.  All give the same bits. */
+const char *cs_render_kernel_name(void);
+
 /* out[i] = cs_cloud_extinction(l, noise, xyz[3i], xyz[3i+1], xyz[3i+2])
  * for i < n, computed by the same build of the per-pixel code that
- * cs_render_image runs on this CPU (cpu/kernel.c: -O3, AVX2 where the CPU
- * has it; the same bits as cs_cloud_extinction): what make bench's density
- * figure measures. */
+ * cs_render_image runs on this CPU (cs_render_kernel_name; the same bits
+ * as cs_cloud_extinction): what make bench's density figure measures. */
 void cs_render_extinction(const struct cs_cloud_layer *l, const struct cs_volume *noise, int n,
 			  const double *xyz, double *out);
 

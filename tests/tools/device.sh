@@ -41,25 +41,33 @@ expect_rc 2; expect_err "--device-bench needs --device cuda"
 expect_no_file "$T/x.png"
 end
 
-# The CPU's two per-pixel kernels (lib/render/cpu/kernel.c, baseline x86-64
-# and AVX2, chosen by the processor) give the same bits: the hard scenes'
-# clouds, fog, a cumulonimbus, cirrus at dusk and terrain under cloud, EXR
-# float (R G B A Z) compared whole.
+# The CPU's per-pixel kernels (lib/render/cpu/kernel.c: baseline x86-64,
+# AVX2 and x86-64-v4, the best the processor has unless CLOUDSCAPE_KERNEL
+# names one) give the same bits: the hard scenes' clouds, fog, a
+# cumulonimbus, cirrus at dusk and terrain under cloud, EXR float
+# (R G B A Z) compared whole; -v names the kernel that ran.
 begin device_cpu_kernels_give_the_same_bits
 if ! grep -qw avx2 /proc/cpuinfo 2>/dev/null; then
 	skip device_cpu_kernels_give_the_same_bits "this processor has no AVX2: one kernel only"
 else
 	"$TOP/scripts/make-bern-dem" -r 400 "$T/dem.tif" >/dev/null 2>&1 &&
 		"$BIN/terrainprep" -q "$T/dem.tif" -o "$T/bern.exr" || bad "no terrain"
+	kernels="base avx2"
+	v4=1 # x86-64-v4: these five AVX-512 parts (and AVX2)
+	for f in avx512f avx512bw avx512cd avx512dq avx512vl; do
+		grep -qw $f /proc/cpuinfo || v4=0
+	done
+	[ $v4 = 1 ] && kernels="$kernels avx512"
 	for sc in fog-low-sun cumulonimbus-side cirrus-dusk terrain-broken inside-cloud; do
 		args=$(sed "s|@TERRAIN@|$T/bern.exr|" "$TOP/tests/scenes/$sc.args")
-		# shellcheck disable=SC2086
-		CLOUDSCAPE_KERNEL=base "$CR" --wx "$TOP/tests/scenes/$sc.json" $args --size 64x36 \
-			--quality medium --noise-size 32 -q --float -o "$T/$sc-base.exr" || bad "$sc: base failed"
-		# shellcheck disable=SC2086
-		"$CR" --wx "$TOP/tests/scenes/$sc.json" $args --size 64x36 --quality medium \
-			--noise-size 32 -q --float -o "$T/$sc-avx2.exr" || bad "$sc: avx2 failed"
-		same_pixels "$T/$sc-base.exr" "$T/$sc-avx2.exr" || bad "$sc: the kernels differ"
+		for k in $kernels; do
+			# shellcheck disable=SC2086
+			CLOUDSCAPE_KERNEL=$k "$CR" --wx "$TOP/tests/scenes/$sc.json" $args --size 64x36 \
+				--quality medium --noise-size 32 -v --float -o "$T/$sc-$k.exr" 2>"$T/err" ||
+				bad "$sc: $k failed"
+			grep -q "rendered on the CPU: kernel $k\$" "$T/err" || bad "$sc: not the $k kernel"
+			same_pixels "$T/$sc-base.exr" "$T/$sc-$k.exr" || bad "$sc: kernels base and $k differ"
+		done
 	done
 fi
 end

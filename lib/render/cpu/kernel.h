@@ -18,8 +18,10 @@ typedef void cs_kernel_extinction_fn(const struct cs_cloud_layer *l,
 				     const struct cs_volume *noise, int n, const double *xyz,
 				     double *out);
 
-/* Baseline x86-64 (any 64-bit CPU), and AVX2: the same bits. */
-cs_kernel_rows_fn cs_kernel_rows_base, cs_kernel_rows_avx2;
-cs_kernel_extinction_fn cs_kernel_extinction_base, cs_kernel_extinction_avx2;
+/* Baseline x86-64 (any 64-bit CPU), AVX2, and x86-64-v4 (AVX-512): the
+ * same bits. */
+cs_kernel_rows_fn cs_kernel_rows_base, cs_kernel_rows_avx2, cs_kernel_rows_avx512;
+cs_kernel_extinction_fn cs_kernel_extinction_base, cs_kernel_extinction_avx2,
+	cs_kernel_extinction_avx512;
 
 #endif
