@@ -476,7 +476,8 @@ enum {
 	OPT_DEVICE, OPT_DEVICE_BENCH, /* the GPU renderer */
 };
 
-/* --device cuda: the GPU (with -v) and the benchmark's figures. */
+/* Where it rendered (with -v): the CPU's kernel, or the GPU and, with
+ * --device-bench, the benchmark's figures. */
 static void report_device(const struct cs_cloudrender_opts *o, const struct cs_cloudrender_result *r)
 {
 	if (o->device != CS_DEVICE_CUDA) {

@@ -64,13 +64,15 @@ enum { NKERNELS = sizeof kernels / sizeof kernels[0] };
 static int cpu_has(int k)
 {
 #if defined(__x86_64__) && defined(__GNUC__)
-	switch (k) { /* the builtin takes a literal */
+	switch (k) { /* kernels[k]; the builtin takes a literal */
 	case 0:
 		return 1;
 	case 1:
 		return __builtin_cpu_supports("avx2");
-	default:
+	case 2:
 		return __builtin_cpu_supports("x86-64-v4");
+	default:
+		return 0;
 	}
 #else
 	return k == 0;

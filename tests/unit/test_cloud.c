@@ -321,9 +321,10 @@ static long kernel_differs(const struct cs_volume *v, long *cloudy)
 
 /* The density the renderer's own per-pixel code computes (cpu/kernel.c,
  * -O3: the x86-64-v4 and AVX2 builds where the CPU has them, four points
- * at a time there, and the baseline build) is the library's cs_cloud_extinction bit for bit: every
- * genus, 2003 points of its layer (the benchmark of density evaluations
- * measures that copy; 2003: the last three take the batch's tail), among
+ * at a time there, and the baseline build) is the library's
+ * cs_cloud_extinction bit for bit: every genus, 2003 points of its layer
+ * (the benchmark of density evaluations measures that copy; 2003: the last
+ * three take the batch's tail), among
  * them points the four-lane code must hand to the scalar one (beyond the
  * coverage bound's 2^30 tiles, beyond the lookup's 2^40, not finite) and
  * points on the layer's base and top; in the baked 32^3 volume, and in a
