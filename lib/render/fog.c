@@ -445,10 +445,10 @@ void cs_scene_deck_fields(struct cs_scene *sc)
 	struct cs_deck *d = &sc->deck;
 	int used = 0;
 	for (int i = 0; i < CS_SCENE_MAX_LAYERS; i++)
-		d->field_of[i] = -1;
+		d->field_of[i] = -1, d->field_weight[i] = 0.0;
 	for (int i = 0; i < sc->nlayers && d->on && used < CS_DECK_FIELDS; i++) {
 		const struct cs_cloud_layer *l = &sc->layers[i];
-		if (l->coverage < CS_DECK_FULL_COVER || !(d->tau_in[i] > 0.0))
+		if (!(l->coverage > CS_DECK_FIELD_COVER) || !(d->tau_in[i] > 0.0))
 			continue;
 		/* under other layers: their diffuse light, isotropic */
 		int under = 0;
@@ -459,10 +459,17 @@ void cs_scene_deck_fields(struct cs_scene *sc)
 			sun[c] = d->mu0 > 0.0 ? d->sun_top[i][c] / d->mu0 : 0.0;
 			dome[c] = d->dif_top[i][c] / CS_PI;
 		}
-		struct cs_fog_problem p;
-		problem_of(sc, d->tau_in[i], sun, under ? dome : NULL, sc->ground_albedo, &p);
-		if (cs_fog_solve(&p, &d->field[used]) != CS_OK)
-			continue; /* (out of memory) the layer keeps the diffuse light's model */
+		int ok = 1;
+		for (int k = 0; k < CS_DECK_DEPTHS && ok; k++) {
+			struct cs_fog_problem p;
+			problem_of(sc, d->tau_in[i] * ldexp(1.0, 2 * (k - 2)), sun, under ? dome : NULL,
+				   sc->ground_albedo, &p);
+			ok = cs_fog_solve(&p, &d->field[used][k]) == CS_OK;
+		}
+		if (!ok) /* (out of memory) the layer keeps the diffuse light's model */
+			continue;
+		double w = (l->coverage - CS_DECK_FIELD_COVER) / (CS_DECK_FIELD_FULL - CS_DECK_FIELD_COVER);
+		d->field_weight[i] = w < 1.0 ? w : 1.0;
 		d->field_of[i] = used++;
 	}
 }

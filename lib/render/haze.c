@@ -92,8 +92,11 @@ CS_HD static double fog_height(const struct cs_scene *sc, double alt_m)
 	return depth > 0.0 ? (alt_m - sc->ground_alt_m) / depth : 0.0;
 }
 
-CS_HD CS_SHARED void cs_field_source(const struct cs_fog_field *f, double h, double up_out, double cos_phi,
-			   double out[3])
+/* The sources of light fields f[0..n-1] (n 1 or 2), weighed by wt,
+ * summed: the position in the level and direction tables and the
+ * azimuth's factors once for both. */
+CS_HD static void field_mix(const struct cs_fog_field *const *f, const double *wt, int n, double h,
+			    double up_out, double cos_phi, double out[3])
 {
 	double u = field_level(h);
 	double v = (up_out + 1.0) * 0.5 * (CS_FOG_DIRS - 1);
@@ -106,19 +109,58 @@ CS_HD CS_SHARED void cs_field_source(const struct cs_fog_field *f, double h, dou
 	double cm[CS_FOG_MODES];
 	cm[0] = 1.0;
 	double c1 = cos_phi < -1.0 ? -1.0 : cos_phi > 1.0 ? 1.0 : cos_phi, prev = 1.0, cur = c1;
-	for (int n = 1; n < CS_FOG_MODES; n++) {
-		cm[n] = 2.0 * cur;
+	for (int j = 1; j < CS_FOG_MODES; j++) {
+		cm[j] = 2.0 * cur;
 		double next = 2.0 * c1 * cur - prev;
 		prev = cur, cur = next;
 	}
 	for (int c = 0; c < 3; c++)
 		out[c] = 0.0;
-	for (int q = 0; q < 4; q++) {
-		const float(*s)[3] = f->src[k + (q >> 1)][m + (q & 1)];
-		for (int n = 0; n < CS_FOG_MODES; n++)
-			for (int c = 0; c < 3; c++)
-				out[c] += w[q] * cm[n] * s[n][c];
-	}
+	for (int i = 0; i < n; i++)
+		for (int q = 0; q < 4; q++) {
+			const float(*s)[3] = f[i]->src[k + (q >> 1)][m + (q & 1)];
+			double wq = w[q] * wt[i];
+			for (int j = 0; j < CS_FOG_MODES; j++)
+				for (int c = 0; c < 3; c++)
+					out[c] += wq * cm[j] * s[j][c];
+		}
+}
+
+CS_HD CS_SHARED void cs_field_source(const struct cs_fog_field *f, double h, double up_out, double cos_phi,
+			   double out[3])
+{
+	double one = 1.0;
+	field_mix(&f, &one, 1, h, up_out, cos_phi, out);
+}
+
+/* Broken cloud, column by column (the independent column approximation):
+ * the point's column, of optical depth tau_above + tau_below, taken for
+ * a plane-parallel slab of that depth, the field read at the point's
+ * share of it from the top.  The fields are at depths tau_in 4^(k - 2)
+ * (tau_in the layer's mean in-cloud depth); between two the sources are
+ * interpolated in log depth, beyond the first and last the nearest is
+ * read (at tau_in / 16 a column is nearly transparent; at 4 tau_in the
+ * light below has diffused and falls slowly).  Against the path tracer at
+ * the high preset (tests/scenes, 96x54): inside stratocumulus of cover
+ * 0.75 from -30 % to +1 % in the mean, the 0.7 tops seen from above
+ * -32 % -> -5 % (relative MSE 0.18 -> 0.011), 0.8 altocumulus from below
+ * -23 % -> -2 %, inside the 0.9 stratocumulus +9 % -> -5 %; one field at
+ * the mean depth, read at tau_above / tau_in, left the last two +9 and
+ * +15 %, and the 0.7 tops seen 45 degrees down +34 % (now -2 %), their
+ * thin edges lit as the top of a full-depth slab. */
+CS_HD CS_SHARED void cs_deck_field_source(const struct cs_deck *d, int fi, int li,
+					  double tau_above, double tau_below, double up_out,
+					  double cos_phi, double out[3])
+{
+	double tin = d->tau_in[li], tc = tau_above + tau_below;
+	/* log4(tc / tin) + 2, in float (a GPU's double logarithm is long) */
+	double x = tc > 0.0 && tin > 0.0 ? 2.0 + 0.5 * (double)log2f((float)(tc / tin)) : 0.0;
+	x = x > 0.0 ? x : 0.0;
+	x = x < CS_DECK_DEPTHS - 1 ? x : CS_DECK_DEPTHS - 1;
+	int k = (int)x < CS_DECK_DEPTHS - 1 ? (int)x : CS_DECK_DEPTHS - 2;
+	double f = x - k, h = tc > 0.0 ? 1.0 - tau_above / tc : 1.0, wt[2] = {1.0 - f, f};
+	const struct cs_fog_field *two[2] = {&d->field[fi][k], &d->field[fi][k + 1]};
+	field_mix(two, wt, 2, h, up_out, cos_phi, out);
 }
 
 CS_HD void cs_fog_source(const struct cs_scene *sc, double alt_m, double up_out, double cos_phi,

@@ -444,15 +444,18 @@ CS_HD static void sample_source(const struct ray_ctx *c, cs_v3 p, double alt,
 	S[0] = S[1] = S[2] = 0.0;
 	*fwd = 0.0;
 	double tau_sun = INFINITY;
-	/* a deck's diffuse light, the sun's multiply scattered light with
-	 * it, from its light field: the octaves only for other layers */
+	/* a layer of at least half cover: its diffuse light, the sun's
+	 * multiply scattered light with it, from its light fields, for the
+	 * share wf (deck.field_weight), the rest from the octaves and
+	 * cloud_ambient (all of it in layers without fields) */
 	int field = sc->deck.on ? sc->deck.field_of[li] : -1;
+	double wf = field >= 0 ? sc->deck.field_weight[li] : 0.0;
 	if (sc->effects & CS_FX_KEY) {
 		double tau = cs_light_depth(sc, c->s, p, mask, c->st);
 		tau_sun = tau;
 		double w = 0.0, a = 1.0, b = 1.0;
-		for (int k = 0; k < (field >= 0 ? 1 : c->s->ms_octaves); k++) {
-			w += a * exp(-b * tau) * c->phase[k];
+		for (int k = 0; k < (wf < 1.0 ? c->s->ms_octaves : 1); k++) {
+			w += a * exp(-b * tau) * c->phase[k] * (k > 0 ? 1.0 - wf : 1.0);
 			a *= 0.5;
 			b *= 0.5;
 		}
@@ -474,19 +477,24 @@ CS_HD static void sample_source(const struct ray_ctx *c, cs_v3 p, double alt,
 		/* the local column above the point shades the light from above,
 		 * so a base is darker under thick parts */
 		double tau_above = 0.0;
+		int n = c->s->light_steps / 2 > 2 ? c->s->light_steps / 2 : 2;
 		if (sc->deck.on) {
-			int n = c->s->light_steps / 2 > 2 ? c->s->light_steps / 2 : 2;
 			tau_above = cs_cloud_column(l, sc->noise, p.x, p.y, alt, l->top_m, n);
 			c->st->light_samples += alt < l->top_m ? (uint64_t)n : 0u;
 		}
-		if (field >= 0) {
-			double tin = sc->deck.tau_in[li];
-			cs_field_source(&sc->deck.field[field], tin > 0.0 ? 1.0 - tau_above / tin : 1.0,
-					-c->d.z, c->cphi_sun, A);
-		} else {
+		A[0] = A[1] = A[2] = 0.0;
+		if (wf < 1.0)
 			cloud_ambient(sc, li, hb, tau_above, tau_sun, c->below_share,
 				      c->sky_on, escape_toward_eye(c, l), eye_in_layer(c, l),
 				      c->d.z, c->cos_sun, A, fwd);
+		if (field >= 0) { /* and the column under it, for its fields */
+			double tau_below = cs_cloud_column(l, sc->noise, p.x, p.y, l->base_m, alt, n), F[3];
+			c->st->light_samples += alt > l->base_m ? (uint64_t)n : 0u;
+			cs_deck_field_source(&sc->deck, field, li, tau_above, tau_below, -c->d.z,
+					     c->cphi_sun, F);
+			for (int k = 0; k < 3; k++)
+				A[k] += wf * (F[k] - A[k]);
+			*fwd *= 1.0 - wf;
 		}
 		for (int k = 0; k < 3; k++)
 			S[k] += ss * A[k];

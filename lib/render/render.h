@@ -183,7 +183,9 @@ double cs_fog_phase_mean(double mu, double nu, double g_forward, double g_back,
  * two-stream transmittance of the layers' column optical depths over an
  * area around the site: irradiances in klux, radiances in kcd/m^2. */
 #define CS_DECK_FIELDS 2
-#define CS_DECK_FULL_COVER 0.95
+#define CS_DECK_FIELD_COVER 0.5 /* a layer of more cover is lit by light fields */
+#define CS_DECK_FIELD_FULL 0.7  /* and the least lit by them alone */
+#define CS_DECK_DEPTHS 4 /* light fields a layer: optical depths tau_in 4^(k - 2) */
 struct cs_deck {
 	int on;                      /* 0: the clear-sky ambient everywhere */
 	double mu0;                  /* sine of the sun's elevation (>= 0) */
@@ -221,10 +223,17 @@ struct cs_deck {
 	 * component is -1 + 2 k / (CS_DECK_SHARES - 1) (k = 0..32) */
 	double below_share[33];
 	/* the light fields (cs_fog_solve) of up to CS_DECK_FIELDS layers of
-	 * at least CS_DECK_FULL_COVER: plane-parallel decks, whose diffuse
-	 * light the march reads from them; field_of[i] is layer i's, or -1 */
-	struct cs_fog_field field[CS_DECK_FIELDS];
+	 * at least CS_DECK_FIELD_COVER, whose diffuse light the march reads
+	 * from them (cs_deck_field_source): for each, the plane-parallel
+	 * fields of slabs of optical depth tau_in / 16, / 4, tau_in and
+	 * 4 tau_in; field_of[i] is layer i's, or -1 */
+	struct cs_fog_field field[CS_DECK_FIELDS][CS_DECK_DEPTHS];
 	int field_of[CS_SCENE_MAX_LAYERS];
+	/* the share of a layer's diffuse light that its fields give (the
+	 * rest the march's model): 0 at CS_DECK_FIELD_COVER, rising linearly
+	 * to 1 at CS_DECK_FIELD_FULL, so that the light does not jump as a
+	 * layer's cover passes a threshold */
+	double field_weight[CS_SCENE_MAX_LAYERS];
 };
 #define CS_DECK_SHARES 33
 
@@ -316,8 +325,8 @@ CS_HD double cs_slab_escape(double mu);
  * after those are set); sets CS_FX_DECK when there are layers. */
 void cs_scene_deck_light(struct cs_scene *sc);
 
-/* The light fields of the scene's decks (fog.c: sc->deck.field,
- * field_of), from the deck's light at their tops (call at the end of
+/* The light fields of the scene's layers of at least half cover (fog.c:
+ * sc->deck.field, field_of), from the deck's light at their tops (call at the end of
  * cs_scene_deck_light, which does); a layer whose field cannot be made
  * (out of memory) keeps the march's model of the diffuse light. */
 void cs_scene_deck_fields(struct cs_scene *sc);

@@ -95,11 +95,12 @@ gt "$c8" 0.001 || bad "no contrast left at V = 8 km: $c8"
 end
 
 # What the options must change, in the direction they must: from under a
-# stratocumulus of 90 % cover (every pixel cloud; not a deck, whose light
-# field holds its multiple scattering without octaves), fewer
-# multiple-scattering octaves and no sky light make the cloud darker; two
-# stops of exposure make the PNG brighter; looking down shows the ground
-# (finite depth), up only sky.
+# stratocumulus of 90 % cover (every pixel cloud), no sky light makes the
+# cloud darker, fewer multiple-scattering octaves change nothing (its
+# light fields hold its multiple scattering), and under one of 50 % cover
+# (lit by the octaves) they make it darker; two stops of exposure make
+# the PNG brighter; looking down shows the ground (finite depth), up only
+# sky.
 begin picture_options_push_the_picture_the_right_way
 wx "$T/sc.json" '{"genus":"stratocumulus","coverage":0.9,"base_m":1200,"top_m":1800}'
 V="--wx $T/sc.json --camera 46.95,7.44,542 --look 0,60 --fov 40 --size 17x9 $Q"
@@ -109,7 +110,13 @@ run "$CR" $V --no-ambient -o "$T/noamb.exr"; expect_rc 0
 run "$CR" $V --exposure 2 -o "$T/ev2.png"; expect_rc 0
 b=$(mean "$T/base.exr" G)
 gt "$(mean "$T/base.exr" A)" 0.9 || bad "the overcast view is not all cloud"
-gt "$b" "$(mean "$T/ms1.exr" G)" || bad "one octave is not darker than the default ($b)"
+[ "$(mean "$T/ms1.exr" G)" = "$b" ] || bad "one octave changed the light of a 90 % cover ($b)"
+wx "$T/sc50.json" '{"genus":"stratocumulus","coverage":0.5,"base_m":1200,"top_m":1800}'
+V50="--wx $T/sc50.json --camera 46.95,7.44,542 --look 0,60 --fov 40 --size 17x9 $Q"
+run "$CR" $V50 -o "$T/b50.exr"; expect_rc 0
+run "$CR" $V50 --ms-octaves 1 -o "$T/ms50.exr"; expect_rc 0
+b50=$(mean "$T/b50.exr" G)
+gt "$b50" "$(mean "$T/ms50.exr" G)" || bad "one octave is not darker than the default under 50 % cover ($b50)"
 gt "$b" "$(mean "$T/noamb.exr" G)" || bad "no sky light is not darker than the default ($b)"
 pngmean() { pngtopnm "$1" | pnmtoplainpnm | awk 'NR > 3 { for (i = 1; i <= NF; i++) { s += $i; n++ } } END { print s / n }'; }
 gt "$(pngmean "$T/ev2.png")" "$(pngmean "$T/base.png")" || bad "--exposure 2 is not brighter"
