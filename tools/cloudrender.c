@@ -183,6 +183,8 @@ static void usage(void)
 	       "      --steps N          view samples across a layer's thickness, 1..100000\n"
 	       "      --light-steps N    samples toward the sun, 1..10000\n"
 	       "      --ms-octaves N     multiple-scattering octaves, 1 (single scattering)..4\n"
+	       "                         (not in layers of 70 %% cover and more: their\n"
+	       "                         light fields hold it)\n"
 	       "      --max-steps N      most view samples in one crossing of a layer,\n"
 	       "                         1..1000000 (at least --steps; longer crossings\n"
 	       "                         grow their steps along the ray)\n"

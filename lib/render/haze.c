@@ -95,7 +95,7 @@ CS_HD static double fog_height(const struct cs_scene *sc, double alt_m)
 /* The sources of light fields f[0..n-1] (n 1 or 2), weighed by wt,
  * summed: the position in the level and direction tables and the
  * azimuth's factors once for both. */
-CS_HD static void field_mix(const struct cs_fog_field *const *f, const double *wt, int n, double h,
+CS_HD CS_SHARED static void field_mix(const struct cs_fog_field *const *f, const double *wt, int n, double h,
 			    double up_out, double cos_phi, double out[3])
 {
 	double u = field_level(h);
