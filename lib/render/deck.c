@@ -192,8 +192,13 @@ void cs_scene_deck_light(struct cs_scene *sc)
 				tau[i] = cs_cloud_column(l, sc->noise, x, y, l->base_m, l->top_m,
 							 COL_STEPS);
 				total += tau[i];
-				if (tau[i] > 0.05)
+				if (tau[i] > 0.05) {
+					if (incloud[i] == 0 || tau[i] < d->tau_lo[i])
+						d->tau_lo[i] = tau[i];
+					if (tau[i] > d->tau_hi[i])
+						d->tau_hi[i] = tau[i];
 					d->tau_in[i] += tau[i], incloud[i]++;
+				}
 			}
 			under(d, total, e_sun_h, e_sky, sc->ground_albedo, &beam, dif);
 			beam_all += beam;

@@ -136,11 +136,13 @@ CS_HD CS_SHARED void cs_field_source(const struct cs_fog_field *f, double h, dou
 /* Broken cloud, column by column (the independent column approximation):
  * the point's column, of optical depth tau_above + tau_below, taken for
  * a plane-parallel slab of that depth, the field read at the point's
- * share of it from the top.  The fields are at depths tau_in 4^(k - 2)
- * (tau_in the layer's mean in-cloud depth); between two the sources are
- * interpolated in log depth, beyond the first and last the nearest is
- * read (at tau_in / 16 a column is nearly transparent; at 4 tau_in the
- * light below has diffused and falls slowly).  Against the path tracer at
+ * share of it from the top.  The fields are at depths from tau_in / 16
+ * to 2 tau_in (d->field_tau; tau_in the layer's mean in-cloud depth);
+ * between two the sources are interpolated in log depth, beyond the
+ * first and last the nearest is read (at tau_in / 16 a column is nearly
+ * transparent).  Fields up to tau_in only left the tops from above -9 %
+ * and the altocumulus below +8 %; three fields, -4 and -7 %; up to
+ * 4 tau_in, the same as now for twice the time to solve them.  Against the path tracer at
  * the high preset (tests/scenes, 96x54): inside stratocumulus of cover
  * 0.75 from -30 % to +1 % in the mean, the 0.7 tops seen from above
  * -32 % -> -5 % (relative MSE 0.18 -> 0.011), 0.8 altocumulus from below
@@ -148,17 +150,20 @@ CS_HD CS_SHARED void cs_field_source(const struct cs_fog_field *f, double h, dou
  * the mean depth, read at tau_above / tau_in, left the last two +9 and
  * +15 %, and the 0.7 tops seen 45 degrees down +34 % (now -2 %), their
  * thin edges lit as the top of a full-depth slab. */
-CS_HD CS_SHARED void cs_deck_field_source(const struct cs_deck *d, int fi, int li,
+CS_HD CS_SHARED void cs_deck_field_source(const struct cs_deck *d, int fi,
 					  double tau_above, double tau_below, double up_out,
 					  double cos_phi, double out[3])
 {
-	double tin = d->tau_in[li], tc = tau_above + tau_below;
-	/* log4(tc / tin) + 2, in float (a GPU's double logarithm is long) */
-	double x = tc > 0.0 && tin > 0.0 ? 2.0 + 0.5 * (double)log2f((float)(tc / tin)) : 0.0;
-	x = x > 0.0 ? x : 0.0;
-	x = x < CS_DECK_DEPTHS - 1 ? x : CS_DECK_DEPTHS - 1;
-	int k = (int)x < CS_DECK_DEPTHS - 1 ? (int)x : CS_DECK_DEPTHS - 2;
-	double f = x - k, h = tc > 0.0 ? 1.0 - tau_above / tc : 1.0, wt[2] = {1.0 - f, f};
+	const double *t = d->field_tau[fi];
+	double tc = tau_above + tau_below, f = 0.0;
+	int k = 0;
+	while (k < CS_DECK_DEPTHS - 2 && tc > t[k + 1])
+		k++;
+	if (tc >= t[k + 1]) /* beyond the last */
+		f = 1.0;
+	else if (tc > t[k]) /* in log depth, in float (a GPU's double logarithm is long) */
+		f = (double)log2f((float)(tc / t[k])) / (double)log2f((float)(t[k + 1] / t[k]));
+	double h = tc > 0.0 ? 1.0 - tau_above / tc : 1.0, wt[2] = {1.0 - f, f};
 	const struct cs_fog_field *two[2] = {&d->field[fi][k], &d->field[fi][k + 1]};
 	field_mix(two, wt, 2, h, up_out, cos_phi, out);
 }

@@ -490,7 +490,7 @@ CS_HD static void sample_source(const struct ray_ctx *c, cs_v3 p, double alt,
 		if (field >= 0) { /* and the column under it, for its fields */
 			double tau_below = cs_cloud_column(l, sc->noise, p.x, p.y, l->base_m, alt, n), F[3];
 			c->st->light_samples += alt > l->base_m ? (uint64_t)n : 0u;
-			cs_deck_field_source(&sc->deck, field, li, tau_above, tau_below, -c->d.z,
+			cs_deck_field_source(&sc->deck, field, tau_above, tau_below, -c->d.z,
 					     c->cphi_sun, F);
 			for (int k = 0; k < 3; k++)
 				A[k] += wf * (F[k] - A[k]);

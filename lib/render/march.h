@@ -62,10 +62,10 @@ CS_HD void cs_fog_source(const struct cs_scene *sc, double alt_m, double up_out,
  * layer (of optical depth from the bottom: 1 at the top). */
 CS_HD void cs_field_source(const struct cs_fog_field *f, double h, double up_out, double cos_phi,
 			   double out[3]);
-/* The same in layer li of the deck d, whose light fields are d->field[fi],
+/* The same in a layer of the deck d whose light fields are d->field[fi],
  * at a point of its column with optical depth tau_above over it and
  * tau_below under it (haze.c). */
-CS_HD void cs_deck_field_source(const struct cs_deck *d, int fi, int li, double tau_above,
+CS_HD void cs_deck_field_source(const struct cs_deck *d, int fi, double tau_above,
 				double tau_below, double up_out, double cos_phi, double out[3]);
 CS_HD void cs_fog_down(const struct cs_scene *sc, double alt_m, double out[3]);
 

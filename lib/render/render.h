@@ -185,7 +185,8 @@ double cs_fog_phase_mean(double mu, double nu, double g_forward, double g_back,
 #define CS_DECK_FIELDS 2
 #define CS_DECK_FIELD_COVER 0.5 /* a layer of more cover is lit by light fields */
 #define CS_DECK_FIELD_FULL 0.7  /* and the least lit by them alone */
-#define CS_DECK_DEPTHS 4 /* light fields a layer: optical depths tau_in 4^(k - 2) */
+#define CS_DECK_DEPTHS 4 /* light fields a layer: optical depths 2 tau_in 32^((k - 3) / 3) */
+#define CS_DECK_FIELD_TAU_MAX 128.0 /* and at most this (the solution's time grows with it) */
 struct cs_deck {
 	int on;                      /* 0: the clear-sky ambient everywhere */
 	double mu0;                  /* sine of the sun's elevation (>= 0) */
@@ -200,6 +201,8 @@ struct cs_deck {
 						   plane at a layer's top, klux */
 	double dif_top[CS_SCENE_MAX_LAYERS][3]; /* diffuse irradiance there, klux */
 	double tau_in[CS_SCENE_MAX_LAYERS];     /* in-cloud column optical depth */
+	double tau_lo[CS_SCENE_MAX_LAYERS];     /* the least and the most of the */
+	double tau_hi[CS_SCENE_MAX_LAYERS];     /* in-cloud columns it is the mean of */
 	/* the light from above inside a layer with only the ground below it,
 	 * at its base, times this: the ground's return, reflected back down by
 	 * the cloud over and over, 1 / (1 - albedo (1 - Td(tau_in))); 1 for
@@ -225,9 +228,12 @@ struct cs_deck {
 	/* the light fields (cs_fog_solve) of up to CS_DECK_FIELDS layers of
 	 * at least CS_DECK_FIELD_COVER, whose diffuse light the march reads
 	 * from them (cs_deck_field_source): for each, the plane-parallel
-	 * fields of slabs of optical depth tau_in / 16, / 4, tau_in and
-	 * 4 tau_in; field_of[i] is layer i's, or -1 */
+	 * fields of slabs of optical depths field_tau, rising from tau_in / 16
+	 * to 2 tau_in by factors of 32^(1/3) (3.17), none beyond
+	 * CS_DECK_FIELD_TAU_MAX (a depth equal to the one before is its copy);
+	 * field_of[i] is layer i's, or -1 */
 	struct cs_fog_field field[CS_DECK_FIELDS][CS_DECK_DEPTHS];
+	double field_tau[CS_DECK_FIELDS][CS_DECK_DEPTHS];
 	int field_of[CS_SCENE_MAX_LAYERS];
 	/* the share of a layer's diffuse light that its fields give (the
 	 * rest the march's model): 0 at CS_DECK_FIELD_COVER, rising linearly
