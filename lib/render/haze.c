@@ -140,16 +140,17 @@ CS_HD CS_SHARED void cs_field_source(const struct cs_fog_field *f, double h, dou
  * to 2 tau_in (d->field_tau; tau_in the layer's mean in-cloud depth);
  * between two the sources are interpolated in log depth, beyond the
  * first and last the nearest is read (at tau_in / 16 a column is nearly
- * transparent).  Fields up to tau_in only left the tops from above -9 %
- * and the altocumulus below +8 %; three fields, -4 and -7 %; up to
- * 4 tau_in, the same as now for twice the time to solve them.  Against the path tracer at
- * the high preset (tests/scenes, 96x54): inside stratocumulus of cover
- * 0.75 from -30 % to +1 % in the mean, the 0.7 tops seen from above
- * -32 % -> -5 % (relative MSE 0.18 -> 0.011), 0.8 altocumulus from below
- * -23 % -> -2 %, inside the 0.9 stratocumulus +9 % -> -5 %; one field at
- * the mean depth, read at tau_above / tau_in, left the last two +9 and
- * +15 %, and the 0.7 tops seen 45 degrees down +34 % (now -2 %), their
- * thin edges lit as the top of a full-depth slab. */
+ * transparent).  Against the path tracer at the high preset
+ * (tests/scenes, 96x54): inside stratocumulus of cover 0.75 from -30 % to
+ * +1 % in the mean, the 0.7 tops seen from above -32 % -> -4 % (relative
+ * MSE 0.18 -> 0.010), 0.8 altocumulus from below -23 % -> -4 %, inside
+ * the 0.9 stratocumulus +9 % -> -5 %; one field at the mean depth, read
+ * at tau_above / tau_in, left the last two +9 and +15 %, and the 0.7
+ * tops seen 45 degrees down +34 % (now -2 %), their thin edges lit as the
+ * top of a full-depth slab.  Fields from tau_in / 16 to tau_in only left
+ * the tops -9 % and the altocumulus +8 %; three fields from tau_in / 16
+ * to 2 tau_in, -4 and -7 %; geometric depths to 2 tau_in without tau_in
+ * itself, the overcast +5 % (it reads tau_in's field: -1 %). */
 CS_HD CS_SHARED void cs_deck_field_source(const struct cs_deck *d, int fi,
 					  double tau_above, double tau_below, double up_out,
 					  double cos_phi, double out[3])
