@@ -160,10 +160,13 @@ CS_HD CS_SHARED void cs_deck_field_source(const struct cs_deck *d, int fi,
 	int k = 0;
 	while (k < CS_DECK_DEPTHS - 2 && tc > t[k + 1])
 		k++;
-	if (tc >= t[k + 1]) /* beyond the last */
-		f = 1.0;
-	else if (tc > t[k]) /* in log depth, in float (a GPU's double logarithm is long) */
-		f = (double)log2f((float)(tc / t[k])) / (double)log2f((float)(t[k + 1] / t[k]));
+	/* in log depth, in float (a GPU's double logarithm is long); two
+	 * depths closer than float's resolution are one */
+	float span = log2f((float)(t[k + 1] / t[k]));
+	if (tc >= t[k + 1] || !(span > 0.0f)) /* beyond the last */
+		f = tc > t[k] ? 1.0 : 0.0;
+	else if (tc > t[k])
+		f = (double)log2f((float)(tc / t[k])) / (double)span;
 	double h = tc > 0.0 ? 1.0 - tau_above / tc : 1.0, wt[2] = {1.0 - f, f};
 	const struct cs_fog_field *two[2] = {&d->field[fi][k], &d->field[fi][k + 1]};
 	field_mix(two, wt, 2, h, up_out, cos_phi, out);

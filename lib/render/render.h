@@ -185,7 +185,7 @@ double cs_fog_phase_mean(double mu, double nu, double g_forward, double g_back,
 #define CS_DECK_FIELDS 2
 #define CS_DECK_FIELD_COVER 0.5 /* a layer of more cover is lit by light fields */
 #define CS_DECK_FIELD_FULL 0.7  /* and the least lit by them alone */
-#define CS_DECK_DEPTHS 4 /* light fields a layer: optical depths 2 tau_in 32^((k - 3) / 3) */
+#define CS_DECK_DEPTHS 4 /* light fields a layer: optical depths tau_in / 16, / 4, 1, 2 */
 #define CS_DECK_FIELD_TAU_MAX 128.0 /* and at most this (the solution's time grows with it) */
 struct cs_deck {
 	int on;                      /* 0: the clear-sky ambient everywhere */
@@ -225,13 +225,15 @@ struct cs_deck {
 	 * from below (travelling up) into a direction of travel whose vertical
 	 * component is -1 + 2 k / (CS_DECK_SHARES - 1) (k = 0..32) */
 	double below_share[33];
-	/* the light fields (cs_fog_solve) of up to CS_DECK_FIELDS layers of
-	 * at least CS_DECK_FIELD_COVER, whose diffuse light the march reads
-	 * from them (cs_deck_field_source): for each, the plane-parallel
-	 * fields of slabs of optical depths field_tau, rising from tau_in / 16
-	 * to 2 tau_in by factors of 32^(1/3) (3.17), none beyond
-	 * CS_DECK_FIELD_TAU_MAX (a depth equal to the one before is its copy);
-	 * field_of[i] is layer i's, or -1 */
+	/* the light fields (cs_fog_solve) of the first CS_DECK_FIELDS layers
+	 * of more than CS_DECK_FIELD_COVER (the others keep the march's
+	 * model), whose diffuse light the march reads from them
+	 * (cs_deck_field_source): for each, the plane-parallel fields of
+	 * slabs of optical depths field_tau, tau_in / 16, tau_in / 4, tau_in
+	 * and 2 tau_in, none beyond CS_DECK_FIELD_TAU_MAX; a depth that no
+	 * column measured over the area reaches, or equal to the one before,
+	 * is a copy of the nearest solved one; field_of[i] is layer i's, or
+	 * -1 */
 	struct cs_fog_field field[CS_DECK_FIELDS][CS_DECK_DEPTHS];
 	double field_tau[CS_DECK_FIELDS][CS_DECK_DEPTHS];
 	int field_of[CS_SCENE_MAX_LAYERS];

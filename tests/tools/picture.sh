@@ -117,6 +117,18 @@ run "$CR" $V50 -o "$T/b50.exr"; expect_rc 0
 run "$CR" $V50 --ms-octaves 1 -o "$T/ms50.exr"; expect_rc 0
 b50=$(mean "$T/b50.exr" G)
 gt "$b50" "$(mean "$T/ms50.exr" G)" || bad "one octave is not darker than the default under 50 % cover ($b50)"
+# between 50 and 70 % cover the light fields take a growing share: at
+# 60 % the octaves still count, and the light does not jump as the cover
+# passes 50 % (the two models differ by up to 30 % in a layer of middle
+# cover: a switch at 50 % would show here)
+for c in 0.51 0.6; do
+	wx "$T/sc$c.json" "{\"genus\":\"stratocumulus\",\"coverage\":$c,\"base_m\":1200,\"top_m\":1800}"
+	run "$CR" --wx "$T/sc$c.json" --camera 46.95,7.44,542 --look 0,60 --fov 40 --size 17x9 $Q -o "$T/c$c.exr"; expect_rc 0
+done
+run "$CR" --wx "$T/sc0.6.json" --camera 46.95,7.44,542 --look 0,60 --fov 40 --size 17x9 $Q --ms-octaves 1 -o "$T/m0.6.exr"; expect_rc 0
+gt "$(mean "$T/c0.6.exr" G)" "$(mean "$T/m0.6.exr" G)" || bad "one octave is not darker under 60 % cover"
+jump=$(awk -v a="$b50" -v b="$(mean "$T/c0.51.exr" G)" 'BEGIN { d = (b - a) / a; printf "%.4f", d < 0 ? -d : d }')
+gt 0.03 "$jump" || bad "the light jumps by $jump from 50 to 51 % cover"
 gt "$b" "$(mean "$T/noamb.exr" G)" || bad "no sky light is not darker than the default ($b)"
 pngmean() { pngtopnm "$1" | pnmtoplainpnm | awk 'NR > 3 { for (i = 1; i <= NF; i++) { s += $i; n++ } } END { print s / n }'; }
 gt "$(pngmean "$T/ev2.png")" "$(pngmean "$T/base.png")" || bad "--exposure 2 is not brighter"
