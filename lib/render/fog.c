@@ -485,20 +485,22 @@ void cs_scene_deck_fields(struct cs_scene *sc)
 		}
 		if (!any)
 			need[CS_DECK_DEPTHS - 2] = 1; /* (no column measured: tau_in's) */
+		/* the depths needed are consecutive (tau rises with k; equal
+		 * depths, at the cap, only at the top): those below the first
+		 * are its copies, those above the last the last's */
+		int first = 0, last = CS_DECK_DEPTHS - 1;
+		while (!need[first])
+			first++;
+		while (!need[last])
+			last--;
+		for (int k = first; k <= last && ok; k++) {
+			struct cs_fog_problem p;
+			problem_of(sc, tau[k], sun, under ? dome : NULL, sc->ground_albedo, &p);
+			ok = cs_fog_solve(&p, &d->field[used][k]) == CS_OK;
+		}
 		for (int k = 0; k < CS_DECK_DEPTHS && ok; k++)
-			if (need[k]) {
-				struct cs_fog_problem p;
-				problem_of(sc, tau[k], sun, under ? dome : NULL, sc->ground_albedo, &p);
-				ok = cs_fog_solve(&p, &d->field[used][k]) == CS_OK;
-			}
-		for (int k = 0; k < CS_DECK_DEPTHS && ok; k++)
-			for (int j = 1; !need[k] && j < CS_DECK_DEPTHS; j++) {
-				int near = k - j >= 0 && need[k - j] ? k - j : k + j < CS_DECK_DEPTHS && need[k + j] ? k + j : -1;
-				if (near >= 0) {
-					d->field[used][k] = d->field[used][near];
-					break;
-				}
-			}
+			if (k < first || k > last)
+				d->field[used][k] = d->field[used][k < first ? first : last];
 		if (!ok) /* (out of memory) the layer keeps the diffuse light's model */
 			continue;
 		double w = (l->coverage - CS_DECK_FIELD_COVER) / (CS_DECK_FIELD_FULL - CS_DECK_FIELD_COVER);
