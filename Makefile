@@ -162,7 +162,7 @@ $(B)/lib/render/cuda/render_cuda.o: lib/render/cuda/render_cuda.cu
 # functions kept global
 $(KERNEL_OBJ): $(B)/lib/render/cpu/kernel_%.o: lib/render/cpu/kernel.c
 	@mkdir -p $(@D)
-	$(CC) $(ALL_CFLAGS) -O3 -ffp-contract=off $(KERNEL_ISA_$*) \
+	$(CC) $(ALL_CFLAGS) -O3 -ffp-contract=off -fno-math-errno $(KERNEL_ISA_$*) \
 		-DCS_KERNEL=cs_kernel_rows_$* -DCS_KERNEL_EXTINCTION=cs_kernel_extinction_$* \
 		-MT $@ -MF $(@:.o=.d) -c $< -o $@.tmp
 	objcopy -G cs_kernel_rows_$* -G cs_kernel_extinction_$* $@.tmp $@
