@@ -446,8 +446,37 @@ int cs_scene_fog_light(struct cs_scene *sc)
 	return cs_fog_solve(&p, &sc->fog);
 }
 
+/* The tilted columns' fields (struct cs_deck's tilt), where a layer is
+ * cumulonimbus: slabs facing the key light, lit by its beam square on
+ * (mu0 1) and by nothing else (the sky's light in a tower is
+ * cloud_ambient's), nothing under them. */
+static void tilt_fields(struct cs_scene *sc)
+{
+	struct cs_deck *d = &sc->deck;
+	int cb = 0;
+	for (int i = 0; i < sc->nlayers; i++)
+		cb |= sc->layers[i].kind == CS_LAYER_CLOUD && sc->layers[i].genus == CS_CUMULONIMBUS;
+	d->tilt_on = 0;
+	if (!cb || !d->on || !(sc->effects & CS_FX_KEY))
+		return;
+	int ok = 1;
+	for (int k = 0; k < CS_DECK_DEPTHS && ok; k++) {
+		struct cs_fog_problem p;
+		memset(&p, 0, sizeof p);
+		p.tau = d->tilt_tau[k] = CS_DECK_TILT_TAU0 * (double)(1 << (2 * k));
+		p.albedo = sc->albedo;
+		p.g_forward = sc->g_forward, p.g_back = sc->g_back, p.w_forward = sc->w_forward;
+		p.mu0 = 1.0;
+		for (int c = 0; c < 3; c++)
+			p.sun[c] = sc->sun_illuminance[c];
+		ok = cs_fog_solve(&p, &d->tilt[k]) == CS_OK;
+	}
+	d->tilt_on = ok; /* (out of memory: the towers keep the octaves) */
+}
+
 void cs_scene_deck_fields(struct cs_scene *sc)
 {
+	tilt_fields(sc);
 	struct cs_deck *d = &sc->deck;
 	int used = 0;
 	for (int i = 0; i < CS_SCENE_MAX_LAYERS; i++)

@@ -133,6 +133,31 @@ CS_HD CS_SHARED void cs_field_source(const struct cs_fog_field *f, double h, dou
 	field_mix(&f, &one, 1, h, up_out, cos_phi, out);
 }
 
+/* The light of a point of a column of optical depth tau_above +
+ * tau_below from the plane-parallel fields of a set (fields at depths t,
+ * CS_DECK_DEPTHS of them): between two depths the sources are
+ * interpolated in log depth, beyond the first and last the nearest is
+ * read, at the point's share of the depth from the top. */
+CS_HD static void fields_source(const struct cs_fog_field *fields, const double *t,
+				double tau_above, double tau_below, double up_out, double cos_phi,
+				double out[3])
+{
+	double tc = tau_above + tau_below, f = 0.0;
+	int k = 0;
+	while (k < CS_DECK_DEPTHS - 2 && tc > t[k + 1])
+		k++;
+	/* in log depth, in float (a GPU's double logarithm is long); two
+	 * depths closer than float's resolution are one */
+	float span = log2f((float)(t[k + 1] / t[k]));
+	if (tc >= t[k + 1] || !(span > 0.0f)) /* beyond the last */
+		f = tc > t[k] ? 1.0 : 0.0;
+	else if (tc > t[k])
+		f = (double)log2f((float)(tc / t[k])) / (double)span;
+	double h = tc > 0.0 ? 1.0 - tau_above / tc : 1.0, wt[2] = {1.0 - f, f};
+	const struct cs_fog_field *two[2] = {&fields[k], &fields[k + 1]};
+	field_mix(two, wt, 2, h, up_out, cos_phi, out);
+}
+
 /* Broken cloud, column by column (the independent column approximation):
  * the point's column, of optical depth tau_above + tau_below, taken for
  * a plane-parallel slab of that depth, the field read at the point's
@@ -155,21 +180,21 @@ CS_HD CS_SHARED void cs_deck_field_source(const struct cs_deck *d, int fi,
 					  double tau_above, double tau_below, double up_out,
 					  double cos_phi, double out[3])
 {
-	const double *t = d->field_tau[fi];
-	double tc = tau_above + tau_below, f = 0.0;
-	int k = 0;
-	while (k < CS_DECK_DEPTHS - 2 && tc > t[k + 1])
-		k++;
-	/* in log depth, in float (a GPU's double logarithm is long); two
-	 * depths closer than float's resolution are one */
-	float span = log2f((float)(t[k + 1] / t[k]));
-	if (tc >= t[k + 1] || !(span > 0.0f)) /* beyond the last */
-		f = tc > t[k] ? 1.0 : 0.0;
-	else if (tc > t[k])
-		f = (double)log2f((float)(tc / t[k])) / (double)span;
-	double h = tc > 0.0 ? 1.0 - tau_above / tc : 1.0, wt[2] = {1.0 - f, f};
-	const struct cs_fog_field *two[2] = {&d->field[fi][k], &d->field[fi][k + 1]};
-	field_mix(two, wt, 2, h, up_out, cos_phi, out);
+	fields_source(d->field[fi], d->field_tau[fi], tau_above, tau_below, up_out, cos_phi, out);
+}
+
+/* Tilted columns (the tilted independent pixel approximation of Varnai
+ * and Davies 1999): a point of a cumulonimbus tower taken for a point of a
+ * plane-parallel slab that faces the sun, its depth the heap's toward the
+ * sun and away from it, its top toward the sun; the sun's beam falls on
+ * it square on, so its light is the same at every azimuth about the beam
+ * (cos_phi 1).  The towers' walls, which the vertical columns took for
+ * the sides of a slab lit from above, and a low sun's light through them,
+ * are what the tower's light comes from: see sample_source. */
+CS_HD CS_SHARED void cs_deck_tilt_source(const struct cs_deck *d, double tau_sun, double tau_away,
+					 double to_sun, double out[3])
+{
+	fields_source(d->tilt, d->tilt_tau, tau_sun, tau_away, to_sun, 1.0, out);
 }
 
 CS_HD void cs_fog_source(const struct cs_scene *sc, double alt_m, double up_out, double cos_phi,

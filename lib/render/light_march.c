@@ -88,64 +88,86 @@ CS_HD void cs_extinction_at_n(const struct cs_scene *sc, unsigned mask, int n, c
  * (q > 1), r = q^(2/n), so that the first step is about the thickness / n
  * that a vertical path takes (finer for very long paths), else equal;
  * each sample at its step's middle, weighted by its length. */
+/* Optical depth of layer l from p along the unit vector dir, steps
+ * samples over each part of the path in the layer (cs_light_depth's
+ * rule); with heap set, only up to the first sample without cloud: the
+ * depth of the cloud the path starts in. */
+CS_HD static double layer_depth(const struct cs_scene *sc, const struct cs_render_settings *s,
+				const struct cs_cloud_layer *l, cs_v3 p, cs_v3 dir, int steps,
+				int heap, struct cs_render_stats *st)
+{
+	double tau = 0.0, iv[2][2];
+	int n = cs_shell_intervals(sc, p, dir, sc->earth_radius_m + l->base_m,
+				   sc->earth_radius_m + l->top_m, LIGHT_PATH_MAX_M, iv);
+	for (int k = 0; k < n; k++) {
+		double len = iv[k][1] - iv[k][0];
+		double dt = len / steps, n2 = (double)steps * steps;
+		/* geometric: the ratio and the first step */
+		double r = 1.0, q = len / (l->top_m - l->base_m);
+		if (s->light_march == CS_LIGHT_GEOMETRIC && q > 1.0 && steps > 1) {
+			/* in float: a GPU's double pow is long, and any r
+			 * gives a sound rule (the steps still cover len);
+			 * a path a hair longer than the thickness rounds
+			 * to r = 1 there: equal steps */
+			double rf = (double)powf((float)q, 2.0f / (float)steps);
+			if (rf > 1.0) {
+				r = rf;
+				dt = len * (r - 1.0) / (pow_int(r, steps) - 1.0);
+			}
+		}
+		double t0 = iv[k][0], g = dt; /* geometric: the step's start, its length */
+		for (int j0 = 0; j0 < steps; j0 += CS_MARCH_BATCH) {
+			int m = steps - j0 < CS_MARCH_BATCH ? steps - j0 : CS_MARCH_BATCH;
+			double qx[CS_MARCH_BATCH], qy[CS_MARCH_BATCH], qz[CS_MARCH_BATCH],
+				qa[CS_MARCH_BATCH], qw[CS_MARCH_BATCH], e[CS_MARCH_BATCH];
+			for (int b = 0; b < m; b++) {
+				int j = j0 + b;
+				double t, w;
+				if (r > 1.0) {
+					t = t0 + 0.5 * g, w = g;
+					t0 += g, g *= r;
+				} else if (s->light_march == CS_LIGHT_QUADRATIC) {
+					t = iv[k][0] + len * (j + 0.5) * (j + 0.5) / n2;
+					w = len * (2 * j + 1) / n2;
+				} else {
+					t = iv[k][0] + (j + 0.5) * dt, w = dt;
+				}
+				cs_v3 q3 = v3_mad(p, dir, t);
+				qx[b] = q3.x, qy[b] = q3.y, qz[b] = q3.z, qw[b] = w;
+			}
+			cs_altitude_n(m, qx, qy, qz, sc->earth_radius_m, qa);
+			cs_cloud_extinction_n(l, sc->noise, m, qx, qy, qa, e);
+			for (int b = 0; b < m; b++) {
+				if (heap && !(e[b] > 0.0)) {
+					st->light_samples += (uint64_t)(j0 + b + 1);
+					return tau;
+				}
+				tau += e[b] * qw[b];
+			}
+		}
+		st->light_samples += (uint64_t)steps;
+		if (heap) /* the path has left the layer: so has the cloud */
+			return tau;
+	}
+	return tau;
+}
+
 CS_HD CS_SHARED double cs_light_depth(const struct cs_scene *sc,
 			    const struct cs_render_settings *s, cs_v3 p,
 			    unsigned mask, struct cs_render_stats *st)
 {
 	double tau = 0.0;
 	int others = s->light_steps / 3 > 2 ? s->light_steps / 3 : 2;
-	for (int i = 0; i < sc->nlayers; i++) {
-		const struct cs_cloud_layer *l = &sc->layers[i];
-		int steps = (mask & (1u << i)) ? s->light_steps : others;
-		double iv[2][2];
-		int n = cs_shell_intervals(sc, p, sc->sun_dir,
-					   sc->earth_radius_m + l->base_m,
-					   sc->earth_radius_m + l->top_m, LIGHT_PATH_MAX_M, iv);
-		for (int k = 0; k < n; k++) {
-			double len = iv[k][1] - iv[k][0];
-			double dt = len / steps, n2 = (double)steps * steps;
-			/* geometric: the ratio and the first step */
-			double r = 1.0, q = len / (l->top_m - l->base_m);
-			if (s->light_march == CS_LIGHT_GEOMETRIC && q > 1.0 && steps > 1) {
-				/* in float: a GPU's double pow is long, and any r
-				 * gives a sound rule (the steps still cover len);
-				 * a path a hair longer than the thickness rounds
-				 * to r = 1 there: equal steps */
-				double rf = (double)powf((float)q, 2.0f / (float)steps);
-				if (rf > 1.0) {
-					r = rf;
-					dt = len * (r - 1.0) / (pow_int(r, steps) - 1.0);
-				}
-			}
-			double t0 = iv[k][0], g = dt; /* geometric: the step's start, its length */
-			for (int j0 = 0; j0 < steps; j0 += CS_MARCH_BATCH) {
-				int m = steps - j0 < CS_MARCH_BATCH ? steps - j0 : CS_MARCH_BATCH;
-				double qx[CS_MARCH_BATCH], qy[CS_MARCH_BATCH], qz[CS_MARCH_BATCH],
-					qa[CS_MARCH_BATCH], qw[CS_MARCH_BATCH], e[CS_MARCH_BATCH];
-				for (int b = 0; b < m; b++) {
-					int j = j0 + b;
-					double t, w;
-					if (r > 1.0) {
-						t = t0 + 0.5 * g, w = g;
-						t0 += g, g *= r;
-					} else if (s->light_march == CS_LIGHT_QUADRATIC) {
-						t = iv[k][0] + len * (j + 0.5) * (j + 0.5) / n2;
-						w = len * (2 * j + 1) / n2;
-					} else {
-						t = iv[k][0] + (j + 0.5) * dt, w = dt;
-					}
-					cs_v3 q3 = v3_mad(p, sc->sun_dir, t);
-					qx[b] = q3.x, qy[b] = q3.y, qz[b] = q3.z, qw[b] = w;
-				}
-				cs_altitude_n(m, qx, qy, qz, sc->earth_radius_m, qa);
-				cs_cloud_extinction_n(l, sc->noise, m, qx, qy, qa, e);
-				for (int b = 0; b < m; b++)
-					tau += e[b] * qw[b];
-			}
-			st->light_samples += (uint64_t)steps;
-		}
-	}
+	for (int i = 0; i < sc->nlayers; i++)
+		tau += layer_depth(sc, s, &sc->layers[i], p, sc->sun_dir,
+				   (mask & (1u << i)) ? s->light_steps : others, 0, st);
 	return tau;
+}
+
+CS_HD double cs_heap_depth(const struct cs_scene *sc, const struct cs_render_settings *s, int li,
+			   cs_v3 p, cs_v3 dir, struct cs_render_stats *st)
+{
+	return layer_depth(sc, s, &sc->layers[li], p, dir, s->light_steps, 1, st);
 }
 
 CS_HD double cs_render_sun_transmittance(const struct cs_scene *sc,

@@ -38,6 +38,14 @@ CS_HD double cs_light_depth(const struct cs_scene *sc,
 			    const struct cs_render_settings *s, cs_v3 p,
 			    unsigned mask, struct cs_render_stats *st);
 
+/* Optical depth of the cloud of layer li that p is in, from p along the
+ * unit vector dir up to the first sample without cloud (light_steps
+ * samples over the path through the layer, spaced as cs_light_depth's):
+ * a heap's depth behind a point, which its light fields read
+ * (cs_deck_tilt_source). */
+CS_HD double cs_heap_depth(const struct cs_scene *sc, const struct cs_render_settings *s, int li,
+			   cs_v3 p, cs_v3 dir, struct cs_render_stats *st);
+
 /* Aerial perspective (haze.c): the radiance the haze scatters toward the
  * eye along d under a clear sky and, of it, the sun's part (which the
  * clouds' shadows take away); the haze optical depth over distance t from
@@ -67,6 +75,14 @@ CS_HD void cs_field_source(const struct cs_fog_field *f, double h, double up_out
  * tau_below under it (haze.c). */
 CS_HD void cs_deck_field_source(const struct cs_deck *d, int fi, double tau_above,
 				double tau_below, double up_out, double cos_phi, double out[3]);
+/* The same from the deck's tilted columns (struct cs_deck's tilt): the
+ * sun's diffuse light at a point of a tower whose heap has optical depth
+ * tau_sun between it and the sun and tau_away behind it, the plane-parallel
+ * field of a slab of depth tau_sun + tau_away facing the sun read at the
+ * point's level, toward a direction of travel whose cosine with the way
+ * to the sun is to_sun (haze.c). */
+CS_HD void cs_deck_tilt_source(const struct cs_deck *d, double tau_sun, double tau_away,
+			       double to_sun, double out[3]);
 CS_HD void cs_fog_down(const struct cs_scene *sc, double alt_m, double out[3]);
 
 /* The sun's beam through the fog from above down to altitude alt_m (flat

@@ -187,6 +187,7 @@ double cs_fog_phase_mean(double mu, double nu, double g_forward, double g_back,
 #define CS_DECK_FIELD_FULL 0.7  /* and the least lit by them alone */
 #define CS_DECK_DEPTHS 4 /* light fields a layer: optical depths tau_in / 16, / 4, 1, 2 */
 #define CS_DECK_FIELD_TAU_MAX 128.0 /* and at most this (the solution's time grows with it) */
+#define CS_DECK_TILT_TAU0 2.0 /* the tilted columns' thinnest field: 2, 8, 32, 128 */
 struct cs_deck {
 	int on;                      /* 0: the clear-sky ambient everywhere */
 	double mu0;                  /* sine of the sun's elevation (>= 0) */
@@ -242,6 +243,14 @@ struct cs_deck {
 	 * to 1 at CS_DECK_FIELD_FULL, so that the light does not jump as a
 	 * layer's cover passes a threshold */
 	double field_weight[CS_SCENE_MAX_LAYERS];
+	/* Tilted columns (cs_deck_tilt_source): the light fields of slabs
+	 * facing the key light, lit by its beam square on and by nothing
+	 * else, of optical depths tilt_tau (CS_DECK_TILT_TAU0 times 4^k),
+	 * from which the towers of cumulonimbus take their sun's diffuse
+	 * light; tilt_on 0 without a cumulonimbus, a key light or the deck */
+	struct cs_fog_field tilt[CS_DECK_DEPTHS];
+	double tilt_tau[CS_DECK_DEPTHS];
+	int tilt_on;
 };
 #define CS_DECK_SHARES 33
 
@@ -334,9 +343,10 @@ CS_HD double cs_slab_escape(double mu);
 void cs_scene_deck_light(struct cs_scene *sc);
 
 /* The light fields of the scene's layers of at least half cover (fog.c:
- * sc->deck.field, field_of), from the deck's light at their tops (call at the end of
- * cs_scene_deck_light, which does); a layer whose field cannot be made
- * (out of memory) keeps the march's model of the diffuse light. */
+ * sc->deck.field, field_of), from the deck's light at their tops, and,
+ * with a cumulonimbus, the tilted columns' (sc->deck.tilt) (call at the
+ * end of cs_scene_deck_light, which does); a layer whose field cannot be
+ * made (out of memory) keeps the march's model of the diffuse light. */
 void cs_scene_deck_fields(struct cs_scene *sc);
 
 /* Fills sc->fog (fog.c) from the scene's fog, sky, sun, deck and ground
