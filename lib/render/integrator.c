@@ -455,6 +455,35 @@ CS_HD static double escape_toward_eye(const struct ray_ctx *c, const struct cs_c
  * -3/-3/+15 % with 0.6, -12/-9/+3 % with 0.5. */
 #define TILT_WALL 0.6
 
+/* A cumulonimbus's point p in layer li, tau_above under the top and
+ * tau_sun from the sun: its tilted columns' light for the eye, into T
+ * (TILT_WALL of it), and the share of the sky's light that reaches it,
+ * returned.  The tower behind the point, away from the sun, is a march of
+ * its own (cs_heap_depth).  The sky's light comes in through whichever
+ * face lets in the most of it: the top, through the column above, or the
+ * face toward the sun or away from it, each through its depth and seeing
+ * the share (1 + n_z) / 2 of the sky that a face of outward normal n sees
+ * (through the column above alone, the towers were a warm yellow against
+ * the path tracer's white: r/g 1.10 against 1.01 under a low sun; through
+ * the thinnest face whichever way it faced, an anvil's underside, which
+ * faces the ground, came out the sky's blue: test_reference).  Out of
+ * line: the rays that meet no tower do not carry its registers. */
+CS_HD CS_SHARED static double tilt_light(const struct ray_ctx *c, cs_v3 p, int li,
+					 double tau_above, double tau_sun, double T[3])
+{
+	const struct cs_scene *sc = c->sc;
+	double tau_away = cs_heap_depth(sc, c->s, li, p, v3_scale(sc->sun_dir, -1.0), c->st);
+	cs_deck_tilt_source(&sc->deck, tau_sun, tau_away, -c->cos_sun, T);
+	for (int k = 0; k < 3; k++)
+		T[k] *= TILT_WALL;
+	double sz = sc->sun_dir.z;
+	double up = cs_slab_diffuse_transmittance(tau_above);
+	double sun_face = 0.5 * (1.0 + sz) * cs_slab_diffuse_transmittance(tau_sun);
+	double away_face = 0.5 * (1.0 - sz) * cs_slab_diffuse_transmittance(tau_away);
+	double td = up > sun_face ? up : sun_face;
+	return away_face > td ? away_face : td;
+}
+
 CS_HD static void sample_source(const struct ray_ctx *c, cs_v3 p, double alt,
 				unsigned mask, int li, double ss, double S[3], double *fwd)
 {
@@ -505,34 +534,13 @@ CS_HD static void sample_source(const struct ray_ctx *c, cs_v3 p, double alt,
 			c->st->light_samples += alt < l->top_m ? (uint64_t)n : 0u;
 		}
 		A[0] = A[1] = A[2] = 0.0;
-		double tau_away = 0.0, sky_td = -1.0;
-		if (tilt) {
-			/* the tower behind the point, away from the sun; the sky's
-			 * light comes in through whichever face lets in the most
-			 * of it: the top, through the column above, or the face
-			 * toward the sun or away from it, each through its depth
-			 * and seeing the share (1 + n_z) / 2 of the sky that a
-			 * face of outward normal n sees (through the column above
-			 * alone, the towers were a warm yellow against the path
-			 * tracer's white: r/g 1.10 against 1.01 under a low sun) */
-			tau_away = cs_heap_depth(sc, c->s, li, p, v3_scale(sc->sun_dir, -1.0), c->st);
-			double sz = sc->sun_dir.z;
-			double up = cs_slab_diffuse_transmittance(tau_above);
-			double sun_face = 0.5 * (1.0 + sz) * cs_slab_diffuse_transmittance(tau_sun);
-			double away_face = 0.5 * (1.0 - sz) * cs_slab_diffuse_transmittance(tau_away);
-			sky_td = up > sun_face ? up : sun_face;
-			sky_td = away_face > sky_td ? away_face : sky_td;
-		}
+		double T3[3], sky_td = tilt ? tilt_light(c, p, li, tau_above, tau_sun, T3) : -1.0;
 		if (wf < 1.0)
 			cloud_ambient(sc, li, hb, tau_above, tau_sun, c->below_share,
 				      c->sky_on, escape_toward_eye(c, l), eye_in_layer(c, l),
 				      c->d.z, c->cos_sun, tilt, sky_td, A, fwd);
-		if (tilt) {
-			double F[3];
-			cs_deck_tilt_source(&sc->deck, tau_sun, tau_away, -c->cos_sun, F);
-			for (int k = 0; k < 3; k++)
-				A[k] += TILT_WALL * F[k];
-		}
+		for (int k = 0; k < 3 && tilt; k++)
+			A[k] += T3[k];
 		if (field >= 0) { /* and the column under it, for its fields */
 			double tau_below = cs_cloud_column(l, sc->noise, p.x, p.y, l->base_m, alt, n), F[3];
 			c->st->light_samples += alt > l->base_m ? (uint64_t)n : 0u;
