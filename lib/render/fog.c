@@ -447,9 +447,9 @@ int cs_scene_fog_light(struct cs_scene *sc)
 }
 
 /* The tilted columns' fields (struct cs_deck's tilt), where a layer is
- * cumulonimbus: slabs facing the key light, lit by its beam square on
- * (mu0 1) and by nothing else (the sky's light in a tower is
- * cloud_ambient's), nothing under them. */
+ * cumulonimbus and the key light is up (as problem_of has it): slabs
+ * facing it, lit by its beam square on (mu0 1) and by nothing else (the
+ * sky's light in a tower is cloud_ambient's), nothing under them. */
 static void tilt_fields(struct cs_scene *sc)
 {
 	struct cs_deck *d = &sc->deck;
@@ -457,7 +457,7 @@ static void tilt_fields(struct cs_scene *sc)
 	for (int i = 0; i < sc->nlayers; i++)
 		cb |= sc->layers[i].kind == CS_LAYER_CLOUD && sc->layers[i].genus == CS_CUMULONIMBUS;
 	d->tilt_on = 0;
-	if (!cb || !d->on || !(sc->effects & CS_FX_KEY))
+	if (!cb || !d->on || !(sc->effects & CS_FX_KEY) || !(sc->sun_dir.z > 0.0))
 		return;
 	int ok = 1;
 	for (int k = 0; k < CS_DECK_DEPTHS && ok; k++) {

@@ -81,7 +81,7 @@ CS_HD double cs_fog_sun_transmittance(const struct cs_scene *sc, double alt_m)
  * are at heights (1 - k / (CS_FOG_LEVELS - 1))^2 of the layer. */
 CS_HD static double field_level(double h)
 {
-	h = h < 0.0 ? 0.0 : h > 1.0 ? 1.0 : h;
+	h = h > 0.0 ? h < 1.0 ? h : 1.0 : 0.0; /* (not a number: the bottom) */
 	return (1.0 - sqrt(h)) * (CS_FOG_LEVELS - 1);
 }
 
@@ -190,7 +190,7 @@ CS_HD CS_SHARED void cs_deck_field_source(const struct cs_deck *d, int fi,
  * it square on, so its light is the same at every azimuth about the beam
  * (cos_phi 1).  The towers' walls, which the vertical columns took for
  * the sides of a slab lit from above, and a low sun's light through them,
- * are what the tower's light comes from: see sample_source. */
+ * are what the tower's light comes from: see integrator.c's tilt_light. */
 CS_HD CS_SHARED void cs_deck_tilt_source(const struct cs_deck *d, double tau_sun, double tau_away,
 					 double to_sun, double out[3])
 {

@@ -73,30 +73,17 @@ CS_HD void cs_extinction_at_n(const struct cs_scene *sc, unsigned mask, int n, c
 		}
 }
 
-/* Optical depth from p toward the sun through every layer: light_steps
- * midpoint samples over each part of the path in a layer of mask (the
- * layers the sample is in), a third as many, at least 2, in the others
- * (cirrus shading the cumulus below it).  A path through one layer is
- * capped at LIGHT_PATH_MAX_M, 150 km: a cumulonimbus 10 km tall under a
- * sun 15 deg up lies across 38 km of the path, 5 deg up 115 km (capped at
- * 20 km, as in earlier releases, its towers shadowed none of the ground
- * beyond: GHI 64 % too high against the path tracer at 15 deg); only a
- * sun near the horizon meets a longer path, through a shell the Earth's
- * curve bends it out of.  The steps are equal, or (quadratic) at
- * (k + 1/2)^2 / n^2 of the path, or (geometric) growing by a ratio r from
- * the point: for a path q = len / thickness times the layer's thickness
- * (q > 1), r = q^(2/n), so that the first step is about the thickness / n
- * that a vertical path takes (finer for very long paths), else equal;
- * each sample at its step's middle, weighted by its length. */
-/* Optical depth of layer l from p along the unit vector dir, steps
- * samples over each part of the path in the layer (cs_light_depth's
- * rule); with heap set, only up to the first sample without cloud: the
- * depth of the cloud the path starts in. */
+/* tau plus the optical depth of layer l from p along the unit vector dir,
+ * steps samples over each part of the path in the layer (cs_light_depth's
+ * rule, which sums its layers in one running tau); with heap set, only up
+ * to the first sample without cloud: the depth of the cloud the path
+ * starts in (light_samples counts the samples up to it; the CPU looks up
+ * the rest of its batch too). */
 CS_HD static double layer_depth(const struct cs_scene *sc, const struct cs_render_settings *s,
 				const struct cs_cloud_layer *l, cs_v3 p, cs_v3 dir, int steps,
-				int heap, struct cs_render_stats *st)
+				int heap, double tau, struct cs_render_stats *st)
 {
-	double tau = 0.0, iv[2][2];
+	double iv[2][2];
 	int n = cs_shell_intervals(sc, p, dir, sc->earth_radius_m + l->base_m,
 				   sc->earth_radius_m + l->top_m, LIGHT_PATH_MAX_M, iv);
 	for (int k = 0; k < n; k++) {
@@ -152,6 +139,21 @@ CS_HD static double layer_depth(const struct cs_scene *sc, const struct cs_rende
 	return tau;
 }
 
+/* Optical depth from p toward the sun through every layer: light_steps
+ * midpoint samples over each part of the path in a layer of mask (the
+ * layers the sample is in), a third as many, at least 2, in the others
+ * (cirrus shading the cumulus below it).  A path through one layer is
+ * capped at LIGHT_PATH_MAX_M, 150 km: a cumulonimbus 10 km tall under a
+ * sun 15 deg up lies across 38 km of the path, 5 deg up 115 km (capped at
+ * 20 km, as in earlier releases, its towers shadowed none of the ground
+ * beyond: GHI 64 % too high against the path tracer at 15 deg); only a
+ * sun near the horizon meets a longer path, through a shell the Earth's
+ * curve bends it out of.  The steps are equal, or (quadratic) at
+ * (k + 1/2)^2 / n^2 of the path, or (geometric) growing by a ratio r from
+ * the point: for a path q = len / thickness times the layer's thickness
+ * (q > 1), r = q^(2/n), so that the first step is about the thickness / n
+ * that a vertical path takes (finer for very long paths), else equal;
+ * each sample at its step's middle, weighted by its length. */
 CS_HD CS_SHARED double cs_light_depth(const struct cs_scene *sc,
 			    const struct cs_render_settings *s, cs_v3 p,
 			    unsigned mask, struct cs_render_stats *st)
@@ -159,15 +161,15 @@ CS_HD CS_SHARED double cs_light_depth(const struct cs_scene *sc,
 	double tau = 0.0;
 	int others = s->light_steps / 3 > 2 ? s->light_steps / 3 : 2;
 	for (int i = 0; i < sc->nlayers; i++)
-		tau += layer_depth(sc, s, &sc->layers[i], p, sc->sun_dir,
-				   (mask & (1u << i)) ? s->light_steps : others, 0, st);
+		tau = layer_depth(sc, s, &sc->layers[i], p, sc->sun_dir,
+				  (mask & (1u << i)) ? s->light_steps : others, 0, tau, st);
 	return tau;
 }
 
 CS_HD double cs_heap_depth(const struct cs_scene *sc, const struct cs_render_settings *s, int li,
 			   cs_v3 p, cs_v3 dir, struct cs_render_stats *st)
 {
-	return layer_depth(sc, s, &sc->layers[li], p, dir, s->light_steps, 1, st);
+	return layer_depth(sc, s, &sc->layers[li], p, dir, s->light_steps, 1, 0.0, st);
 }
 
 CS_HD double cs_render_sun_transmittance(const struct cs_scene *sc,

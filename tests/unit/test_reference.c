@@ -515,13 +515,16 @@ static void middle_cover_matches_the_reference(void)
  * scatter between seeds about 3 % at 256 paths a pixel), and under an
  * afternoon sun looking up at an anvil within 20 % (measured -2.5 %, and
  * -10 % against the mean of four seeds, which scatter by 6 % at 128
- * paths).  The towers take the sun's diffuse light from their tilted
+ * paths); towers of 35 % cover under the low sun within 15 % (measured
+ * -3.0 %).  The towers take the sun's diffuse light from their tilted
  * columns (cs_deck_tilt_source), 0.6 of it at their walls (integrator.c's
- * TILT_WALL): the octaves and vertical columns before measured -58.8 % on
+ * TILT_WALL), all of it up to 20 % cover and none from 50 % (TILT_FULL,
+ * TILT_NONE): the octaves and vertical columns before measured -58.8 % on
  * the walls, and fail; all of the columns' light +32 %, 0.48 of it
  * -14.8 %, fail too (0.72 of it, +7.0 %, passes); the sky's light let in
  * through the thinnest face whichever way it faces made the anvil's
- * underside the sky's blue, +68.5 %, and fails. */
+ * underside the sky's blue, +68.5 %, and fails; the columns' light at
+ * every cover made the 35 % cover +46 %, and fails. */
 static void cumulonimbus_matches_the_reference(void)
 {
 	struct cs_wx wx;
@@ -533,6 +536,10 @@ static void cumulonimbus_matches_the_reference(void)
 	CHECK_NEAR(march_over_reference("cumulonimbus anvil from below", &wx, noise32(), 0.0, 150.0,
 					10.0, 60.0, 8, 5, "high", 128),
 		   1.0, 0.20);
+	one_layer(&wx, "2021-06-14T18:00:00Z", CS_CUMULONIMBUS, 0.35, 1200.0, 11000.0, 40000.0);
+	CHECK_NEAR(march_over_reference("cumulonimbus of 35 % cover under a low sun", &wx, noise32(),
+					0.0, 100.0, 10.0, 60.0, 8, 5, "high", 128),
+		   1.0, 0.15);
 }
 
 /* Fog of 300 m visibility at a low morning sun (7 deg), looked through
