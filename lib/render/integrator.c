@@ -443,52 +443,37 @@ CS_HD static double escape_toward_eye(const struct ray_ctx *c, const struct cs_c
  * -3/-3/+15 % with 0.6, -12/-9/+3 % with 0.5. */
 #define TILT_WALL 0.6
 
-/* The share of a cumulonimbus's diffuse light that its tilted columns
- * give, by its cover: all of it up to TILT_FULL, none from TILT_NONE,
- * linear between (the rest from the octaves and cloud_ambient, and above
- * half cover the layer's own light fields).  The more the towers merge,
- * the more the columns' slabs, lit square on with nothing beside them,
- * overstate their light: under a low sun (13 deg, the view of the study's
- * scene) against the path tracer at high, all of it measured +12 % at
- * 22 % cover, +31 % at 35 % and +89 % at 60 %, none of it -59, -51 and
- * -11 %; with these two, +7, -10 and -11 % (relative MSE 0.32, 0.31 and
- * 0.40 against 0.57, 0.51 and 0.40 with none); 0.25 and 0.5 gave +12 and
- * -2 % (0.34, 0.32). */
-#define TILT_FULL 0.2
-#define TILT_NONE 0.5
-CS_HD static double tilt_share(double cover)
-{
-	double t = (TILT_NONE - cover) / (TILT_NONE - TILT_FULL);
-	return t > 1.0 ? 1.0 : t > 0.0 ? t : 0.0;
-}
-
 /* A cumulonimbus's point p in layer li, tau_above under the top and
- * tau_sun from the sun: its tilted columns' light for the eye, into L
- * (TILT_WALL of it), and the share of the sky's light that reaches it,
- * returned.  The tower behind the point, away from the sun, is a march of
- * its own (cs_heap_depth).  The sky's light comes in through whichever
- * face lets in the most of it: the top, through the column above, or the
- * face toward the sun or away from it, each through its depth and seeing
- * the share (1 + n_z) / 2 of the sky that a face of outward normal n sees
- * (through the column above alone, the towers were a warm yellow against
- * the path tracer's white: r/g 1.10 against 1.01 under a low sun; through
- * the thinnest face whichever way it faced, an anvil's underside, which
- * faces the ground, came out the sky's blue: test_reference).  Out of
- * line: the rays that meet no tower do not carry its registers. */
+ * tau_sun from the sun, whose tilted columns give the share ts of its
+ * diffuse light (deck.tilt_weight): their light for the eye, into L (ts
+ * TILT_WALL of it), and the share of the sky's light that reaches it,
+ * returned (ts of it by the faces below, the rest through the column
+ * above, as cloud_ambient's).  The tower behind the point, away from the
+ * sun, is a march of its own (cs_heap_depth).  The sky's light comes in
+ * through whichever face lets in the most of it: the top, through the
+ * column above, or the face toward the sun or away from it, each through
+ * its depth and seeing the share (1 + n_z) / 2 of the sky that a face of
+ * outward normal n sees (through the column above alone, the towers were
+ * a warm yellow against the path tracer's white: r/g 1.10 against 1.01
+ * under a low sun; through the thinnest face whichever way it faced, an
+ * anvil's underside, which faces the ground, came out the sky's blue:
+ * test_reference).  Out of line: the rays that meet no tower do not
+ * carry its registers. */
 CS_HD CS_SHARED static double tilt_light(const struct ray_ctx *c, cs_v3 p, int li,
-					 double tau_above, double tau_sun, double L[3])
+					 double tau_above, double tau_sun, double ts, double L[3])
 {
 	const struct cs_scene *sc = c->sc;
 	double tau_away = cs_heap_depth(sc, c->s, li, p, v3_scale(sc->sun_dir, -1.0), c->st);
 	cs_deck_tilt_source(&sc->deck, tau_sun, tau_away, -c->cos_sun, L);
 	for (int k = 0; k < 3; k++)
-		L[k] *= TILT_WALL;
+		L[k] = ts * (L[k] * TILT_WALL);
 	double sz = sc->sun_dir.z;
 	double up = cs_slab_diffuse_transmittance(tau_above);
 	double sun_face = 0.5 * (1.0 + sz) * cs_slab_diffuse_transmittance(tau_sun);
 	double away_face = 0.5 * (1.0 - sz) * cs_slab_diffuse_transmittance(tau_away);
 	double td = up > sun_face ? up : sun_face;
-	return away_face > td ? away_face : td;
+	td = away_face > td ? away_face : td;
+	return ts * td + (1.0 - ts) * up;
 }
 
 /* The light scattered toward the eye per unit length at a cloud sample of
@@ -519,12 +504,9 @@ CS_HD static void sample_source(const struct ray_ctx *c, cs_v3 p, double alt,
 	int field = sc->deck.on ? sc->deck.field_of[li] : -1;
 	double wf = field >= 0 ? sc->deck.field_weight[li] : 0.0;
 	/* a cumulonimbus's towers: the sun's multiply scattered light from
-	 * their tilted columns for the share ts (tilt_share), from the
+	 * their tilted columns for the share ts (deck.tilt_weight), from the
 	 * octaves and cloud_ambient for the rest */
-	double ts = sc->deck.tilt_on && c->s->ambient && sc->layers[li].kind == CS_LAYER_CLOUD &&
-				    sc->layers[li].genus == CS_CUMULONIMBUS && (sc->effects & CS_FX_KEY)
-			    ? tilt_share(sc->layers[li].coverage)
-			    : 0.0;
+	double ts = sc->deck.on && c->s->ambient ? sc->deck.tilt_weight[li] : 0.0;
 	if (sc->effects & CS_FX_KEY) {
 		double tau = cs_light_depth(sc, c->s, p, mask, c->st);
 		tau_sun = tau;
@@ -560,18 +542,14 @@ CS_HD static void sample_source(const struct ray_ctx *c, cs_v3 p, double alt,
 		A[0] = A[1] = A[2] = 0.0;
 		/* (a tau_sun not finite: a light march lost; no tower's light) */
 		ts = isfinite(tau_sun) ? ts : 0.0;
-		double L[3], sky_td = -1.0;
-		if (ts > 0.0) {
-			double td = tilt_light(c, p, li, tau_above, tau_sun, L);
-			sky_td = ts * td + (1.0 - ts) * cs_slab_diffuse_transmittance(tau_above);
-		}
+		double L[3], sky_td = ts > 0.0 ? tilt_light(c, p, li, tau_above, tau_sun, ts, L) : -1.0;
 		if (wf < 1.0)
 			cloud_ambient(sc, li, hb, tau_above, tau_sun, c->below_share,
 				      c->sky_on, escape_toward_eye(c, l), eye_in_layer(c, l),
 				      c->d.z, c->cos_sun, 1.0 - ts, sky_td, A, fwd);
 		if (ts > 0.0)
 			for (int k = 0; k < 3; k++)
-				A[k] += ts * L[k];
+				A[k] += L[k];
 		if (field >= 0) { /* and the column under it, for its fields */
 			double tau_below = cs_cloud_column(l, sc->noise, p.x, p.y, l->base_m, alt, n), F[3];
 			c->st->light_samples += alt > l->base_m ? (uint64_t)n : 0u;

@@ -188,6 +188,8 @@ double cs_fog_phase_mean(double mu, double nu, double g_forward, double g_back,
 #define CS_DECK_DEPTHS 4 /* light fields a layer: optical depths tau_in / 16, / 4, 1, 2 */
 #define CS_DECK_FIELD_TAU_MAX 128.0 /* and at most this (the solution's time grows with it) */
 #define CS_DECK_TILT_TAU0 2.0 /* the tilted columns' thinnest field: 2, 8, 32, 128 */
+#define CS_DECK_TILT_FULL 0.2 /* a cumulonimbus of this cover or less is lit by them alone */
+#define CS_DECK_TILT_NONE 0.5 /* and one of this cover or more not at all */
 struct cs_deck {
 	int on;                      /* 0: the clear-sky ambient everywhere */
 	double mu0;                  /* sine of the sun's elevation (>= 0) */
@@ -247,10 +249,14 @@ struct cs_deck {
 	 * facing the key light, lit by its beam square on and by nothing
 	 * else, of optical depths tilt_tau (CS_DECK_TILT_TAU0 times 4^k),
 	 * from which the towers of cumulonimbus take their sun's diffuse
-	 * light; tilt_on 0 without a cumulonimbus, a key light or the deck */
+	 * light, for the share tilt_weight[i] of layer i's: 1 up to
+	 * CS_DECK_TILT_FULL cover, falling linearly to 0 at
+	 * CS_DECK_TILT_NONE (the rest the march's model, and above half
+	 * cover the layer's own fields); 0 for every other genus, and for
+	 * every layer without a key light up or the deck */
 	struct cs_fog_field tilt[CS_DECK_DEPTHS];
 	double tilt_tau[CS_DECK_DEPTHS];
-	int tilt_on;
+	double tilt_weight[CS_SCENE_MAX_LAYERS];
 };
 #define CS_DECK_SHARES 33
 

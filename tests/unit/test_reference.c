@@ -518,8 +518,8 @@ static void middle_cover_matches_the_reference(void)
  * paths); towers of 35 % cover under the low sun within 15 % (measured
  * -3.0 %).  The towers take the sun's diffuse light from their tilted
  * columns (cs_deck_tilt_source), 0.6 of it at their walls (integrator.c's
- * TILT_WALL), all of it up to 20 % cover and none from 50 % (TILT_FULL,
- * TILT_NONE): the octaves and vertical columns before measured -58.8 % on
+ * TILT_WALL), all of it up to 20 % cover and none from 50 %
+ * (CS_DECK_TILT_FULL, CS_DECK_TILT_NONE): the octaves and vertical columns before measured -58.8 % on
  * the walls, and fail; all of the columns' light +32 %, 0.48 of it
  * -14.8 %, fail too (0.72 of it, +7.0 %, passes); the sky's light let in
  * through the thinnest face whichever way it faces made the anvil's
