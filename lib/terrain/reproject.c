@@ -109,7 +109,8 @@ struct cs_reproject {
 	struct cs_reproject_opts opts;
 	const struct cs_reproject_opts *o; /* = &opts */
 	struct gdal_log log;
-	GDALDatasetH *src;
+	GDALDatasetH *src;         /* what the warps read: band 1 of each input */
+	GDALDatasetH *whole;       /* the input of a src[i] that has more bands, or NULL */
 	int nsrc;
 	char mem_dir[96];          /* /vsimem folder of this run */
 	char stdin_path[384];      /* "-" opened from here */
@@ -275,11 +276,42 @@ static int verify_checksums(struct cs_reproject *r, GDALDatasetH ds, const char 
 	return CS_OK;
 }
 
+/* A dataset of more than one band as a virtual one of its first: the
+ * warps create and write every band of what they read, and a header
+ * claiming 60000 bands would cost minutes for the one band we use.
+ * *one is ds itself when it has one band; else a VRT that needs ds open
+ * until it is closed. */
+static int first_band(struct cs_reproject *r, GDALDatasetH ds, const char *label,
+		      GDALDatasetH *one)
+{
+	*one = ds;
+	if (GDALGetRasterCount(ds) <= 1)
+		return CS_OK;
+	char **av = CSLAddString(CSLAddString(NULL, "-of"), "VRT");
+	av = CSLAddString(CSLAddString(av, "-b"), "1");
+	GDALTranslateOptions *to = GDALTranslateOptionsNew(av, NULL);
+	CSLDestroy(av);
+	if (to == NULL)
+		return gdal_fail(r, "translate options");
+	log_reset(&r->log);
+	*one = GDALTranslate("", ds, to, NULL);
+	GDALTranslateOptionsFree(to);
+	if (*one == NULL || r->log.failed) {
+		if (*one)
+			GDALClose(*one);
+		*one = NULL;
+		return cs_error(CS_EDATA, "%s: taking its first band: %s", label,
+				r->log.failure[0] ? r->log.failure : "GDAL failed");
+	}
+	return CS_OK;
+}
+
 static int open_inputs(struct cs_reproject *r)
 {
 	const struct cs_reproject_opts *o = r->o;
 	r->src = calloc((size_t)o->ninputs, sizeof *r->src);
-	if (r->src == NULL)
+	r->whole = calloc((size_t)o->ninputs, sizeof *r->whole);
+	if (r->src == NULL || r->whole == NULL)
 		return cs_error(CS_ENOMEM, "out of memory");
 	for (int i = 0; i < o->ninputs; i++) {
 		const char *in = o->inputs[i];
@@ -308,6 +340,14 @@ static int open_inputs(struct cs_reproject *r)
 		double gt[6];
 		if (GDALGetRasterCount(ds) < 1)
 			return cs_error(CS_EDATA, "%s has no raster band", label);
+		GDALDatasetH one = NULL;
+		rc = first_band(r, ds, label, &one);
+		if (rc != CS_OK)
+			return rc;
+		if (one != ds) {
+			r->whole[r->nsrc - 1] = ds;
+			r->src[r->nsrc - 1] = one;
+		}
 		int have_gt = GDALGetGeoTransform(ds, gt) == CE_None;
 		if (!have_gt && GDALGetGCPCount(ds) == 0)
 			return cs_error(CS_EDATA, "%s has no georeferencing (no geotransform, no GCPs)",
@@ -929,9 +969,13 @@ void cs_reproject_free(struct cs_reproject *r)
 {
 	if (r == NULL)
 		return;
-	for (int i = 0; i < r->nsrc; i++)
+	for (int i = 0; i < r->nsrc; i++) {
 		GDALClose(r->src[i]);
+		if (r->whole[i])
+			GDALClose(r->whole[i]);
+	}
 	free(r->src);
+	free(r->whole);
 	if (r->stdin_path[0])
 		VSIUnlink(r->stdin_path);
 	if (r->tif_path[0])

@@ -1,6 +1,7 @@
 #!/bin/sh
 # Makes the fuzz targets' seed corpora in OUT/<target>/ (not in the tree):
-# the tiny hand-written seeds of tests/fuzz/seeds/, the real data of
+# the hand-written seeds of tests/fuzz/seeds/ (dem/tiff-60000-bands: a
+# one-pixel GeoTIFF of 60000 bands, whose warp once took minutes), the real data of
 # ../shared/data (skipped with a message when absent) and files the built
 # tools write from it.  Usage: tests/fuzz/seeds.sh BUILD_DIR OUT
 set -u

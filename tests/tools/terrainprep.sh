@@ -2,13 +2,13 @@
 # cases that need them skip when that folder is absent; gdal-bin, which
 # make deps installs, missing is a failure).
 . "$TOP/tests/tools/lib.sh"
-plan 13
+plan 14
 TP="$BIN/terrainprep"
 DEM="${DATA:-}/dem"
 have_dem() { [ -r "$DEM/$1" ]; }
 # need_gdal: the case fails (never skips) when a gdal-bin program is missing
 need_gdal() {
-	for g in gdal_translate gdalinfo gdallocationinfo gdalwarp; do
+	for g in gdal_translate gdalbuildvrt gdalinfo gdallocationinfo gdalwarp; do
 		command -v $g >/dev/null 2>&1 || bad "$g is missing (make deps installs gdal-bin)"
 	done
 }
@@ -131,6 +131,24 @@ if have_dem n43.dt0 ; then
 	end
 else
 	skip terrainprep_mosaics_tiles "$DEM/n43.dt0 is absent"
+fi
+
+begin terrainprep_uses_the_first_band_of_many
+if have_dem n43.dt0 ; then
+	need_gdal
+	# band 1 the tile, band 2 the tile 1000 m higher: the heights are
+	# band 1's (75..456.179 m at 1000 m, as gdalwarp -b 1 gives them)
+	gdal_translate -q -of GTiff "$DEM/n43.dt0" "$T/b1.tif"
+	gdal_translate -q -scale 0 1 1000 1001 -ot Float32 "$DEM/n43.dt0" "$T/b2.tif"
+	gdalbuildvrt -q -separate "$T/two.vrt" "$T/b1.tif" "$T/b2.tif"
+	gdal_translate -q "$T/two.vrt" "$T/two.tif"
+	[ "$(gdalinfo "$T/two.tif" | grep -c '^Band ')" = 2 ] || bad "the input has not two bands"
+	run "$TP" "$T/two.tif" --res 1000 -o "$T/two.exr" -v
+	expect_rc 0; expect_err "83x113 samples of 1000x1000 m, EPSG:32617, heights 75..456.179 m"
+	rm -f "$T"/b1.tif "$T"/b2.tif "$T"/two.*
+	end
+else
+	skip terrainprep_uses_the_first_band_of_many "$DEM/n43.dt0 is absent"
 fi
 
 begin terrainprep_formats_crops_and_sizes
