@@ -543,6 +543,234 @@ static void extinction4(const struct cs_cloud_layer *l, const struct cs_volume *
 			out[k] = ext_finish(l, noise, &pt, sh);
 	}
 }
+#if defined(__AVX512F__) && defined(__AVX512VL__) && defined(__AVX512DQ__)
+/* Eight points at a time with AVX-512 (the x86-64-v4 kernel build):
+ * extinction4's operations on eight lanes, in the same order and
+ * rounding, so each lane has the bits of the scalar code.  The corners'
+ * values are loaded one by one, as extinction4's: with AVX-512 gathers
+ * instead, the density benchmark ran 165 against 215 million
+ * evaluations a second on a 2-core AMD EPYC, and renders gained nothing
+ * over the AVX2 build. */
+
+static inline __m256i low32_8(__m512d f)
+{
+	return _mm512_cvtepi64_epi32(_mm512_castpd_si512(_mm512_add_pd(f, _mm512_set1_pd(0x1.8p52))));
+}
+
+static inline __m512d smooth01_8(__m512d x)
+{
+	__m512d zero = _mm512_setzero_pd(), one = _mm512_set1_pd(1.0);
+	x = _mm512_mask_blend_pd(_mm512_cmp_pd_mask(x, zero, _CMP_LT_OQ), x, zero);
+	x = _mm512_mask_blend_pd(_mm512_cmp_pd_mask(x, one, _CMP_GT_OQ), x, one);
+	return _mm512_mul_pd(_mm512_mul_pd(x, x),
+			     _mm512_sub_pd(_mm512_set1_pd(3.0), _mm512_mul_pd(_mm512_set1_pd(2.0), x)));
+}
+
+static inline __mmask8 small8(__m512d u, __m512d v, __m512d w)
+{
+	__m512d big = _mm512_set1_pd(0x1p40);
+	return _mm512_cmp_pd_mask(_mm512_abs_pd(u), big, _CMP_LT_OQ) &
+	       _mm512_cmp_pd_mask(_mm512_abs_pd(v), big, _CMP_LT_OQ) &
+	       _mm512_cmp_pd_mask(_mm512_abs_pd(w), big, _CMP_LT_OQ);
+}
+
+struct corners8 {
+	__m256i off[8];
+	__m256 tx, ty, tz;
+};
+
+static inline void corners8(const struct cs_volume *v, __m512d gx, __m512d gy, __m512d gz,
+			    struct corners8 *c)
+{
+	const int down = _MM_FROUND_TO_NEG_INF | _MM_FROUND_NO_EXC;
+	__m512d fx = _mm512_roundscale_pd(gx, down), fy = _mm512_roundscale_pd(gy, down);
+	__m512d fz = _mm512_roundscale_pd(gz, down);
+	c->tx = _mm512_cvtpd_ps(_mm512_sub_pd(gx, fx));
+	c->ty = _mm512_cvtpd_ps(_mm512_sub_pd(gy, fy));
+	c->tz = _mm512_cvtpd_ps(_mm512_sub_pd(gz, fz));
+	__m256i mx = _mm256_set1_epi32(v->nx - 1), my = _mm256_set1_epi32(v->ny - 1),
+		mz = _mm256_set1_epi32(v->nz - 1), one = _mm256_set1_epi32(1);
+	__m256i x0 = _mm256_and_si256(low32_8(fx), mx);
+	__m256i x1 = _mm256_and_si256(_mm256_add_epi32(x0, one), mx);
+	__m256i y0 = _mm256_and_si256(low32_8(fy), my);
+	__m256i y1 = _mm256_and_si256(_mm256_add_epi32(y0, one), my);
+	__m256i z0 = _mm256_and_si256(low32_8(fz), mz);
+	__m256i z1 = _mm256_and_si256(_mm256_add_epi32(z0, one), mz);
+	__m256i sy = _mm256_set1_epi32(v->nx), sz = _mm256_set1_epi32(v->nx * v->ny);
+	y0 = _mm256_mullo_epi32(y0, sy), y1 = _mm256_mullo_epi32(y1, sy);
+	z0 = _mm256_mullo_epi32(z0, sz), z1 = _mm256_mullo_epi32(z1, sz);
+	__m256i zy[4] = {_mm256_add_epi32(z0, y0), _mm256_add_epi32(z0, y1),
+			 _mm256_add_epi32(z1, y0), _mm256_add_epi32(z1, y1)};
+	for (int k = 0; k < 8; k++)
+		c->off[k] = _mm256_slli_epi32(_mm256_add_epi32(zy[k >> 1], k & 1 ? x1 : x0), 2);
+}
+
+static inline __m256 lerp3_8(const __m256 q[8], const struct corners8 *c)
+{
+	__m256 c00 = _mm256_add_ps(q[0], _mm256_mul_ps(c->tx, _mm256_sub_ps(q[1], q[0])));
+	__m256 c10 = _mm256_add_ps(q[2], _mm256_mul_ps(c->tx, _mm256_sub_ps(q[3], q[2])));
+	__m256 c01 = _mm256_add_ps(q[4], _mm256_mul_ps(c->tx, _mm256_sub_ps(q[5], q[4])));
+	__m256 c11 = _mm256_add_ps(q[6], _mm256_mul_ps(c->tx, _mm256_sub_ps(q[7], q[6])));
+	__m256 c0 = _mm256_add_ps(c00, _mm256_mul_ps(c->ty, _mm256_sub_ps(c10, c00)));
+	__m256 c1 = _mm256_add_ps(c01, _mm256_mul_ps(c->ty, _mm256_sub_ps(c11, c01)));
+	return _mm256_add_ps(c0, _mm256_mul_ps(c->tz, _mm256_sub_ps(c1, c0)));
+}
+
+/* volume.c's trilinear() of channel 0 (the base shape) at the lanes'
+ * corners */
+static inline __m256 trilinear8_r(const struct cs_volume *v, const struct corners8 *c)
+{
+	const float *d = v->data;
+	__m256 q[8];
+	for (int k = 0; k < 8; k++) {
+		int o[8];
+		_mm256_storeu_si256((__m256i *)o, c->off[k]);
+		q[k] = _mm256_setr_ps(d[o[0]], d[o[1]], d[o[2]], d[o[3]], d[o[4]], d[o[5]], d[o[6]],
+				      d[o[7]]);
+	}
+	return lerp3_8(q, c);
+}
+
+/* trilinear8 of channels 1, 2 and 3 (the detail): each voxel's four
+ * channels in one load, turned into channels across lanes */
+static inline void trilinear8_gba(const struct cs_volume *v, const struct corners8 *c,
+				  __m256 g[3])
+{
+	const float *d = v->data;
+	__m256 q[3][8];
+	for (int k = 0; k < 8; k++) {
+		int o[8];
+		_mm256_storeu_si256((__m256i *)o, c->off[k]);
+		__m128 r0 = _mm_loadu_ps(d + o[0]), r1 = _mm_loadu_ps(d + o[1]);
+		__m128 r2 = _mm_loadu_ps(d + o[2]), r3 = _mm_loadu_ps(d + o[3]);
+		__m128 r4 = _mm_loadu_ps(d + o[4]), r5 = _mm_loadu_ps(d + o[5]);
+		__m128 r6 = _mm_loadu_ps(d + o[6]), r7 = _mm_loadu_ps(d + o[7]);
+		_MM_TRANSPOSE4_PS(r0, r1, r2, r3);
+		_MM_TRANSPOSE4_PS(r4, r5, r6, r7);
+		q[0][k] = _mm256_set_m128(r5, r1);
+		q[1][k] = _mm256_set_m128(r6, r2);
+		q[2][k] = _mm256_set_m128(r7, r3);
+	}
+	for (int ch = 0; ch < 3; ch++)
+		g[ch] = lerp3_8(q[ch], c);
+}
+
+/* Points x[0..7]: out[] for each, 0 or the density. */
+static void extinction8(const struct cs_cloud_layer *l, const struct cs_volume *noise,
+			const double *x, const double *y, const double *alt_m, double *out)
+{
+	__m512d X = _mm512_loadu_pd(x), Y = _mm512_loadu_pd(y), A = _mm512_loadu_pd(alt_m);
+	__m512d zero = _mm512_setzero_pd(), one = _mm512_set1_pd(1.0);
+	__m512d H = _mm512_div_pd(_mm512_sub_pd(A, _mm512_set1_pd(l->base_m)),
+				  _mm512_set1_pd(l->top_m - l->base_m));
+	__mmask8 live = _mm512_cmp_pd_mask(H, zero, _CMP_GE_OQ) & _mm512_cmp_pd_mask(H, one, _CMP_LE_OQ);
+	__m512d thr = _mm512_set1_pd(l->threshold);
+	__m512d wx = _mm512_set1_pd(l->wind_x), wy = _mm512_set1_pd(l->wind_y);
+	__m512d along = _mm512_sub_pd(_mm512_add_pd(_mm512_mul_pd(X, wx), _mm512_mul_pd(Y, wy)),
+				      _mm512_set1_pd(l->offset_along_m));
+	__m512d negx = _mm512_xor_pd(X, _mm512_set1_pd(-0.0));
+	__m512d across = _mm512_sub_pd(_mm512_add_pd(_mm512_mul_pd(negx, wy), _mm512_mul_pd(Y, wx)),
+				       _mm512_set1_pd(l->offset_across_m));
+	__m512d U = _mm512_mul_pd(along, _mm512_set1_pd(l->inv_tile_along));
+	__m512d V = _mm512_mul_pd(across, _mm512_set1_pd(l->inv_tile));
+	__m512d W = _mm512_mul_pd(A, _mm512_set1_pd(l->inv_tile_z));
+	__m512d up = one, down = one;
+	if (l->ramp_inv[0] > 0.0)
+		up = smooth01_8(_mm512_mul_pd(_mm512_sub_pd(H, _mm512_set1_pd(l->ramp[0])),
+					      _mm512_set1_pd(l->ramp_inv[0])));
+	if (l->ramp_inv[1] > 0.0)
+		down = _mm512_sub_pd(one, smooth01_8(_mm512_mul_pd(
+						  _mm512_sub_pd(H, _mm512_set1_pd(l->ramp[2])),
+						  _mm512_set1_pd(l->ramp_inv[1]))));
+	__m512d prof = _mm512_mul_pd(up, down);
+	if (l->anvil > 0.0) {
+		__m512d s8 = smooth01_8(_mm512_div_pd(_mm512_sub_pd(H, _mm512_set1_pd(0.78)),
+						      _mm512_set1_pd(0.1)));
+		__m512d t = _mm512_sub_pd(thr, _mm512_mul_pd(_mm512_mul_pd(_mm512_set1_pd(l->anvil * 0.3), s8),
+							     _mm512_sub_pd(one, thr)));
+		thr = _mm512_mask_blend_pd(_mm512_cmp_pd_mask(H, _mm512_set1_pd(0.78), _CMP_GT_OQ), thr, t);
+	}
+	__m512d nx = _mm512_set1_pd((double)noise->nx), ny = _mm512_set1_pd((double)noise->ny);
+	__m512d nz = _mm512_set1_pd((double)noise->nz), half = _mm512_set1_pd(0.5);
+	__m512d gx = _mm512_sub_pd(_mm512_mul_pd(U, nx), half);
+	__m512d gy = _mm512_sub_pd(_mm512_mul_pd(V, ny), half);
+	if (l->bound_n > 0 && live) {
+		__m512d lim = _mm512_set1_pd(0x1p30);
+		__mmask8 in = _mm512_cmp_pd_mask(W, _mm512_set1_pd(l->bound_w0), _CMP_GE_OQ) &
+			      _mm512_cmp_pd_mask(W, _mm512_set1_pd(l->bound_w1), _CMP_LE_OQ) &
+			      _mm512_cmp_pd_mask(_mm512_abs_pd(U), lim, _CMP_LT_OQ) &
+			      _mm512_cmp_pd_mask(_mm512_abs_pd(V), lim, _CMP_LT_OQ);
+		const int rnd = _MM_FROUND_TO_NEG_INF | _MM_FROUND_NO_EXC;
+		__m256i m = _mm256_set1_epi32(l->bound_n - 1);
+		__m128i sh = _mm_cvtsi32_si128(l->bound_shift);
+		__m256i ci = _mm256_and_si256(_mm256_srl_epi32(low32_8(_mm512_roundscale_pd(gx, rnd)), sh), m);
+		__m256i cj = _mm256_and_si256(_mm256_srl_epi32(low32_8(_mm512_roundscale_pd(gy, rnd)), sh), m);
+		__m256i cell = _mm256_add_epi32(_mm256_mullo_epi32(cj, _mm256_set1_epi32(l->bound_n)), ci);
+		int c[8], bv[8];
+		_mm256_storeu_si256((__m256i *)c, cell);
+		for (int k = 0; k < 8; k++)
+			bv[k] = l->bound[c[k]];
+		__m512d b = _mm512_cvtepi32_pd(_mm256_loadu_si256((const __m256i *)bv));
+		__mmask8 empty = _mm512_cmp_pd_mask(b, _mm512_set1_pd(255.0), _CMP_LT_OQ) &
+				 _mm512_cmp_pd_mask(_mm512_mul_pd(_mm512_mul_pd(b, _mm512_set1_pd(1.0 / 255.0)), prof),
+						    thr, _CMP_LE_OQ);
+		live &= (__mmask8)~(in & empty);
+	}
+	_mm512_storeu_pd(out, zero);
+	if (live == 0)
+		return;
+	__mmask8 fast = small8(U, V, W) & live;
+	__m512d gz = _mm512_sub_pd(_mm512_mul_pd(W, nz), half);
+	struct corners8 cb;
+	corners8(noise, _mm512_maskz_mov_pd(fast, gx), _mm512_maskz_mov_pd(fast, gy),
+		 _mm512_maskz_mov_pd(fast, gz), &cb);
+	__m512d shape = _mm512_mul_pd(_mm512_cvtps_pd(trilinear8_r(noise, &cb)), prof);
+	__mmask8 cloud = _mm512_cmp_pd_mask(shape, thr, _CMP_NLE_UQ) & fast;
+	__m512d du = _mm512_mul_pd(along, _mm512_set1_pd(l->inv_detail_along));
+	__m512d dv = _mm512_mul_pd(across, _mm512_set1_pd(l->inv_detail));
+	__m512d dw = _mm512_mul_pd(A, _mm512_set1_pd(l->inv_detail));
+	__mmask8 detail = small8(du, dv, dw) & cloud;
+	if (detail) {
+		__m512d hx = _mm512_maskz_mov_pd(detail, _mm512_sub_pd(_mm512_mul_pd(du, nx), half));
+		__m512d hy = _mm512_maskz_mov_pd(detail, _mm512_sub_pd(_mm512_mul_pd(dv, ny), half));
+		__m512d hz = _mm512_maskz_mov_pd(detail, _mm512_sub_pd(_mm512_mul_pd(dw, nz), half));
+		struct corners8 cd;
+		corners8(noise, hx, hy, hz, &cd);
+		__m256 gba[3];
+		trilinear8_gba(noise, &cd, gba);
+		__m512d g1 = _mm512_cvtps_pd(gba[0]), g2 = _mm512_cvtps_pd(gba[1]);
+		__m512d g3 = _mm512_cvtps_pd(gba[2]);
+		__m512d det = _mm512_add_pd(_mm512_add_pd(_mm512_mul_pd(_mm512_set1_pd(0.625), g1),
+							  _mm512_mul_pd(_mm512_set1_pd(0.25), g2)),
+					    _mm512_mul_pd(_mm512_set1_pd(0.125), g3));
+		__m512d e = _mm512_mul_pd(_mm512_set1_pd(l->erosion), det);
+		__m512d omt = _mm512_sub_pd(one, thr);
+		__m512d num = _mm512_sub_pd(_mm512_sub_pd(shape, thr), _mm512_mul_pd(e, omt));
+		__m512d den = _mm512_mul_pd(
+			_mm512_mul_pd(omt, _mm512_add_pd(_mm512_sub_pd(one, e), _mm512_set1_pd(1e-9))),
+			_mm512_set1_pd(l->edge));
+		__m512d d = _mm512_min_pd(_mm512_div_pd(num, den), one);
+		d = _mm512_mul_pd(d, _mm512_set1_pd(l->extinction_per_m));
+		__mmask8 pos = _mm512_cmp_pd_mask(num, zero, _CMP_NLE_UQ) & detail;
+		_mm512_storeu_pd(out, _mm512_maskz_mov_pd(pos, d));
+	}
+	unsigned slow = (unsigned)((live & ~fast) | (cloud & ~detail)) & 0xffu;
+	if (slow == 0)
+		return;
+	double su[8], sv[8], sw[8], sp[8], sth[8], sa[8], sc[8], ssh[8];
+	_mm512_storeu_pd(su, U), _mm512_storeu_pd(sv, V), _mm512_storeu_pd(sw, W);
+	_mm512_storeu_pd(sp, prof), _mm512_storeu_pd(sth, thr);
+	_mm512_storeu_pd(sa, along), _mm512_storeu_pd(sc, across), _mm512_storeu_pd(ssh, shape);
+	for (int k = 0; k < 8; k++) {
+		if (!(slow & (1u << k)))
+			continue;
+		struct ext_point pt = {su[k], sv[k], sw[k], sp[k], sth[k], sa[k], sc[k], alt_m[k]};
+		double sh = (fast & (1u << k)) ? ssh[k] : ext_shape(noise, &pt);
+		if (!(sh <= pt.thr))
+			out[k] = ext_finish(l, noise, &pt, sh);
+	}
+}
+#endif
 #endif
 
 CS_HD void cs_cloud_extinction_n(const struct cs_cloud_layer *l, const struct cs_volume *noise,
@@ -552,6 +780,10 @@ CS_HD void cs_cloud_extinction_n(const struct cs_cloud_layer *l, const struct cs
 	int i = 0;
 #if defined(__AVX2__) && !defined(__CUDA_ARCH__)
 	if (batch4_ok(l, noise)) {
+#if defined(__AVX512F__) && defined(__AVX512VL__) && defined(__AVX512DQ__)
+		for (; i + 8 <= n; i += 8)
+			extinction8(l, noise, x + i, y + i, alt_m + i, out + i);
+#endif
 		for (; i + 4 <= n; i += 4)
 			extinction4(l, noise, x + i, y + i, alt_m + i, out + i);
 		if (i < n) { /* the last few, with lanes outside the layer */
