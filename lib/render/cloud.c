@@ -582,9 +582,7 @@ struct corners8 {
 static inline void corners8(const struct cs_volume *v, __m512d gx, __m512d gy, __m512d gz,
 			    struct corners8 *c)
 {
-	const int down = _MM_FROUND_TO_NEG_INF | _MM_FROUND_NO_EXC;
-	__m512d fx = _mm512_roundscale_pd(gx, down), fy = _mm512_roundscale_pd(gy, down);
-	__m512d fz = _mm512_roundscale_pd(gz, down);
+	__m512d fx = _mm512_floor_pd(gx), fy = _mm512_floor_pd(gy), fz = _mm512_floor_pd(gz);
 	c->tx = _mm512_cvtpd_ps(_mm512_sub_pd(gx, fx));
 	c->ty = _mm512_cvtpd_ps(_mm512_sub_pd(gy, fy));
 	c->tz = _mm512_cvtpd_ps(_mm512_sub_pd(gz, fz));
@@ -700,11 +698,10 @@ static void extinction8(const struct cs_cloud_layer *l, const struct cs_volume *
 			      _mm512_cmp_pd_mask(W, _mm512_set1_pd(l->bound_w1), _CMP_LE_OQ) &
 			      _mm512_cmp_pd_mask(_mm512_abs_pd(U), lim, _CMP_LT_OQ) &
 			      _mm512_cmp_pd_mask(_mm512_abs_pd(V), lim, _CMP_LT_OQ);
-		const int rnd = _MM_FROUND_TO_NEG_INF | _MM_FROUND_NO_EXC;
 		__m256i m = _mm256_set1_epi32(l->bound_n - 1);
 		__m128i sh = _mm_cvtsi32_si128(l->bound_shift);
-		__m256i ci = _mm256_and_si256(_mm256_srl_epi32(low32_8(_mm512_roundscale_pd(gx, rnd)), sh), m);
-		__m256i cj = _mm256_and_si256(_mm256_srl_epi32(low32_8(_mm512_roundscale_pd(gy, rnd)), sh), m);
+		__m256i ci = _mm256_and_si256(_mm256_srl_epi32(low32_8(_mm512_floor_pd(gx)), sh), m);
+		__m256i cj = _mm256_and_si256(_mm256_srl_epi32(low32_8(_mm512_floor_pd(gy)), sh), m);
 		__m256i cell = _mm256_add_epi32(_mm256_mullo_epi32(cj, _mm256_set1_epi32(l->bound_n)), ci);
 		int c[8], bv[8];
 		_mm256_storeu_si256((__m256i *)c, cell);
