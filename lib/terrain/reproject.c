@@ -276,6 +276,19 @@ static int verify_checksums(struct cs_reproject *r, GDALDatasetH ds, const char 
 	return CS_OK;
 }
 
+/* GDAL utility arguments, one at a time (CSLAddString) */
+static char **add(char **av, const char *a)
+{
+	return CSLAddString(av, a);
+}
+
+static char **addnum(char **av, double v)
+{
+	char buf[64];
+	snprintf(buf, sizeof buf, "%.17g", v);
+	return CSLAddString(av, buf);
+}
+
 /* A dataset of more than one band as a virtual one of its first: the
  * warps create and write every band of what they read, and a header
  * claiming 60000 bands would cost minutes for the one band we use.
@@ -287,8 +300,7 @@ static int first_band(struct cs_reproject *r, GDALDatasetH ds, const char *label
 	*one = ds;
 	if (GDALGetRasterCount(ds) <= 1)
 		return CS_OK;
-	char **av = CSLAddString(CSLAddString(NULL, "-of"), "VRT");
-	av = CSLAddString(CSLAddString(av, "-b"), "1");
+	char **av = add(add(add(add(NULL, "-of"), "VRT"), "-b"), "1");
 	GDALTranslateOptions *to = GDALTranslateOptionsNew(av, NULL);
 	CSLDestroy(av);
 	if (to == NULL)
@@ -526,18 +538,6 @@ static int choose_extent(struct cs_reproject *r)
 }
 
 /* ---- warping ---------------------------------------------------------- */
-
-static char **add(char **av, const char *a)
-{
-	return CSLAddString(av, a);
-}
-
-static char **addnum(char **av, double v)
-{
-	char buf[64];
-	snprintf(buf, sizeof buf, "%.17g", v);
-	return CSLAddString(av, buf);
-}
 
 /* gdalwarp options shared by the planning and the real warp. */
 static char **common_args(const struct cs_reproject *r)
@@ -904,6 +904,12 @@ static int warp_mask(struct cs_reproject *r, const char *path, int w, int h, flo
 		return cs_error(CS_EDATA, "--water-mask %s: %s", path,
 				r->log.failure[0] ? r->log.failure : "GDAL cannot open it");
 	}
+	GDALDatasetH one = NULL; /* its first band, which is all the mask is */
+	int rc = first_band(r, src, path, &one);
+	if (rc != CS_OK) {
+		GDALClose(src);
+		return cs_error(rc, "--water-mask %s", cs_errmsg());
+	}
 	char **av = add(add(add(add(NULL, "-of"), "MEM"), "-ot"), "Float32");
 	av = add(add(av, "-t_srs"), r->t_wkt);
 	if (GDALGetSpatialRef(src) == NULL)
@@ -917,7 +923,9 @@ static int warp_mask(struct cs_reproject *r, const char *path, int w, int h, flo
 	av = add(add(av, "-r"), "near");
 	av = add(add(av, "-dstnodata"), "0");
 	GDALDatasetH mem = NULL;
-	int rc = warp(r, av, &src, 1, 0, &mem);
+	rc = warp(r, av, &one, 1, 0, &mem);
+	if (one != src)
+		GDALClose(one);
 	GDALClose(src);
 	if (rc != CS_OK)
 		return cs_error(rc, "--water-mask %s: %s", path, cs_errmsg());

@@ -47,6 +47,14 @@ got=$(jq '.water.samples' "$T/out")
 jq -e '.water.mask == "lake.tif"' "$T/out" >/dev/null || bad "--info does not name the mask"
 jq -e '.water.channel == "W" and .water.samples == '"$want" "$T/lake.json" >/dev/null ||
 	bad "the sidecar lacks water: $(jq -c .water "$T/lake.json")"
+# a mask of two bands is its first: band 2 water everywhere changes nothing
+gdal_translate -q -a_nodata none -scale 0 1 1 1 "$T/lake.tif" "$T/ones.tif"
+gdalbuildvrt -q -separate "$T/two.vrt" "$T/lake.tif" "$T/ones.tif"
+gdal_translate -q "$T/two.vrt" "$T/two.tif"
+run "$TP" -q --water-mask "$T/two.tif" -o "$T/two.exr" "$T/dem.tif"; expect_rc 0
+run "$TP" --info "$T/two.exr" --json; expect_rc 0
+[ "$(jq '.water.samples' "$T/out")" = "$want" ] ||
+	bad "a two-band mask: $(jq '.water.samples' "$T/out") water samples, band 1 has $want"
 # a heightfield without water reads as before
 run "$TP" -q -o "$T/plain.exr" "$T/dem.tif"; expect_rc 0
 jq -e 'has("water") | not' "$T/plain.json" >/dev/null || bad "water in a plain sidecar"
