@@ -410,6 +410,30 @@ static inline __m256d lanes4(int mask)
 						      mask & 4 ? -1 : 0, mask & 8 ? -1 : 0));
 }
 
+/* The lanes' prepared points (struct ext_point's values, lane by lane)
+ * and base shapes, for the lanes finished one by one. */
+struct lanes {
+	double u[8], v[8], w[8], prof[8], thr[8], along[8], across[8], shape[8];
+};
+
+/* The lanes of slow (bit k: lane k) the scalar way: the base shape
+ * looked up where the lanes did not (not in fast), then ext_finish where
+ * it is above the threshold, into out[k]. */
+static void finish_lanes(const struct cs_cloud_layer *l, const struct cs_volume *noise,
+			 const struct lanes *ln, unsigned slow, unsigned fast, const double *alt_m,
+			 double *out)
+{
+	for (int k = 0; slow >> k; k++) {
+		if (!(slow & (1u << k)))
+			continue;
+		struct ext_point pt = {ln->u[k], ln->v[k], ln->w[k], ln->prof[k],
+				       ln->thr[k], ln->along[k], ln->across[k], alt_m[k]};
+		double sh = (fast & (1u << k)) ? ln->shape[k] : ext_shape(noise, &pt);
+		if (!(sh <= pt.thr))
+			out[k] = ext_finish(l, noise, &pt, sh);
+	}
+}
+
 /* Whether the lanes' fast path applies to this layer and volume at all. */
 static int batch4_ok(const struct cs_cloud_layer *l, const struct cs_volume *v)
 {
@@ -527,21 +551,15 @@ static void extinction4(const struct cs_cloud_layer *l, const struct cs_volume *
 		__m256d pos = _mm256_and_pd(_mm256_cmp_pd(num, zero, _CMP_NLE_UQ), dk);
 		_mm256_storeu_pd(out, _mm256_and_pd(d, pos));
 	}
-	int slow = (lanes & ~fast) | (cloud & ~detail);
+	unsigned slow = (unsigned)((lanes & ~fast) | (cloud & ~detail));
 	if (slow == 0)
 		return;
-	double su[4], sv[4], sw[4], sp[4], sth[4], sa[4], sc[4], ssh[4];
-	_mm256_storeu_pd(su, U), _mm256_storeu_pd(sv, V), _mm256_storeu_pd(sw, W);
-	_mm256_storeu_pd(sp, prof), _mm256_storeu_pd(sth, thr);
-	_mm256_storeu_pd(sa, along), _mm256_storeu_pd(sc, across), _mm256_storeu_pd(ssh, shape);
-	for (int k = 0; k < 4; k++) {
-		if (!(slow & (1 << k)))
-			continue;
-		struct ext_point pt = {su[k], sv[k], sw[k], sp[k], sth[k], sa[k], sc[k], alt_m[k]};
-		double sh = (fast & (1 << k)) ? ssh[k] : ext_shape(noise, &pt);
-		if (!(sh <= pt.thr))
-			out[k] = ext_finish(l, noise, &pt, sh);
-	}
+	struct lanes ln;
+	_mm256_storeu_pd(ln.u, U), _mm256_storeu_pd(ln.v, V), _mm256_storeu_pd(ln.w, W);
+	_mm256_storeu_pd(ln.prof, prof), _mm256_storeu_pd(ln.thr, thr);
+	_mm256_storeu_pd(ln.along, along), _mm256_storeu_pd(ln.across, across);
+	_mm256_storeu_pd(ln.shape, shape);
+	finish_lanes(l, noise, &ln, slow, (unsigned)fast, alt_m, out);
 }
 #if defined(__AVX512F__) && defined(__AVX512VL__) && defined(__AVX512DQ__)
 /* Eight points at a time with AVX-512 (the x86-64-v4 kernel build):
@@ -754,18 +772,12 @@ static void extinction8(const struct cs_cloud_layer *l, const struct cs_volume *
 	unsigned slow = (unsigned)((live & ~fast) | (cloud & ~detail)) & 0xffu;
 	if (slow == 0)
 		return;
-	double su[8], sv[8], sw[8], sp[8], sth[8], sa[8], sc[8], ssh[8];
-	_mm512_storeu_pd(su, U), _mm512_storeu_pd(sv, V), _mm512_storeu_pd(sw, W);
-	_mm512_storeu_pd(sp, prof), _mm512_storeu_pd(sth, thr);
-	_mm512_storeu_pd(sa, along), _mm512_storeu_pd(sc, across), _mm512_storeu_pd(ssh, shape);
-	for (int k = 0; k < 8; k++) {
-		if (!(slow & (1u << k)))
-			continue;
-		struct ext_point pt = {su[k], sv[k], sw[k], sp[k], sth[k], sa[k], sc[k], alt_m[k]};
-		double sh = (fast & (1u << k)) ? ssh[k] : ext_shape(noise, &pt);
-		if (!(sh <= pt.thr))
-			out[k] = ext_finish(l, noise, &pt, sh);
-	}
+	struct lanes ln;
+	_mm512_storeu_pd(ln.u, U), _mm512_storeu_pd(ln.v, V), _mm512_storeu_pd(ln.w, W);
+	_mm512_storeu_pd(ln.prof, prof), _mm512_storeu_pd(ln.thr, thr);
+	_mm512_storeu_pd(ln.along, along), _mm512_storeu_pd(ln.across, across);
+	_mm512_storeu_pd(ln.shape, shape);
+	finish_lanes(l, noise, &ln, slow, (unsigned)fast, alt_m, out);
 }
 #endif
 #endif
