@@ -17,20 +17,22 @@ struct interval {
 
 /* What the ray has gathered so far. */
 struct path {
-	double L[3];     /* radiance toward the eye of clouds and rain, seen
-			    through the haze in front of them */
+	double L[3];     /* radiance toward the eye of clouds, rain, haze and
+			    fog, each seen through what lies in front of it
+			    (one sum: the light's parts are never read
+			    apart, and a GPU thread holds nine fewer
+			    numbers) */
 	double T;        /* transmittance to the eye of clouds and rain */
 	double Tcloud;   /* through the clouds only */
 	double depth;    /* first cloud sample with density, or CS_SKY_DEPTH_M */
 	int terminated;  /* T and Tsky fell below the settings' minimum */
 	double th;       /* the haze's transmittance to the last haze point */
-	double tau_h, tau_f; /* haze and fog optical depths to it */
+	double tau_f;    /* the fog's optical depth to it */
 	double t_haze;   /* its distance */
-	double H[3];     /* haze light so far, weighted by T where it arose */
-	double Hw[3];    /* the clear sky's haze light over the same stretches,
-			    in clear air (what the sky's radiance holds) */
-	double thh;      /* the haze's transmittance alone to the last haze point */
-	double F[3];     /* fog light so far, weighted by T */
+	double thh;      /* the haze's transmittance alone to the last haze
+			    point: the clear sky's haze light over the
+			    stretches so far, in clear air (what the sky's
+			    radiance holds of them), is hclear (1 - thh) */
 	double Tsky;     /* the sky behind's transmittance: T with the share
 			    of the scattering that the forward lobe keeps
 			    in the sky's direction left in the beam
@@ -87,20 +89,19 @@ CS_HD static double below_share(const struct cs_deck *d, double up_out)
 /* One stretch of haze and fog, from the last haze point to distance t,
  * with the sun's transmittance tsun through the clouds over it: their
  * light, seen through the clouds and rain in front of it, and their
- * transmittance.  The fog's share of the light is its share of the
- * optical depth over the stretch. */
+ * transmittance.  Where the stretch has fog, haze and fog are lit alike,
+ * by the fog's light. */
 CS_HD static void haze_step(const struct ray_ctx *c, struct path *P, double t, double tsun)
 {
 	double th = cs_haze_depth(c->sc, c->h0, c->dz, t);
 	double tf = cs_fog_depth(c->sc, c->h0, c->dz, t);
-	double dh = th - P->tau_h, df = tf - P->tau_f;
-	double wf = dh + df > 0.0 ? df / (dh + df) : 0.0;
+	int fog = tf - P->tau_f > 0.0;
 	double tr = exp(-(th + tf));
 	/* the sun's beam inside the fog where most of the stretch's fog light
 	 * comes from: its middle, or one mean free path into it when it is
 	 * longer than two */
 	double fog_sun = 1.0, fsrc[3] = {0.0, 0.0, 0.0};
-	if (wf > 0.0) {
+	if (fog) {
 		double half = 0.5 * (t - P->t_haze), mfp = 1.0 / c->sc->fog_beta_per_m;
 		double tc = P->t_haze + (half < mfp ? half : mfp), alt = c->h0 + c->dz * tc;
 		fog_sun = cs_fog_sun_transmittance(c->sc, alt);
@@ -109,16 +110,11 @@ CS_HD static void haze_step(const struct ray_ctx *c, struct path *P, double t, d
 	/* the haze's transmittance alone, as the clear sky's radiance knows it */
 	double trh = tf > 0.0 ? exp(-th) : tr;
 	for (int k = 0; k < 3; k++) {
-		double hf = c->fsun[k] * tsun * fog_sun + fsrc[k];
-		/* in fog the haze is lit as the fog is, by the fog's light */
-		double hz = wf > 0.0 ? hf : c->hsun[k] * tsun + c->hdome[k];
-		P->H[k] += P->T * (1.0 - wf) * hz * (P->th - tr);
-		/* what the clear sky's radiance holds of this stretch: its
-		 * haze's light in clear air (no fog) */
-		P->Hw[k] += c->hclear[k] * (P->thh - trh);
-		P->F[k] += P->T * wf * hf * (P->th - tr);
+		double hz = fog ? c->fsun[k] * tsun * fog_sun + fsrc[k]
+				: c->hsun[k] * tsun + c->hdome[k];
+		P->L[k] += P->T * hz * (P->th - tr);
 	}
-	P->th = tr, P->thh = trh, P->tau_h = th, P->tau_f = tf, P->t_haze = t;
+	P->th = tr, P->thh = trh, P->tau_f = tf, P->t_haze = t;
 }
 
 /* The haze and fog up to distance t: within CS_SHAFTS_RANGE_M in steps of
@@ -781,7 +777,7 @@ CS_HD CS_COLD static void finish_ray(const struct ray_ctx *c, double tg, int on_
 			for (int k = 0; k < 3; k++) {
 				/* the stars are behind the haze too; the clear
 				 * air's haze light, which the sky's radiance
-				 * holds, is the actual haze's (H) instead, and the
+				 * holds, is the actual haze's (in L) instead, and the
 				 * fog dims what it held of it as the rest (with
 				 * it undimmed, fog under a low sun went dark where
 				 * it met the sky and bright where a cloud hid it).
@@ -790,12 +786,12 @@ CS_HD CS_COLD static void finish_ray(const struct ray_ctx *c, double tg, int on_
 				 * (Tsky), the sun's disk and the stars without */
 				bg[k] = disk[k] * tf + stars[k] * P->th;
 				sky[k] *= P->Tsky * tf;
-				P->H[k] -= P->Tsky * tf * P->Hw[k];
+				P->L[k] -= P->Tsky * tf * c->hclear[k] * (1.0 - P->thh);
 			}
 		}
 	}
 	for (int k = 0; k < 3; k++) {
-		double v = P->L[k] + P->H[k] + P->F[k] + P->T * bg[k] + sky[k];
+		double v = P->L[k] + P->T * bg[k] + sky[k];
 		out->rgb[k] = isfinite(v) && v > 0.0 ? v : 0.0;
 	}
 	out->transmittance = P->Tcloud >= 0.0 && P->Tcloud <= 1.0 ? P->Tcloud : 0.0;
@@ -856,8 +852,7 @@ CS_HD void cs_render_ray(const struct cs_scene *sc, const struct cs_render_setti
 		if ((sc->effects & CS_FX_SHAFTS) && s->haze_steps > 0)
 			c.shaft_dt = CS_SHAFTS_RANGE_M / s->haze_steps;
 	}
-	struct path P = {{0.0, 0.0, 0.0}, 1.0, 1.0, CS_SKY_DEPTH_M, 0, 1.0, 0.0, 0.0, 0.0,
-			 {0.0, 0.0, 0.0}, {0.0, 0.0, 0.0}, 1.0, {0.0, 0.0, 0.0}, 1.0};
+	struct path P = {{0.0, 0.0, 0.0}, 1.0, 1.0, CS_SKY_DEPTH_M, 0, 1.0, 0.0, 0.0, 1.0, 1.0};
 	march_intervals(&c, iv, n, &P);
 	if (P.terminated)
 		st->rays_terminated_early++;
