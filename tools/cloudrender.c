@@ -192,10 +192,12 @@ static void usage(void)
 	       "      --min-transmittance X  a ray stops when it sees less than X, 0..0.5\n"
 	       "      --march M          standard (default); naive: a plain constant-step\n"
 	       "                         sum, the baseline; skip: empty space probed every\n"
-	       "                         4 steps and skipped\n"
+	       "                         4 steps and skipped; adaptive: a step deeper than\n"
+	       "                         0.5 in optical depth marched again in up to 4 parts\n"
 	       "      --light-march M    geometric (default): steps toward the sun growing\n"
 	       "                         from the point; uniform: equal steps; quadratic:\n"
-	       "                         samples at (k + 1/2)^2 / n^2 of the path\n"
+	       "                         samples at (k + 1/2)^2 / n^2 of the path; cone: the\n"
+	       "                         geometric steps spread over a cone, half-angle 11.3 deg\n"
 	       "      --haze-steps N     samples of the clouds' shadows in the haze over\n"
 	       "                         the first 20 km (crepuscular rays), 0..10000;\n"
 	       "                         0: their area mean only\n"
@@ -214,7 +216,8 @@ static void usage(void)
 	       "  -t, --threads N        worker threads, 1..256 (default: all processors)\n"
 	       "      --device D         cpu (default): the CPU's threads; cuda: the same\n"
 	       "                         integrator on the first CUDA GPU (a build made with\n"
-	       "                         make CUDA=1; the march only, not the reference);\n"
+	       "                         make CUDA=1; the march only, not the reference\n"
+	       "                         nor --march adaptive or --light-march cone);\n"
 	       "                         where there is none, it says why and exits 1\n"
 	       "      --device-bench N   with --device cuda: render the frame N more times\n"
 	       "                         on the GPU and print the mean time of one (kernel\n"
@@ -694,8 +697,11 @@ int main(int argc, char **argv)
 				o.march = CS_MARCH_NAIVE;
 			else if (strcasecmp(optarg, "skip") == 0)
 				o.march = CS_MARCH_SKIP;
+			else if (strcasecmp(optarg, "adaptive") == 0)
+				o.march = CS_MARCH_ADAPTIVE;
 			else
-				cli_usage_error("--march: '%s' is not standard, naive or skip", optarg);
+				cli_usage_error("--march: '%s' is not standard, naive, skip or adaptive",
+						optarg);
 			break;
 		case OPT_LIGHT_MARCH:
 			if (strcasecmp(optarg, "uniform") == 0)
@@ -704,6 +710,8 @@ int main(int argc, char **argv)
 				o.light_march = CS_LIGHT_QUADRATIC;
 			else if (strcasecmp(optarg, "geometric") == 0)
 				o.light_march = CS_LIGHT_GEOMETRIC;
+			else if (strcasecmp(optarg, "cone") == 0)
+				o.light_march = CS_LIGHT_CONE;
 			else
 				cli_usage_error("--light-march: '%s' is not uniform, quadratic or geometric",
 						optarg);

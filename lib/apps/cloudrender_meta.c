@@ -35,8 +35,8 @@ static void put_string(FILE *f, const char *s)
 static void put_quality(FILE *f, const struct cs_cloudrender_opts *o,
 			const struct cs_cloudrender_result *r)
 {
-	static const char *const march[] = {"standard", "naive", "skip"};
-	static const char *const light[] = {"uniform", "quadratic", "geometric"};
+	static const char *const march[] = {"standard", "naive", "skip", "adaptive"};
+	static const char *const light[] = {"uniform", "quadratic", "geometric", "cone"};
 	const struct cs_render_settings *s = &r->settings;
 	fputs(",\"quality\":{\"preset\":", f);
 	put_string(f, o->quality ? o->quality : "");
@@ -48,8 +48,9 @@ static void put_quality(FILE *f, const struct cs_cloudrender_opts *o,
 		"\"light_march\":\"%s\",\"ambient\":%s,\"jitter\":%s,\"seed\":%u,"
 		"\"haze\":%s},\"exposure_ev\":%s", s->steps, s->max_steps, s->light_steps,
 		s->ms_octaves, s->haze_steps, N(s->min_transmittance, 6),
-		(unsigned)s->march < 3 ? march[s->march] : "?",
-		(unsigned)s->light_march < 3 ? light[s->light_march] : "?",
+		(unsigned)s->march < sizeof march / sizeof march[0] ? march[s->march] : "?",
+		(unsigned)s->light_march < sizeof light / sizeof light[0] ? light[s->light_march]
+									: "?",
 		s->ambient ? "true" : "false", N(s->jitter, 3), (unsigned)s->seed,
 		o->no_haze ? "false" : "true", N(r->exposure_ev, 3));
 }

@@ -86,12 +86,21 @@ CS_HD static double layer_depth(const struct cs_scene *sc, const struct cs_rende
 	double iv[2][2];
 	int n = cs_shell_intervals(sc, p, dir, sc->earth_radius_m + l->base_m,
 				   sc->earth_radius_m + l->top_m, LIGHT_PATH_MAX_M, iv);
+#ifndef __CUDA_ARCH__
+	/* the cone's axes across the path (CPU only: a GPU's code is as it was) */
+	int cone = s->light_march == CS_LIGHT_CONE;
+	cs_v3 e1 = v3(0.0, 0.0, 0.0), e2 = e1;
+	if (cone) {
+		e1 = v3_norm(v3_cross(dir, fabs(dir.z) < 0.9 ? v3(0.0, 0.0, 1.0) : v3(1.0, 0.0, 0.0)));
+		e2 = v3_cross(dir, e1);
+	}
+#endif
 	for (int k = 0; k < n; k++) {
 		double len = iv[k][1] - iv[k][0];
 		double dt = len / steps, n2 = (double)steps * steps;
 		/* geometric: the ratio and the first step */
 		double r = 1.0, q = len / (l->top_m - l->base_m);
-		if (s->light_march == CS_LIGHT_GEOMETRIC && q > 1.0 && steps > 1) {
+		if (s->light_march >= CS_LIGHT_GEOMETRIC && q > 1.0 && steps > 1) { /* or cone */
 			/* in float: a GPU's double pow is long, and any r
 			 * gives a sound rule (the steps still cover len);
 			 * a path a hair longer than the thickness rounds
@@ -120,6 +129,15 @@ CS_HD static double layer_depth(const struct cs_scene *sc, const struct cs_rende
 					t = iv[k][0] + (j + 0.5) * dt, w = dt;
 				}
 				cs_v3 q3 = v3_mad(p, dir, t);
+#ifndef __CUDA_ARCH__
+				if (cone) { /* the j-th of a golden-angle spiral
+					       over the disc of radius t tan */
+					double rad = t * CS_CONE_TAN * sqrt((j + 0.5) / steps);
+					double ang = 2.399963229728653 * j;
+					q3 = v3_add(q3, v3_add(v3_scale(e1, rad * cos(ang)),
+							       v3_scale(e2, rad * sin(ang))));
+				}
+#endif
 				qx[b] = q3.x, qy[b] = q3.y, qz[b] = q3.z, qw[b] = w;
 			}
 			cs_altitude_n(m, qx, qy, qz, sc->earth_radius_m, qa);

@@ -57,9 +57,9 @@ int cs_render_settings_check(const struct cs_render_settings *s)
 		return cs_error(CS_EINVAL, "multiple-scattering octaves must be 1..4");
 	if (!(s->jitter >= 0.0 && s->jitter <= 1.0))
 		return cs_error(CS_EINVAL, "jitter must be 0..1");
-	if (s->march < CS_MARCH_STANDARD || s->march > CS_MARCH_SKIP)
+	if (s->march < CS_MARCH_STANDARD || s->march > CS_MARCH_ADAPTIVE)
 		return cs_error(CS_EINVAL, "unknown march %d", s->march);
-	if (s->light_march < CS_LIGHT_UNIFORM || s->light_march > CS_LIGHT_GEOMETRIC)
+	if (s->light_march < CS_LIGHT_UNIFORM || s->light_march > CS_LIGHT_CONE)
 		return cs_error(CS_EINVAL, "unknown light march %d", s->light_march);
 	if (s->haze_steps < 0 || s->haze_steps > 10000)
 		return cs_error(CS_EINVAL, "haze steps must be 0..10000, not %d", s->haze_steps);

@@ -53,18 +53,28 @@ enum {
 	CS_MARCH_NAIVE,    /* the same steps, a plain sum S sigma dt at each
 			      step's start, no cap: the constant-step shader
 			      this project grew from, as a baseline */
-	CS_MARCH_SKIP      /* standard, but empty space probed every 4 steps
+	CS_MARCH_SKIP,     /* standard, but empty space probed every 4 steps
 			      and the 3 between skipped while it stays empty */
+	CS_MARCH_ADAPTIVE  /* standard, but a step whose sample is deeper than
+			      CS_ADAPTIVE_TAU marched again in up to
+			      CS_ADAPTIVE_PARTS parts: adaptive to density */
 };
+#define CS_ADAPTIVE_TAU 0.5
+#define CS_ADAPTIVE_PARTS 4
 /* The light march (cs_render_settings.light_march). */
 enum {
 	CS_LIGHT_UNIFORM,   /* equal steps toward the sun */
 	CS_LIGHT_QUADRATIC, /* samples at (k + 1/2)^2 / n^2 of the path: dense
 			       near the point, where its own cloud shades it */
-	CS_LIGHT_GEOMETRIC  /* steps growing geometrically from the point: the
+	CS_LIGHT_GEOMETRIC, /* steps growing geometrically from the point: the
 			       first about the layer's thickness over n, as a
 			       vertical path's, however long the path (a low sun) */
+	CS_LIGHT_CONE       /* the geometric steps, each sample moved across
+			       the path within a cone of half-angle
+			       atan(CS_CONE_TAN) about it (Schneider 2015), on the
+			       CPU only */
 };
+#define CS_CONE_TAN 0.2
 
 /* The named presets: "low", "medium", "high", "reference".  0 or CS_EINVAL. */
 int cs_render_quality(const char *name, struct cs_render_settings *s);

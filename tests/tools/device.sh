@@ -1,7 +1,7 @@
 # cloudrender --device: the CPU by default; cuda where the build and the
 # machine have it, else a clear reason and exit 1 (CI: no nvcc, no GPU).
 . "$TOP/tests/tools/lib.sh"
-plan 6
+plan 7
 CR="$BIN/cloudrender"
 FAST="--size 32x18 --quality low --noise-size 16 -q"
 
@@ -33,6 +33,19 @@ end
 begin device_reference_integrator_is_cpu_only
 run "$CR" $FAST --device cuda --integrator reference -o "$T/x.png"
 expect_rc 2; expect_err "the reference integrator runs on the CPU only"
+end
+
+begin device_adaptive_and_cone_marches_are_cpu_only
+run "$CR" $FAST --device cuda --march adaptive -o "$T/x.png"
+expect_rc 2; expect_err "the adaptive march runs on the CPU only"
+expect_no_file "$T/x.png"
+run "$CR" $FAST --device cuda --light-march cone -o "$T/x.png"
+expect_rc 2; expect_err "the cone light march runs on the CPU only"
+expect_no_file "$T/x.png"
+run "$CR" $FAST --march adaptive --light-march cone -o "$T/cpu.png"
+expect_rc 0; expect_file "$T/cpu.png"
+grep -aq '"march":"adaptive","light_march":"cone"' "$T/cpu.png" ||
+	bad "the metadata do not name the marches"
 end
 
 begin device_bench_needs_cuda

@@ -35,7 +35,7 @@ end
 
 begin reference_and_knob_options_are_checked
 for a in "--integrator nope" "--spp 0" "--max-bounces -1" "--march fast" \
-	"--light-march cone" "--max-steps 0" "--min-transmittance 0.9"; do
+	"--light-march spiral" "--max-steps 0" "--min-transmittance 0.9"; do
 	# shellcheck disable=SC2086
 	run "$CR" $SMALL $a -o "$T/x.png"
 	expect_rc 2
@@ -61,6 +61,12 @@ run "$CR" $SMALL --no-jitter -o "$T/s.exr"
 same_pixels "$T/n.exr" "$T/s.exr" && bad "--march naive renders what the standard march renders"
 run "$CR" $SMALL --no-jitter --light-march quadratic -o "$T/q.exr"
 same_pixels "$T/q.exr" "$T/s.exr" && bad "--light-march quadratic changes nothing"
+run "$CR" $SMALL --no-jitter --light-march cone -o "$T/c.exr"
+expect_rc 0
+same_pixels "$T/c.exr" "$T/s.exr" && bad "--light-march cone changes nothing"
+run "$CR" $SMALL --no-jitter --march adaptive -o "$T/a.exr"
+expect_rc 0
+same_pixels "$T/a.exr" "$T/s.exr" && bad "--march adaptive changes nothing"
 # without the haze's light the view down to the far ground is darker
 run "$CR" $SMALL --look 150,-2 -o "$T/h.png"
 run "$CR" $SMALL --look 150,-2 --no-haze -o "$T/nh.png"

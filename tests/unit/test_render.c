@@ -166,6 +166,48 @@ static void doubling_steps_halves_the_error(void)
 	CHECK(prev < 1e-3);
 }
 
+/* The adaptive march (--march adaptive) marches a step deeper than 0.5 in
+ * optical depth again in ceil(depth / 0.5) parts, at most 4.  Through a
+ * slab deep enough that every one of 4 steps splits into 4 (extinction
+ * 0.02 to 0.03 /m over 400 m: 2 to 3 a step) it is the standard march of
+ * 16 steps; through a slab rising from 0.001 to 0.021 /m over 300 m in 4
+ * steps (depths at the midpoints 0.26, 0.64, 1.01, 1.39) it looks up
+ * 4 + 2 + 3 + 3 samples; through a thin one (no step deeper than 0.5) it
+ * is the standard march, bit for bit. */
+static void adaptive_march_refines_dense_steps(void)
+{
+	struct cs_scene sc;
+	struct cs_render_settings s;
+	struct cs_ray_result rs, ra;
+	struct cs_render_stats st = {0};
+	static const struct { double a, b, d; int steps, fine; } deep[] = {
+		{0.02, 0.01, 400.0, 4, 16}, {0.0002, 0.002, 1500.0, 8, 8}};
+	for (int i = 0; i < 2; i++) {
+		slab_scene(&sc, deep[i].a, deep[i].b, 1000, 1000 + deep[i].d);
+		sc.sun_illuminance[0] = sc.sun_illuminance[1] = sc.sun_illuminance[2] = 1.0;
+		sc.effects |= CS_FX_SUN;
+		s = plain(deep[i].fine, 4);
+		s.min_transmittance = 0.0;
+		trace(&sc, &s, v3(0, 0, 0), v3(0, 0, 1), &rs);
+		s = plain(deep[i].steps, 4);
+		s.min_transmittance = 0.0;
+		s.march = CS_MARCH_ADAPTIVE;
+		trace(&sc, &s, v3(0, 0, 0), v3(0, 0, 1), &ra);
+		printf("  %d steps: standard with %d %.9g, adaptive %.9g\n", deep[i].steps,
+		       deep[i].fine, rs.rgb[0], ra.rgb[0]);
+		if (i == 0)
+			CHECK_NEAR(ra.rgb[0] / rs.rgb[0], 1.0, 1e-9);
+		else
+			CHECK(ra.rgb[0] == rs.rgb[0] && ra.transmittance == rs.transmittance);
+	}
+	slab_scene(&sc, 0.001, 0.02, 1000, 1300);
+	s = plain(4, 4);
+	s.min_transmittance = 0.0;
+	s.march = CS_MARCH_ADAPTIVE;
+	cs_render_ray(&sc, &s, v3(0, 0, 0), v3(0, 0, 1), 0.5, &st, &ra);
+	CHECK(st.density_samples == 4 + 2 + 3 + 3);
+}
+
 static void phase_hg_is_normalised(void)
 {
 	static const double gs[] = {-0.5, 0.0, 0.3, 0.8, 0.95};
@@ -677,6 +719,36 @@ static void light_march_toward_any_sun_is_beer_lambert(void)
 		CHECK(isfinite(T));
 		CHECK_NEAR(T, want, 1e-6 * want);
 	}
+}
+
+/* The cone light march (--light-march cone) spreads the geometric steps'
+ * samples across the path: under a horizontally uniform slab and an
+ * overhead sun (the cone's samples then stay at their heights) it is
+ * Beer's law, and beside a cloud it sees some of it where the path itself
+ * misses it: a homogeneous column 100 m in radius, 0.01 /m, from
+ * 1000 to 2000 m, the point 150 m from its axis at 500 m, the sun
+ * overhead (the cone is 200 m across at 1000 m from the point). */
+static void cone_light_march_sees_beside_the_path(void)
+{
+	static struct cs_scene sc;
+	slab_scene(&sc, 0.01, 0.0, 1000.0, 2000.0);
+	sc.effects |= CS_FX_SUN;
+	struct cs_render_settings s;
+	CHECK(cs_render_quality("medium", &s) == CS_OK);
+	s.light_march = CS_LIGHT_CONE;
+	double R = sc.earth_radius_m, a = R + 1000.001, b = R + 2000.0;
+	sc.sun_dir = v3(0.0, 0.0, 1.0);
+	struct cs_render_stats st = {0};
+	double T = cs_render_sun_transmittance(&sc, &s, v3(0.0, 0.0, 1000.001), &st);
+	double want = exp(-0.01 * (b - a));
+	CHECK_NEAR(T, want, 1e-5 * want);
+	sc.layers[0].homog_radius_m = 100.0;
+	double Tc = cs_render_sun_transmittance(&sc, &s, v3(150.0, 0.0, 500.0), &st);
+	s.light_march = CS_LIGHT_GEOMETRIC;
+	double Tg = cs_render_sun_transmittance(&sc, &s, v3(150.0, 0.0, 500.0), &st);
+	printf("  beside the column: geometric %.4g, cone %.4g\n", Tg, Tc);
+	CHECK(Tg == 1.0);
+	CHECK(Tc < 0.9 && Tc > 0.0);
 }
 
 /* A tower's shadow reaches far under a low sun: a homogeneous cylinder
@@ -1197,6 +1269,8 @@ static const struct t_case t_cases[] = {
 	CASE(a_far_tower_shadows_the_ground_under_a_low_sun),
 	CASE(overcast_ground_sees_the_transmitted_light),
 	CASE(slab_single_scattering_matches_closed_form),
+	CASE(adaptive_march_refines_dense_steps),
+	CASE(cone_light_march_sees_beside_the_path),
 	CASE(doubling_steps_halves_the_error),
 	CASE(phase_hg_is_normalised),
 	CASE(clear_sky_has_no_alpha_and_costs_nothing),
