@@ -197,7 +197,8 @@ static void usage(void)
 	       "      --light-march M    geometric (default): steps toward the sun growing\n"
 	       "                         from the point; uniform: equal steps; quadratic:\n"
 	       "                         samples at (k + 1/2)^2 / n^2 of the path; cone: the\n"
-	       "                         geometric steps spread over a cone, half-angle 11.3 deg\n"
+	       "                         geometric steps spread sideways by up to 0.2 of\n"
+	       "                         their distance\n"
 	       "      --haze-steps N     samples of the clouds' shadows in the haze over\n"
 	       "                         the first 20 km (crepuscular rays), 0..10000;\n"
 	       "                         0: their area mean only\n"
@@ -713,8 +714,8 @@ int main(int argc, char **argv)
 			else if (strcasecmp(optarg, "cone") == 0)
 				o.light_march = CS_LIGHT_CONE;
 			else
-				cli_usage_error("--light-march: '%s' is not uniform, quadratic or geometric",
-						optarg);
+				cli_usage_error("--light-march: '%s' is not uniform, quadratic, geometric "
+						"or cone", optarg);
 			break;
 		case OPT_MAX_STEPS: o.max_steps = (int)cli_long("--max-steps", optarg, 1, 1000000); break;
 		case OPT_MIN_T:

@@ -139,8 +139,8 @@ CS_HD static void haze_part(const struct ray_ctx *c, struct path *P, double t)
 }
 
 /* The haze and fog up to distance t, a stretch ending where the ray
- * crosses the fog's top: a stretch shares its light between haze and fog
- * by their optical depths as if they were mixed, and the haze above a fog
+ * crosses the fog's top: a stretch with fog is lit as the fog is
+ * (haze_step), one without as the haze, and the haze above a fog
  * is seen through all of it (one stretch from the eye in fog to a cloud
  * far above showed the haze's light, bright toward a low sun, unveiled
  * where the ray met the cloud: the clouds' pattern printed on the fog). */
@@ -647,11 +647,12 @@ CS_HD static int march_sample(const struct ray_ctx *c, struct path *P, unsigned 
 /* The adaptive march (CS_MARCH_ADAPTIVE): a step [ts, ts + dt] whose
  * sample's optical depth sigma dt exceeds CS_ADAPTIVE_TAU marched again
  * in ceil(sigma dt / TAU) equal parts, at most CS_ADAPTIVE_PARTS, each
- * with its own jittered sample (the first sample is not used): finer
- * where the cloud is dense, where one sample's extinction stands for a
- * step that the eye's light mostly leaves; never coarser than the
- * standard march, so nothing it sees is missed.  1 when the ray is then
- * done.  On the CPU only, in the batches' march (a GPU takes samples one
+ * with its own sample at the ray's jitter within it (the step's sample is
+ * not kept): finer where the cloud is dense, where one sample's
+ * extinction stands for a step that the eye's light mostly leaves.  Its
+ * parts are never coarser than the standard march's steps, but a sheet
+ * thinner than a part that the step's sample met can fall between the
+ * parts' samples.  1 when the ray is then done.  On the CPU only, in the batches' march (a GPU takes samples one
  * at a time, in the skip march's loop, whose code is as it was:
  * cloudrender refuses --march adaptive with --device cuda). */
 CS_HD CS_COLD static int march_parts(const struct ray_ctx *c, struct path *P, unsigned mask,

@@ -87,12 +87,20 @@ CS_HD static double layer_depth(const struct cs_scene *sc, const struct cs_rende
 	int n = cs_shell_intervals(sc, p, dir, sc->earth_radius_m + l->base_m,
 				   sc->earth_radius_m + l->top_m, LIGHT_PATH_MAX_M, iv);
 #ifndef __CUDA_ARCH__
-	/* the cone's axes across the path (CPU only: a GPU's code is as it was) */
-	int cone = s->light_march == CS_LIGHT_CONE;
+	/* the cone (CPU only: a GPU's code is as it was), toward the sun with
+	 * 4 steps or more (the other layers' few samples and the heaps'
+	 * depths stay on the path): its axes in the horizontal at p, across
+	 * the sun's azimuth and along it, so that its samples keep the
+	 * heights of the path's (spread across the slant path, they left
+	 * the layer: a uniform slab's optical depth came out 17 % short
+	 * under a sun 45 deg up, 31 % under one 15 deg up) */
+	int cone = s->light_march == CS_LIGHT_CONE && !heap && steps >= 4;
 	cs_v3 e1 = v3(0.0, 0.0, 0.0), e2 = e1;
 	if (cone) {
-		e1 = v3_norm(v3_cross(dir, fabs(dir.z) < 0.9 ? v3(0.0, 0.0, 1.0) : v3(1.0, 0.0, 0.0)));
-		e2 = v3_cross(dir, e1);
+		cs_v3 up = v3_norm(v3(p.x, p.y, p.z + sc->earth_radius_m)), a = v3_cross(dir, up);
+		double la = sqrt(v3_dot(a, a));
+		e1 = la > 1e-9 ? v3_scale(a, 1.0 / la) : v3_norm(v3_cross(up, v3(1.0, 0.0, 0.0)));
+		e2 = v3_cross(up, e1);
 	}
 #endif
 	for (int k = 0; k < n; k++) {

@@ -69,10 +69,10 @@ enum {
 	CS_LIGHT_GEOMETRIC, /* steps growing geometrically from the point: the
 			       first about the layer's thickness over n, as a
 			       vertical path's, however long the path (a low sun) */
-	CS_LIGHT_CONE       /* the geometric steps, each sample moved across
-			       the path within a cone of half-angle
-			       atan(CS_CONE_TAN) about it (Schneider 2015), on the
-			       CPU only */
+	CS_LIGHT_CONE       /* the geometric steps, each sample moved sideways
+			       in the horizontal by up to CS_CONE_TAN of its
+			       distance (Schneider 2015's cone), on the CPU
+			       only */
 };
 #define CS_CONE_TAN 0.2
 
