@@ -730,7 +730,7 @@ static void light_march_toward_any_sun_is_beer_lambert(void)
  * 3.9 times the thickness: the geometric steps), and beside a cloud it
  * sees some of it where the path itself misses it: a homogeneous column 100 m in radius, 0.01 /m, from
  * 1000 to 2000 m, the point 150 m from its axis at 500 m, the sun
- * overhead (the cone is 200 m across at 1000 m from the point). */
+ * overhead (the cone's radius is 200 m at 1000 m from the point). */
 static void cone_light_march_sees_beside_the_path(void)
 {
 	static struct cs_scene sc;
