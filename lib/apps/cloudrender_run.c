@@ -675,10 +675,10 @@ static int render_device(const struct cs_cloudrender_opts *o, struct cs_cloudren
 	return rc;
 }
 
-/* --device: the reference integrator, the adaptive march and the cone light
- * march are CPU-only;
- * a GPU that is not there is a runtime error (exit 1) that says why,
- * checked before any work. */
+/* --device: the reference integrator is CPU-only, and so are the settings
+ * cs_render_settings_gpu_check refuses (usage errors); a GPU that is not
+ * there is a runtime error (exit 1) that says why, checked before any
+ * work. */
 static int check_device(const struct cs_cloudrender_opts *o, struct cs_cloudrender_result *r)
 {
 	if (o->device != CS_DEVICE_CUDA)
@@ -687,12 +687,10 @@ static int check_device(const struct cs_cloudrender_opts *o, struct cs_cloudrend
 	if (o->reference)
 		return cs_error(CS_EINVAL, "--device cuda: the reference integrator runs on the "
 				"CPU only (use --integrator march)");
-	if (o->march == CS_MARCH_ADAPTIVE)
-		return cs_error(CS_EINVAL, "--device cuda: the adaptive march runs on the CPU only "
-				"(use --march standard, naive or skip)");
-	if (o->light_march == CS_LIGHT_CONE)
-		return cs_error(CS_EINVAL, "--device cuda: the cone light march runs on the CPU "
-				"only (use --light-march geometric, uniform or quadratic)");
+	struct cs_render_settings s;
+	cs_cloudrender_settings(o, &s);
+	if (cs_render_settings_gpu_check(&s) != CS_OK)
+		return cs_error(CS_EINVAL, "--device cuda: %s", cs_errmsg());
 	if (!cs_device_available(r->device_name, sizeof r->device_name))
 		return cs_error(CS_EIO, "--device cuda: %s", r->device_name);
 	return CS_OK;

@@ -652,9 +652,10 @@ CS_HD static int march_sample(const struct ray_ctx *c, struct path *P, unsigned 
  * extinction stands for a step that the eye's light mostly leaves.  Its
  * parts are never coarser than the standard march's steps, but a sheet
  * thinner than a part that the step's sample met can fall between the
- * parts' samples.  1 when the ray is then done.  On the CPU only, in the batches' march (a GPU takes samples one
- * at a time, in the skip march's loop, whose code is as it was:
- * cloudrender refuses --march adaptive with --device cuda). */
+ * parts' samples.  1 when the ray is then done.  On the CPU only, in the
+ * batches' march: a GPU takes samples one at a time, in the skip march's
+ * loop, whose code is as it was (cs_render_settings_gpu_check refuses
+ * the adaptive march). */
 CS_HD CS_COLD static int march_parts(const struct ray_ctx *c, struct path *P, unsigned mask,
 				     double ts, double dt, double sigma)
 {

@@ -79,3 +79,13 @@ const char *cs_effect_name(unsigned bit)
 	return NULL;
 }
 
+int cs_render_settings_gpu_check(const struct cs_render_settings *s)
+{
+	if (s->march == CS_MARCH_ADAPTIVE)
+		return cs_error(CS_EINVAL, "the adaptive march runs on the CPU only "
+				"(on a GPU: the standard, naive or skip march)");
+	if (s->light_march == CS_LIGHT_CONE)
+		return cs_error(CS_EINVAL, "the cone light march runs on the CPU only "
+				"(on a GPU: the geometric, uniform or quadratic light march)");
+	return CS_OK;
+}

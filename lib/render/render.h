@@ -80,6 +80,9 @@ enum {
 int cs_render_quality(const char *name, struct cs_render_settings *s);
 /* Validates settings ranges; 0 or CS_EINVAL naming the field. */
 int cs_render_settings_check(const struct cs_render_settings *s);
+/* Whether s can render on a GPU (cs_cuda_render): the adaptive march and
+ * the cone light march are the CPU's only.  0 or CS_EINVAL. */
+int cs_render_settings_gpu_check(const struct cs_render_settings *s);
 
 /* What a scene simulates (cs_scene.effects). */
 enum {

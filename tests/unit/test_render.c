@@ -692,62 +692,71 @@ static void escape_function_is_chandrasekhars(void)
 	CHECK_NEAR(cs_slab_escape(3.0), cs_slab_escape(1.0), 0.0);
 }
 
+/* A homogeneous layer 0.01 /m from 1000 to 2000 m, lit by the sun, and
+ * the medium preset's settings. */
+static void sunlit_slab(struct cs_scene *sc, struct cs_render_settings *s)
+{
+	slab_scene(sc, 0.01, 0.0, 1000.0, 2000.0);
+	sc->effects |= CS_FX_SUN;
+	CHECK(cs_render_quality("medium", s) == CS_OK);
+}
+
+/* Beer's law through sunlit_slab's layer from 1 mm above its base toward a
+ * sun tilt radians from the zenith, over the slant path through the
+ * spherical shell, sqrt((R + top)^2 - (R + alt)^2 sin^2) - (R + alt) cos. */
+static double sunlit_slab_beer(double tilt)
+{
+	double R = CS_EARTH_RADIUS_M, a = R + 1000.001, b = R + 2000.0, sn = sin(tilt);
+	return exp(-0.01 * (sqrt(b * b - a * a * sn * sn) - a * cos(tilt)));
+}
+
 /* The geometric light march toward a sun at every tilt from the zenith,
- * through a homogeneous layer 1 km thick from 1 mm above its base: Beer's
- * law over the slant path through the spherical shell, sqrt((R + top)^2 -
- * (R + alt)^2 sin^2) - (R + alt) cos (the midpoint rule is exact for a
- * constant); among the tilts those whose path is a hair longer than the
+ * through sunlit_slab's layer from 1 mm above its base: Beer's law over
+ * the slant path (the midpoint rule is exact for a constant); among the
+ * tilts those whose path is a hair longer than the
  * layer's thickness (1 + 1e-12 .. 1 + 1e-6 times: a float ratio that
  * rounded to 1 made it 0 / 0 once, a black pixel in fog). */
 static void light_march_toward_any_sun_is_beer_lambert(void)
 {
 	static struct cs_scene sc;
-	slab_scene(&sc, 0.01, 0.0, 1000.0, 2000.0);
-	sc.effects |= CS_FX_SUN;
 	struct cs_render_settings s;
-	CHECK(cs_render_quality("medium", &s) == CS_OK);
+	sunlit_slab(&sc, &s);
 	CHECK(s.light_march == CS_LIGHT_GEOMETRIC);
 	double tilts[12] = {0.0, 1e-3, 1e-2, 0.3, 0.8, 1.2};
 	static const double hair[6] = {1e-12, 1e-10, 1e-9, 3e-8, 1e-7, 1e-6};
 	for (int k = 0; k < 6; k++) /* slant path / thickness = 1 + hair */
 		tilts[6 + k] = acos(0.999999 / (1.0 + hair[k]));
-	double R = sc.earth_radius_m, a = R + 1000.001, b = R + 2000.0;
 	for (int k = 0; k < 12; k++) {
 		sc.sun_dir = v3(sin(tilts[k]), 0.0, cos(tilts[k]));
 		struct cs_render_stats st = {0};
 		double T = cs_render_sun_transmittance(&sc, &s, v3(0.0, 0.0, 1000.001), &st);
-		double sn = sin(tilts[k]), len = sqrt(b * b - a * a * sn * sn) - a * cos(tilts[k]);
-		double want = exp(-0.01 * len);
+		double want = sunlit_slab_beer(tilts[k]);
 		CHECK(isfinite(T));
 		CHECK_NEAR(T, want, 1e-6 * want);
 	}
 }
 
 /* The cone light march (--light-march cone) spreads the geometric steps'
- * samples across the path, in the horizontal: under a horizontally
- * uniform slab it is Beer's law over the slant path (the same closed form
- * as above) for an overhead sun and suns 45 and 15 deg up (paths 1.4 and
- * 3.9 times the thickness: the geometric steps), and beside a cloud it
- * sees some of it where the path itself misses it: a homogeneous column 100 m in radius, 0.01 /m, from
- * 1000 to 2000 m, the point 150 m from its axis at 500 m, the sun
- * overhead (the cone's radius is 200 m at 1000 m from the point). */
+ * samples across the path, in the horizontal: through sunlit_slab's layer
+ * it is Beer's law over the slant path for an overhead sun and suns 45 and
+ * 15 deg up (paths 1.4 and 3.9 times the thickness: the geometric steps),
+ * and beside a cloud it sees some of it where the path itself misses it:
+ * that layer as a column 100 m in radius, the point 150 m from its axis at
+ * 500 m, the sun overhead (the cone's radius is 200 m at 1000 m from the
+ * point). */
 static void cone_light_march_sees_beside_the_path(void)
 {
 	static struct cs_scene sc;
-	slab_scene(&sc, 0.01, 0.0, 1000.0, 2000.0);
-	sc.effects |= CS_FX_SUN;
 	struct cs_render_settings s;
-	CHECK(cs_render_quality("medium", &s) == CS_OK);
+	sunlit_slab(&sc, &s);
 	s.light_march = CS_LIGHT_CONE;
-	double R = sc.earth_radius_m, a = R + 1000.001, b = R + 2000.0;
 	static const double tilts[3] = {0.0, 45.0, 75.0};
 	struct cs_render_stats st = {0};
 	for (int k = 0; k < 3; k++) {
 		double th = tilts[k] * CS_PI / 180.0;
 		sc.sun_dir = v3(sin(th), 0.0, cos(th));
 		double T = cs_render_sun_transmittance(&sc, &s, v3(0.0, 0.0, 1000.001), &st);
-		double sn = sin(th), len = sqrt(b * b - a * a * sn * sn) - a * cos(th);
-		double want = exp(-0.01 * len);
+		double want = sunlit_slab_beer(th);
 		printf("  uniform slab, sun %2.0f deg up: cone %.6g, Beer %.6g\n", 90.0 - tilts[k],
 		       T, want);
 		CHECK_NEAR(T, want, 1e-3 * want);

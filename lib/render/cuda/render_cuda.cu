@@ -524,12 +524,10 @@ static int launch(struct cs_cuda_scene *c, const struct cs_camera *cam,
 		  double *ms)
 {
 	int rc = cs_render_settings_check(s);
+	if (rc == CS_OK)
+		rc = cs_render_settings_gpu_check(s);
 	if (rc != CS_OK)
 		return rc;
-	/* the CPU's strategies (the device code has not their samples) */
-	if (s->march == CS_MARCH_ADAPTIVE || s->light_march == CS_LIGHT_CONE)
-		return cs_error(CS_EINVAL, "the %s runs on the CPU only",
-				s->march == CS_MARCH_ADAPTIVE ? "adaptive march" : "cone light march");
 	if ((rc = frame_alloc(c, cam)) != CS_OK)
 		return rc;
 	/* the device's one texture handle is this scene's, set by every
