@@ -12,6 +12,9 @@ struct pool {
 	void *user;
 	int ntasks;
 	atomic_int next, done, cancel;
+	int finished;         /* workers that have returned (under lock) */
+	pthread_mutex_t lock; /* with wake: the reporting thread waits for */
+	pthread_cond_t wake;  /* a worker's end or its next report */
 };
 
 struct worker {
@@ -30,7 +33,37 @@ static void *work(void *arg)
 		p->fn(p->user, t, w->index);
 		atomic_fetch_add(&p->done, 1);
 	}
+	pthread_mutex_lock(&p->lock);
+	p->finished++;
+	pthread_cond_signal(&p->wake);
+	pthread_mutex_unlock(&p->lock);
 	return NULL;
+}
+
+/* The calling thread, while started workers run: progress every 20 ms
+ * until they have all returned (or progress cancels), woken at once by
+ * the last one (polling with a sleep rounded every run up to the next
+ * 20 ms: a 96x54 image took 21 ms however few its steps). */
+static void report(struct pool *p, int started, cs_progress_fn progress, void *progress_user)
+{
+	pthread_mutex_lock(&p->lock);
+	while (p->finished < started) {
+		if (!atomic_load(&p->cancel)) {
+			pthread_mutex_unlock(&p->lock);
+			if (progress(progress_user, (double)atomic_load(&p->done) / p->ntasks))
+				atomic_store(&p->cancel, 1);
+			pthread_mutex_lock(&p->lock);
+		}
+		struct timespec until;
+		clock_gettime(CLOCK_REALTIME, &until);
+		until.tv_nsec += 20 * 1000 * 1000;
+		if (until.tv_nsec >= 1000 * 1000 * 1000)
+			until.tv_sec++, until.tv_nsec -= 1000 * 1000 * 1000;
+		while (p->finished < started &&
+		       pthread_cond_timedwait(&p->wake, &p->lock, &until) == 0)
+			;
+	}
+	pthread_mutex_unlock(&p->lock);
 }
 
 int cs_pool_cpus(void)
@@ -51,6 +84,9 @@ int cs_pool_run(int ntasks, int nthreads, cs_task_fn fn, void *user,
 	atomic_init(&p.next, 0);
 	atomic_init(&p.done, 0);
 	atomic_init(&p.cancel, 0);
+	p.finished = 0;
+	pthread_mutex_init(&p.lock, NULL);
+	pthread_cond_init(&p.wake, NULL);
 	pthread_t tid[CS_POOL_MAX_THREADS];
 	struct worker w[CS_POOL_MAX_THREADS];
 	int started = 0;
@@ -63,15 +99,12 @@ int cs_pool_run(int ntasks, int nthreads, cs_task_fn fn, void *user,
 		w[0] = (struct worker){&p, 0};
 		work(&w[0]);
 	}
-	while (progress && started > 0 && atomic_load(&p.done) < ntasks &&
-	       !atomic_load(&p.cancel)) {
-		if (progress(progress_user, (double)atomic_load(&p.done) / ntasks))
-			atomic_store(&p.cancel, 1);
-		struct timespec ts = {0, 20 * 1000 * 1000};
-		nanosleep(&ts, NULL);
-	}
+	if (progress && started > 0)
+		report(&p, started, progress, progress_user);
 	for (int i = 0; i < started; i++)
 		pthread_join(tid[i], NULL);
+	pthread_cond_destroy(&p.wake);
+	pthread_mutex_destroy(&p.lock);
 	if (nworkers)
 		*nworkers = started > 0 ? started : 1;
 	if (atomic_load(&p.cancel))
