@@ -5,7 +5,12 @@
  * sun the error falls fastest, and light steps in fours fill the CPU
  * kernel's four lanes, so the presets spend on light steps what fewer
  * view steps save, down to where the view's jitter would show as grain
- * at a cloud's edge (16 shows it at low; 24, 32 and 48 do not).  High
+ * at a cloud's edge (16 and 20 show it, 24 barely when looked at twice
+ * the size, 32 and 48 do not).  Medium
+ * takes 24 view and 12 light steps: against 32 and 8 the study's
+ * geometric mean relative MSE falls from 0.0144 to 0.0119 and its worst
+ * ground irradiance from +50 to +28 %, the CPU renders 5 to 13 % faster
+ * and an H200 as fast (cloudrender(1), QUALITY).  High
  * takes three multiple-scattering octaves, as medium does: since layers
  * of more than half cover take their multiple scattering from light
  * fields, not the octaves, a third octave brings the long view through
@@ -27,7 +32,7 @@ static const struct {
 	struct cs_render_settings s;
 } presets[] = {
 	{"low", {24, 96, 8, 2, 1, 1.0, 0, 0.02, 8, CS_MARCH_STANDARD, CS_LIGHT_GEOMETRIC}},
-	{"medium", {32, 192, 8, 3, 1, 1.0, 0, 0.01, 16, CS_MARCH_STANDARD, CS_LIGHT_GEOMETRIC}},
+	{"medium", {24, 192, 12, 3, 1, 1.0, 0, 0.01, 16, CS_MARCH_STANDARD, CS_LIGHT_GEOMETRIC}},
 	{"high", {48, 384, 16, 3, 1, 1.0, 0, 0.005, 32, CS_MARCH_STANDARD, CS_LIGHT_GEOMETRIC}},
 	{"reference", {384, 1536, 24, 4, 1, 1.0, 0, 0.0005, 128, CS_MARCH_STANDARD, CS_LIGHT_GEOMETRIC}},
 };

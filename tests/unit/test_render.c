@@ -574,7 +574,16 @@ static void quality_presets_exist_and_rise(void)
 	CHECK(cs_render_quality("medium", &me) == CS_OK);
 	CHECK(cs_render_quality("high", &hi) == CS_OK);
 	CHECK(cs_render_quality("reference", &ref) == CS_OK);
-	CHECK(lo.steps < me.steps && me.steps < hi.steps && hi.steps < ref.steps);
+	/* each preset does at least as much as the one below in every knob,
+	 * and more in some */
+	const struct cs_render_settings *p[] = {&lo, &me, &hi, &ref};
+	for (int i = 0; i < 3; i++) {
+		const struct cs_render_settings *a = p[i], *b = p[i + 1];
+		CHECK(a->steps <= b->steps && a->max_steps <= b->max_steps &&
+		      a->light_steps <= b->light_steps && a->ms_octaves <= b->ms_octaves &&
+		      a->haze_steps <= b->haze_steps && a->min_transmittance >= b->min_transmittance);
+		CHECK(a->steps < b->steps || a->light_steps < b->light_steps);
+	}
 	CHECK(cs_render_quality("ultra", &lo) == CS_EINVAL);
 	CHECK_STR_CONTAINS(cs_errmsg(), "unknown quality 'ultra'");
 }
