@@ -199,6 +199,10 @@ static void usage(void)
 	       "                         samples at (k + 1/2)^2 / n^2 of the path; cone: the\n"
 	       "                         geometric steps spread sideways by up to 0.2 of\n"
 	       "                         their distance\n"
+	       "      --source-every N   1 (default): a cloudy sample's light at every\n"
+	       "                         view sample; 2: at every other one, the one\n"
+	       "                         between taking the mean of its neighbours'\n"
+	       "                         (the density still at each)\n"
 	       "      --haze-steps N     samples of the clouds' shadows in the haze over\n"
 	       "                         the first 20 km (crepuscular rays), 0..10000;\n"
 	       "                         0: their area mean only\n"
@@ -218,7 +222,8 @@ static void usage(void)
 	       "      --device D         cpu (default): the CPU's threads; cuda: the same\n"
 	       "                         integrator on the first CUDA GPU (a build made with\n"
 	       "                         make CUDA=1; the march only, not the reference\n"
-	       "                         nor --march adaptive or --light-march cone);\n"
+	       "                         nor --march adaptive, --light-march cone or\n"
+	       "                         --source-every 2);\n"
 	       "                         where there is none, it says why and exits 1\n"
 	       "      --device-bench N   with --device cuda: render the frame N more times\n"
 	       "                         on the GPU and print the mean time of one (kernel\n"
@@ -478,7 +483,7 @@ enum {
 	OPT_LIGHT_STEPS, OPT_MS, OPT_NO_AMBIENT, OPT_NO_JITTER, OPT_SEED,
 	OPT_EXPOSURE, OPT_STATS, OPT_VERSION, OPT_TERRAIN, OPT_TERRAIN_COLOR,
 	OPT_PROJECTION, OPT_HAZE_STEPS, OPT_TERRAIN_CPT, OPT_INTEGRATOR, OPT_SPP, OPT_MAX_BOUNCES,
-	OPT_NO_HAZE, OPT_MARCH, OPT_LIGHT_MARCH, OPT_MAX_STEPS, OPT_MIN_T, OPT_OUTPUT_FORMAT,
+	OPT_NO_HAZE, OPT_MARCH, OPT_LIGHT_MARCH, OPT_SOURCE_EVERY, OPT_MAX_STEPS, OPT_MIN_T, OPT_OUTPUT_FORMAT,
 	OPT_PNG16, OPT_FLOAT, OPT_JPEG_QUALITY, OPT_NO_CLOBBER,
 	OPT_DEVICE, OPT_DEVICE_BENCH, /* the GPU renderer */
 };
@@ -532,6 +537,7 @@ int main(int argc, char **argv)
 		{"no-haze", no_argument, NULL, OPT_NO_HAZE},
 		{"march", required_argument, NULL, OPT_MARCH},
 		{"light-march", required_argument, NULL, OPT_LIGHT_MARCH},
+		{"source-every", required_argument, NULL, OPT_SOURCE_EVERY},
 		{"max-steps", required_argument, NULL, OPT_MAX_STEPS},
 		{"min-transmittance", required_argument, NULL, OPT_MIN_T},
 		{"max-bounces", required_argument, NULL, OPT_MAX_BOUNCES},
@@ -716,6 +722,9 @@ int main(int argc, char **argv)
 			else
 				cli_usage_error("--light-march: '%s' is not uniform, quadratic, geometric "
 						"or cone", optarg);
+			break;
+		case OPT_SOURCE_EVERY:
+			o.source_every = (int)cli_long("--source-every", optarg, 1, 2);
 			break;
 		case OPT_MAX_STEPS: o.max_steps = (int)cli_long("--max-steps", optarg, 1, 1000000); break;
 		case OPT_MIN_T:

@@ -81,6 +81,8 @@ void cs_cloudrender_settings(const struct cs_cloudrender_opts *o,
 		s->march = o->march;
 	if (o->light_march >= 0)
 		s->light_march = o->light_march;
+	if (o->source_every > 0)
+		s->source_every = o->source_every;
 }
 
 enum cs_out_format cs_output_format(const char *path)

@@ -57,6 +57,7 @@ struct cs_cloudrender_opts {
 	int max_steps;            /* 0 keeps the preset's (or 4 x steps) */
 	double min_transmittance; /* < 0 keeps the preset's */
 	int march, light_march;   /* -1 keep the preset's (CS_MARCH_*, CS_LIGHT_*) */
+	int source_every;         /* 0 keeps the preset's; 1 or 2 */
 	int no_ambient, no_jitter;
 	long long seed;
 	/* the reference integrator (render/reference.h) instead of the march:

@@ -37,7 +37,30 @@ struct path {
 			    of the scattering that the forward lobe keeps
 			    in the sky's direction left in the beam
 			    (cloud_ambient's fwd) */
+#ifndef __CUDA_ARCH__
+	/* --source-every 2 (CPU only: a GPU thread holds none of this) */
+	double src[4];   /* the last light found, per unit of ss: S and fwd */
+	double src_t;    /* its distance */
+	int src_layer;   /* its layer */
+	int have_src;    /* src may lend to the next sample */
+	int pending;     /* a sample waits for the next one's light */
+	double pend_w, pend_ss, pend_t; /* its weight T th integ, ss, distance */
+#endif
 };
+
+#ifndef __CUDA_ARCH__
+/* A waiting sample (--source-every 2) whose crossing or ray ended before
+ * the next light: its neighbour's before it. */
+static void flush_pending(struct path *P)
+{
+	if (P->pending) {
+		for (int k = 0; k < 3; k++)
+			P->L[k] += P->pend_w * P->pend_ss * P->src[k];
+		P->pending = 0;
+	}
+	P->have_src = 0;
+}
+#endif
 
 /* The path is done: nothing behind it can show, neither through the
  * clouds' transmittance nor through the sky's beam. */
@@ -626,12 +649,50 @@ CS_HD static int march_sample(const struct ray_ctx *c, struct path *P, unsigned 
 		P->depth = ts;
 	haze_to(c, P, t);
 	double S[3], fwd;
-	sample_source(c, p, alt, mask, amb, sc->albedo * sigma, S, &fwd);
+	double tr = exp(-sigma * dt);
+	double integ = naive ? dt : -expm1(-sigma * dt) / sigma;
+	double ss = sc->albedo * sigma;
+#ifndef __CUDA_ARCH__
+	/* --source-every 2: a sample right after one whose light was found,
+	 * in the same layer, waits for the next one's and takes the mean of
+	 * the two (the light varies slowly along a step; the density, which
+	 * draws the cloud's edge, is still looked up at every sample) */
+	if (c->s->source_every == 2 && ss > 0.0) {
+		if (P->have_src && !P->pending && P->src_layer == amb && t - P->src_t < 2.5 * dt) {
+			P->pending = 1;
+			P->pend_w = P->T * P->th * integ;
+			P->pend_ss = ss;
+			P->pend_t = t;
+			P->have_src = 0;
+			fwd = P->src[3] * ss;
+			P->T *= tr;
+			P->Tcloud *= tr;
+			P->Tsky *= fwd > 0.0 ? exp(-(sigma - fwd) * dt) : tr;
+			if (path_done(P, c->s)) {
+				flush_pending(P);
+				P->terminated = 1;
+				return 1;
+			}
+			return 0;
+		}
+		sample_source(c, p, alt, mask, amb, ss, S, &fwd);
+		double prev[3] = {P->src[0], P->src[1], P->src[2]};
+		for (int k = 0; k < 3; k++)
+			P->src[k] = S[k] / ss;
+		P->src[3] = fwd / ss;
+		if (P->pending) { /* the mean, or the one before if this is far */
+			double b = t - P->pend_t < 2.5 * dt ? 0.5 : 0.0;
+			for (int k = 0; k < 3; k++)
+				P->L[k] += P->pend_w * P->pend_ss * ((1.0 - b) * prev[k] + b * P->src[k]);
+			P->pending = 0;
+		}
+		P->have_src = 1, P->src_t = t, P->src_layer = amb;
+	} else
+#endif
+		sample_source(c, p, alt, mask, amb, ss, S, &fwd);
 	/* Energy-conserving step (Hillaire 2015): the source is integrated
 	 * against the transmittance over the step, S (1 - exp(-sigma dt)) /
 	 * sigma, not S dt (which the naive baseline keeps). */
-	double tr = exp(-sigma * dt);
-	double integ = naive ? dt : -expm1(-sigma * dt) / sigma;
 	for (int k = 0; k < 3; k++)
 		P->L[k] += P->T * P->th * S[k] * integ;
 	P->T *= tr;
@@ -781,6 +842,9 @@ CS_HD static void march_intervals(const struct ray_ctx *c, struct interval *iv,
 			t1 = iv[i].t1 > t1 ? iv[i].t1 : t1;
 		}
 		march_crossing(c, t0, t1, mask, P);
+#ifndef __CUDA_ARCH__
+		flush_pending(P);
+#endif
 	}
 }
 
@@ -887,7 +951,7 @@ CS_HD void cs_render_ray(const struct cs_scene *sc, const struct cs_render_setti
 		if ((sc->effects & CS_FX_SHAFTS) && s->haze_steps > 0)
 			c.shaft_dt = CS_SHAFTS_RANGE_M / s->haze_steps;
 	}
-	struct path P = {{0.0, 0.0, 0.0}, 1.0, 1.0, CS_SKY_DEPTH_M, 0, 1.0, 0.0, 0.0, 1.0, 1.0};
+	struct path P = {.L = {0.0, 0.0, 0.0}, .T = 1.0, .Tcloud = 1.0, .depth = CS_SKY_DEPTH_M, .th = 1.0, .thh = 1.0, .Tsky = 1.0};
 	march_intervals(&c, iv, n, &P);
 	if (P.terminated)
 		st->rays_terminated_early++;

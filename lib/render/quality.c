@@ -31,10 +31,10 @@ static const struct {
 	const char *name;
 	struct cs_render_settings s;
 } presets[] = {
-	{"low", {24, 96, 8, 2, 1, 1.0, 0, 0.02, 8, CS_MARCH_STANDARD, CS_LIGHT_GEOMETRIC}},
-	{"medium", {24, 192, 12, 3, 1, 1.0, 0, 0.01, 16, CS_MARCH_STANDARD, CS_LIGHT_GEOMETRIC}},
-	{"high", {48, 384, 16, 3, 1, 1.0, 0, 0.005, 32, CS_MARCH_STANDARD, CS_LIGHT_GEOMETRIC}},
-	{"reference", {384, 1536, 24, 4, 1, 1.0, 0, 0.0005, 128, CS_MARCH_STANDARD, CS_LIGHT_GEOMETRIC}},
+	{"low", {24, 96, 8, 2, 1, 1.0, 0, 0.02, 8, CS_MARCH_STANDARD, CS_LIGHT_GEOMETRIC, 1}},
+	{"medium", {24, 192, 12, 3, 1, 1.0, 0, 0.01, 16, CS_MARCH_STANDARD, CS_LIGHT_GEOMETRIC, 1}},
+	{"high", {48, 384, 16, 3, 1, 1.0, 0, 0.005, 32, CS_MARCH_STANDARD, CS_LIGHT_GEOMETRIC, 1}},
+	{"reference", {384, 1536, 24, 4, 1, 1.0, 0, 0.0005, 128, CS_MARCH_STANDARD, CS_LIGHT_GEOMETRIC, 1}},
 };
 
 int cs_render_quality(const char *name, struct cs_render_settings *s)
@@ -66,6 +66,9 @@ int cs_render_settings_check(const struct cs_render_settings *s)
 		return cs_error(CS_EINVAL, "unknown march %d", s->march);
 	if (s->light_march < CS_LIGHT_UNIFORM || s->light_march > CS_LIGHT_CONE)
 		return cs_error(CS_EINVAL, "unknown light march %d", s->light_march);
+	if (s->source_every < 0 || s->source_every > 2)
+		return cs_error(CS_EINVAL, "the source's stride must be 1 or 2, not %d",
+				s->source_every);
 	if (s->haze_steps < 0 || s->haze_steps > 10000)
 		return cs_error(CS_EINVAL, "haze steps must be 0..10000, not %d", s->haze_steps);
 	if (!(s->min_transmittance >= 0.0 && s->min_transmittance < 1.0))
@@ -92,5 +95,8 @@ int cs_render_settings_gpu_check(const struct cs_render_settings *s)
 	if (s->light_march == CS_LIGHT_CONE)
 		return cs_error(CS_EINVAL, "the cone light march runs on the CPU only "
 				"(on a GPU: the geometric, uniform or quadratic light march)");
+	if (s->source_every > 1)
+		return cs_error(CS_EINVAL, "the light at every other sample (--source-every 2) "
+				"runs on the CPU only");
 	return CS_OK;
 }

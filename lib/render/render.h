@@ -43,6 +43,11 @@ struct cs_render_settings {
 				  0: their area mean only */
 	int march;             /* CS_MARCH_*: how view samples are placed */
 	int light_march;       /* CS_LIGHT_*: how light samples are placed */
+	int source_every;      /* 2: a cloudy view sample's light (the light
+				  march, the column above, the diffuse light)
+				  found at every other one of a crossing, the
+				  one between taking the mean of its
+				  neighbours' (CPU only); 0 or 1: at each */
 };
 
 /* The view march (cs_render_settings.march). */

@@ -39,7 +39,7 @@ static void slab_scene(struct cs_scene *sc, double a, double b, double base,
 
 static struct cs_render_settings plain(int steps, int light_steps)
 {
-	struct cs_render_settings s = {steps, steps, light_steps, 1, 0, 0.0, 0, 0.0, 0, 0, 0};
+	struct cs_render_settings s = {steps, steps, light_steps, 1, 0, 0.0, 0, 0.0, 0, 0, 0, 1};
 	return s;
 }
 
@@ -745,6 +745,44 @@ static void light_march_toward_any_sun_is_beer_lambert(void)
 	}
 }
 
+/* --source-every 2 looking straight up through a uniform slab (optical
+ * depth 4) under an overhead sun, single scattering: the sun's light
+ * falls by e^-4 from the top to the base, 18 % a step of 24, and every
+ * other sample takes the mean of its neighbours' light.  Within 1 % of
+ * the march that finds the light at every sample (-0.002 % measured);
+ * holding the light of the sample before instead misses by -7.7 %, and
+ * weights of 0.6 and 0.5 by +3.9 %.  The light is found half as often
+ * (at 12 of the 24 samples: half the light march's samples), the
+ * density at all of them. */
+static void source_every_other_sample_is_the_mean_of_its_neighbours(void)
+{
+	static struct cs_scene sc;
+	slab_scene(&sc, 0.004, 0.0, 1000.0, 2000.0);
+	sc.effects |= CS_FX_SUN;
+	sc.sun_illuminance[0] = sc.sun_illuminance[1] = sc.sun_illuminance[2] = 1.0;
+	struct cs_render_settings s = plain(24, 12);
+	struct cs_ray_result r[2];
+	struct cs_render_stats st[2] = {{0}, {0}};
+	for (int k = 0; k < 2; k++) {
+		s.source_every = k + 1;
+		cs_render_ray(&sc, &s, v3(0.0, 0.0, 1000.001), v3(0.0, 0.0, 1.0), 0.5, &st[k],
+			      &r[k]);
+	}
+	printf("  radiance %.6g every sample, %.6g every other (%+.2f %%); light samples %llu, "
+	       "%llu; density samples %llu, %llu\n",
+	       r[0].rgb[1], r[1].rgb[1], 100.0 * (r[1].rgb[1] / r[0].rgb[1] - 1.0),
+	       (unsigned long long)st[0].light_samples, (unsigned long long)st[1].light_samples,
+	       (unsigned long long)st[0].density_samples, (unsigned long long)st[1].density_samples);
+	CHECK(r[0].rgb[1] > 0.0);
+	CHECK_NEAR(r[1].rgb[1], r[0].rgb[1], 0.01 * r[0].rgb[1]);
+	CHECK(r[1].transmittance == r[0].transmittance);
+	CHECK(st[1].density_samples == st[0].density_samples);
+	CHECK(st[1].light_samples * 2 == st[0].light_samples);
+	/* a GPU renders the light at every sample: it refuses the setting */
+	CHECK(cs_render_settings_gpu_check(&s) == CS_EINVAL);
+	CHECK_STR_CONTAINS(cs_errmsg(), "CPU only");
+}
+
 /* The cone light march (--light-march cone) spreads the geometric steps'
  * samples across the path, in the horizontal: through sunlit_slab's layer
  * it is Beer's law over the slant path for an overhead sun and suns 45 and
@@ -1300,6 +1338,7 @@ static const struct t_case t_cases[] = {
 	CASE(slab_single_scattering_matches_closed_form),
 	CASE(adaptive_march_refines_dense_steps),
 	CASE(cone_light_march_sees_beside_the_path),
+	CASE(source_every_other_sample_is_the_mean_of_its_neighbours),
 	CASE(doubling_steps_halves_the_error),
 	CASE(phase_hg_is_normalised),
 	CASE(clear_sky_has_no_alpha_and_costs_nothing),
