@@ -680,8 +680,9 @@ CS_HD static int march_sample(const struct ray_ctx *c, struct path *P, unsigned 
 		for (int k = 0; k < 3; k++)
 			P->src[k] = S[k] / ss;
 		P->src[3] = fwd / ss;
-		if (P->pending) { /* the mean, or the one before if this is far */
-			double b = t - P->pend_t < 2.5 * dt ? 0.5 : 0.0;
+		if (P->pending) { /* the mean, or the one before if this one is far
+				     or in another layer (overlapping layers) */
+			double b = amb == P->src_layer && t - P->pend_t < 2.5 * dt ? 0.5 : 0.0;
 			for (int k = 0; k < 3; k++)
 				P->L[k] += P->pend_w * P->pend_ss * ((1.0 - b) * prev[k] + b * P->src[k]);
 			P->pending = 0;

@@ -745,42 +745,53 @@ static void light_march_toward_any_sun_is_beer_lambert(void)
 	}
 }
 
-/* --source-every 2 looking straight up through a uniform slab (optical
- * depth 4) under an overhead sun, single scattering: the sun's light
+/* --source-every 2 looking straight up under an overhead sun, single
+ * scattering.  Through a uniform slab of optical depth 4 the sun's light
  * falls by e^-4 from the top to the base, 18 % a step of 24, and every
- * other sample takes the mean of its neighbours' light.  Within 1 % of
- * the march that finds the light at every sample (-0.002 % measured);
- * holding the light of the sample before instead misses by -7.7 %, and
- * weights of 0.6 and 0.5 by +3.9 %.  The light is found half as often
- * (at 12 of the 24 samples: half the light march's samples), the
- * density at all of them. */
+ * other sample takes the mean of its neighbours' light: within 1 % of the
+ * march that finds the light at every sample (-0.002 % measured); holding
+ * the light of the sample before instead misses by -7.7 %, weights of 0.6
+ * and 0.5 by +3.9 %.  Through a slab whose density rises fivefold, the
+ * ray ending at its 16th sample (transmittance under 5 %), which waits
+ * and takes the 15th's light: within 2.5 % (-1.2 % measured; with the
+ * waiting sample's light dropped at the ray's end -8.4 %).  The light is
+ * found half as often, the density at every sample. */
 static void source_every_other_sample_is_the_mean_of_its_neighbours(void)
 {
 	static struct cs_scene sc;
-	slab_scene(&sc, 0.004, 0.0, 1000.0, 2000.0);
-	sc.effects |= CS_FX_SUN;
-	sc.sun_illuminance[0] = sc.sun_illuminance[1] = sc.sun_illuminance[2] = 1.0;
-	struct cs_render_settings s = plain(24, 12);
-	struct cs_ray_result r[2];
-	struct cs_render_stats st[2] = {{0}, {0}};
-	for (int k = 0; k < 2; k++) {
-		s.source_every = k + 1;
-		cs_render_ray(&sc, &s, v3(0.0, 0.0, 1000.001), v3(0.0, 0.0, 1.0), 0.5, &st[k],
-			      &r[k]);
+	/* a uniform slab; then one whose density rises from 0.002 to 0.010
+	 * per m, the ray ending where it sees less than 5 % */
+	static const double ab[2][3] = {{0.004, 0.0, 0.0}, {0.002, 0.008, 0.05}};
+	for (int c = 0; c < 2; c++) {
+		slab_scene(&sc, ab[c][0], ab[c][1], 1000.0, 2000.0);
+		sc.effects |= CS_FX_SUN;
+		sc.sun_illuminance[0] = sc.sun_illuminance[1] = sc.sun_illuminance[2] = 1.0;
+		struct cs_render_settings s = plain(24, 12);
+		s.min_transmittance = ab[c][2];
+		struct cs_ray_result r[2];
+		struct cs_render_stats st[2] = {{0}, {0}};
+		for (int k = 0; k < 2; k++) {
+			s.source_every = k + 1;
+			cs_render_ray(&sc, &s, v3(0.0, 0.0, 1000.001), v3(0.0, 0.0, 1.0), 0.5,
+				      &st[k], &r[k]);
+		}
+		printf("  radiance %.6g every sample, %.6g every other (%+.3f %%); light samples "
+		       "%llu, %llu; density samples %llu, %llu\n",
+		       r[0].rgb[1], r[1].rgb[1], 100.0 * (r[1].rgb[1] / r[0].rgb[1] - 1.0),
+		       (unsigned long long)st[0].light_samples,
+		       (unsigned long long)st[1].light_samples,
+		       (unsigned long long)st[0].density_samples,
+		       (unsigned long long)st[1].density_samples);
+		CHECK(r[0].rgb[1] > 0.0);
+		CHECK_NEAR(r[1].rgb[1], r[0].rgb[1], (c == 0 ? 0.01 : 0.025) * r[0].rgb[1]);
+		CHECK(r[1].transmittance == r[0].transmittance);
+		CHECK(st[1].density_samples == st[0].density_samples);
+		CHECK(st[1].light_samples * 2 >= st[0].light_samples - 12 &&
+		      st[1].light_samples * 2 <= st[0].light_samples + 12);
+		/* a GPU renders the light at every sample: it refuses the setting */
+		CHECK(cs_render_settings_gpu_check(&s) == CS_EINVAL);
+		CHECK_STR_CONTAINS(cs_errmsg(), "CPU only");
 	}
-	printf("  radiance %.6g every sample, %.6g every other (%+.2f %%); light samples %llu, "
-	       "%llu; density samples %llu, %llu\n",
-	       r[0].rgb[1], r[1].rgb[1], 100.0 * (r[1].rgb[1] / r[0].rgb[1] - 1.0),
-	       (unsigned long long)st[0].light_samples, (unsigned long long)st[1].light_samples,
-	       (unsigned long long)st[0].density_samples, (unsigned long long)st[1].density_samples);
-	CHECK(r[0].rgb[1] > 0.0);
-	CHECK_NEAR(r[1].rgb[1], r[0].rgb[1], 0.01 * r[0].rgb[1]);
-	CHECK(r[1].transmittance == r[0].transmittance);
-	CHECK(st[1].density_samples == st[0].density_samples);
-	CHECK(st[1].light_samples * 2 == st[0].light_samples);
-	/* a GPU renders the light at every sample: it refuses the setting */
-	CHECK(cs_render_settings_gpu_check(&s) == CS_EINVAL);
-	CHECK_STR_CONTAINS(cs_errmsg(), "CPU only");
 }
 
 /* The cone light march (--light-march cone) spreads the geometric steps'
