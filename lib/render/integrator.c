@@ -636,6 +636,45 @@ CS_HD static double step_growth(double dt0, double len, int n)
 	return 1.0 + hi;
 }
 
+#ifndef __CUDA_ARCH__
+/* The light of a sample at distance t in a step dt with ss = albedo
+ * sigma and weight integ, for --source-every 2, into S and fwd as
+ * sample_source gives them: a sample right after one whose light was
+ * found, in the same layer, waits for the next one's (S = 0 now, its
+ * light added then as the mean of the two, per unit of ss; the one
+ * before's where the next is far or in another layer; flush_pending's
+ * where the crossing or ray ends first), its fwd the one before's; the
+ * light varies slowly along a step, and the density, which draws the
+ * cloud's edge, is still looked up at every sample. */
+static void source_every_other(const struct ray_ctx *c, struct path *P, cs_v3 p, double alt,
+			       unsigned mask, int amb, double t, double dt, double ss,
+			       double integ, double S[3], double *fwd)
+{
+	if (P->have_src && !P->pending && P->src_layer == amb && t - P->src_t < 2.5 * dt) {
+		P->pending = 1;
+		P->pend_w = P->T * P->th * integ;
+		P->pend_ss = ss;
+		P->pend_t = t;
+		P->have_src = 0;
+		S[0] = S[1] = S[2] = 0.0;
+		*fwd = P->src[3] * ss;
+		return;
+	}
+	sample_source(c, p, alt, mask, amb, ss, S, fwd);
+	double prev[3] = {P->src[0], P->src[1], P->src[2]};
+	for (int k = 0; k < 3; k++)
+		P->src[k] = S[k] / ss;
+	P->src[3] = *fwd / ss;
+	if (P->pending) {
+		double b = amb == P->src_layer && t - P->pend_t < 2.5 * dt ? 0.5 : 0.0;
+		for (int k = 0; k < 3; k++)
+			P->L[k] += P->pend_w * P->pend_ss * ((1.0 - b) * prev[k] + b * P->src[k]);
+		P->pending = 0;
+	}
+	P->have_src = 1, P->src_t = t, P->src_layer = amb;
+}
+#endif
+
 /* One view sample of a crossing through the layers of mask, at distance
  * t in a step of length dt that starts at ts, with the extinction sigma
  * there (amb: the layer with the most of it): its light and its
@@ -653,42 +692,9 @@ CS_HD static int march_sample(const struct ray_ctx *c, struct path *P, unsigned 
 	double integ = naive ? dt : -expm1(-sigma * dt) / sigma;
 	double ss = sc->albedo * sigma;
 #ifndef __CUDA_ARCH__
-	/* --source-every 2: a sample right after one whose light was found,
-	 * in the same layer, waits for the next one's and takes the mean of
-	 * the two (the light varies slowly along a step; the density, which
-	 * draws the cloud's edge, is still looked up at every sample) */
-	if (c->s->source_every == 2 && ss > 0.0) {
-		if (P->have_src && !P->pending && P->src_layer == amb && t - P->src_t < 2.5 * dt) {
-			P->pending = 1;
-			P->pend_w = P->T * P->th * integ;
-			P->pend_ss = ss;
-			P->pend_t = t;
-			P->have_src = 0;
-			fwd = P->src[3] * ss;
-			P->T *= tr;
-			P->Tcloud *= tr;
-			P->Tsky *= fwd > 0.0 ? exp(-(sigma - fwd) * dt) : tr;
-			if (path_done(P, c->s)) {
-				flush_pending(P);
-				P->terminated = 1;
-				return 1;
-			}
-			return 0;
-		}
-		sample_source(c, p, alt, mask, amb, ss, S, &fwd);
-		double prev[3] = {P->src[0], P->src[1], P->src[2]};
-		for (int k = 0; k < 3; k++)
-			P->src[k] = S[k] / ss;
-		P->src[3] = fwd / ss;
-		if (P->pending) { /* the mean, or the one before if this one is far
-				     or in another layer (overlapping layers) */
-			double b = amb == P->src_layer && t - P->pend_t < 2.5 * dt ? 0.5 : 0.0;
-			for (int k = 0; k < 3; k++)
-				P->L[k] += P->pend_w * P->pend_ss * ((1.0 - b) * prev[k] + b * P->src[k]);
-			P->pending = 0;
-		}
-		P->have_src = 1, P->src_t = t, P->src_layer = amb;
-	} else
+	if (c->s->source_every == 2 && ss > 0.0)
+		source_every_other(c, P, p, alt, mask, amb, t, dt, ss, integ, S, &fwd);
+	else
 #endif
 		sample_source(c, p, alt, mask, amb, ss, S, &fwd);
 	/* Energy-conserving step (Hillaire 2015): the source is integrated
@@ -700,6 +706,9 @@ CS_HD static int march_sample(const struct ray_ctx *c, struct path *P, unsigned 
 	P->Tcloud *= tr;
 	P->Tsky *= fwd > 0.0 ? exp(-(sigma - fwd) * dt) : tr;
 	if (path_done(P, c->s)) {
+#ifndef __CUDA_ARCH__
+		flush_pending(P);
+#endif
 		P->terminated = 1;
 		return 1;
 	}
