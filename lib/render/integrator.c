@@ -37,21 +37,18 @@ struct path {
 			    of the scattering that the forward lobe keeps
 			    in the sky's direction left in the beam
 			    (cloud_ambient's fwd) */
-#ifndef __CUDA_ARCH__
-	/* --source-every 2 (CPU only: a GPU thread holds none of this) */
+	/* --source-every 2 */
 	double src[4];   /* the last light found, per unit of ss: S and fwd */
 	double src_t;    /* its distance */
 	int src_layer;   /* its layer */
 	int have_src;    /* src may lend to the next sample */
 	int pending;     /* a sample waits for the next one's light */
 	double pend_w, pend_ss, pend_t; /* its weight T th integ, ss, distance */
-#endif
 };
 
-#ifndef __CUDA_ARCH__
 /* A waiting sample (--source-every 2) whose crossing or ray ended before
  * the next light: its neighbour's before it. */
-static void flush_pending(struct path *P)
+CS_HD static void flush_pending(struct path *P)
 {
 	if (P->pending) {
 		for (int k = 0; k < 3; k++)
@@ -60,7 +57,6 @@ static void flush_pending(struct path *P)
 	}
 	P->have_src = 0;
 }
-#endif
 
 /* The path is done: nothing behind it can show, neither through the
  * clouds' transmittance nor through the sky's beam. */
@@ -636,21 +632,26 @@ CS_HD static double step_growth(double dt0, double len, int n)
 	return 1.0 + hi;
 }
 
-#ifndef __CUDA_ARCH__
 /* The light of a sample at distance t in a step dt with ss = albedo
  * sigma and weight integ, for --source-every 2, into S and fwd as
- * sample_source gives them: a sample right after one whose light was
- * found, in the same layer, waits for the next one's (S = 0 now, its
- * light added then as the mean of the two, per unit of ss; the one
- * before's where the next is far or in another layer; flush_pending's
- * where the crossing or ray ends first), its fwd the one before's; the
- * light varies slowly along a step, and the density, which draws the
- * cloud's edge, is still looked up at every sample. */
-static void source_every_other(const struct ray_ctx *c, struct path *P, cs_v3 p, double alt,
-			       unsigned mask, int amb, double t, double dt, double ss,
-			       double integ, double S[3], double *fwd)
+ * sample_source gives them: a sample at an odd step of its crossing
+ * (odd) right after one whose light was found, in the same layer, waits
+ * for the next one's (S = 0 now, its light added then as the mean of the
+ * two, per unit of ss; the one before's where the next is far or in
+ * another layer; flush_pending's where the crossing or ray ends first),
+ * its fwd the one before's; the light varies slowly along a step, and the
+ * density, which draws the cloud's edge, is still looked up at every
+ * sample.  The steps' parity, not the count of cloudy samples, decides
+ * which samples wait, so that on a GPU the rays of a warp, which take
+ * their steps together, find their light at the same steps (counted
+ * from each ray's first cloudy sample, their light marches fell on
+ * every step of the warp's, and the kernel was slower with it than
+ * without). */
+CS_HD static void source_every_other(const struct ray_ctx *c, struct path *P, cs_v3 p,
+				     double alt, unsigned mask, int amb, int odd, double t,
+				     double dt, double ss, double integ, double S[3], double *fwd)
 {
-	if (P->have_src && !P->pending && P->src_layer == amb && t - P->src_t < 2.5 * dt) {
+	if (odd && P->have_src && !P->pending && P->src_layer == amb && t - P->src_t < 2.5 * dt) {
 		P->pending = 1;
 		P->pend_w = P->T * P->th * integ;
 		P->pend_ss = ss;
@@ -673,14 +674,15 @@ static void source_every_other(const struct ray_ctx *c, struct path *P, cs_v3 p,
 	}
 	P->have_src = 1, P->src_t = t, P->src_layer = amb;
 }
-#endif
 
 /* One view sample of a crossing through the layers of mask, at distance
- * t in a step of length dt that starts at ts, with the extinction sigma
- * there (amb: the layer with the most of it): its light and its
- * transmittance into the path.  1 when the ray is then done. */
-CS_HD static int march_sample(const struct ray_ctx *c, struct path *P, unsigned mask, double ts,
-			      double t, double dt, cs_v3 p, double alt, double sigma, int amb)
+ * t in a step of length dt that starts at ts (an odd step of the
+ * crossing: odd), with the extinction sigma there (amb: the layer with
+ * the most of it): its light and its transmittance into the path.  1
+ * when the ray is then done. */
+CS_HD static int march_sample(const struct ray_ctx *c, struct path *P, unsigned mask, int odd,
+			      double ts, double t, double dt, cs_v3 p, double alt, double sigma,
+			      int amb)
 {
 	const struct cs_scene *sc = c->sc;
 	int naive = c->s->march == CS_MARCH_NAIVE;
@@ -691,11 +693,9 @@ CS_HD static int march_sample(const struct ray_ctx *c, struct path *P, unsigned 
 	double tr = exp(-sigma * dt);
 	double integ = naive ? dt : -expm1(-sigma * dt) / sigma;
 	double ss = sc->albedo * sigma;
-#ifndef __CUDA_ARCH__
 	if (c->s->source_every == 2 && ss > 0.0)
-		source_every_other(c, P, p, alt, mask, amb, t, dt, ss, integ, S, &fwd);
+		source_every_other(c, P, p, alt, mask, amb, odd, t, dt, ss, integ, S, &fwd);
 	else
-#endif
 		sample_source(c, p, alt, mask, amb, ss, S, &fwd);
 	/* Energy-conserving step (Hillaire 2015): the source is integrated
 	 * against the transmittance over the step, S (1 - exp(-sigma dt)) /
@@ -706,9 +706,7 @@ CS_HD static int march_sample(const struct ray_ctx *c, struct path *P, unsigned 
 	P->Tcloud *= tr;
 	P->Tsky *= fwd > 0.0 ? exp(-(sigma - fwd) * dt) : tr;
 	if (path_done(P, c->s)) {
-#ifndef __CUDA_ARCH__
 		flush_pending(P);
-#endif
 		P->terminated = 1;
 		return 1;
 	}
@@ -739,7 +737,7 @@ CS_HD CS_COLD static int march_parts(const struct ray_ctx *c, struct path *P, un
 		double alt = cs_scene_altitude(c->sc, p);
 		double e = cs_extinction_at(c->sc, mask, p, alt, &amb);
 		c->st->density_samples++;
-		if (e > 0.0 && march_sample(c, P, mask, pts, t, pdt, p, alt, e, amb))
+		if (e > 0.0 && march_sample(c, P, mask, k & 1, pts, t, pdt, p, alt, e, amb))
 			return 1;
 	}
 	return 0;
@@ -796,7 +794,7 @@ CS_HD static void march_crossing(const struct ray_ctx *c, double t0, double t1,
 				continue;
 			}
 			empty_run = 0;
-			if (march_sample(c, P, mask, ts, t, dt, p, alt, sigma, amb))
+			if (march_sample(c, P, mask, j & 1, ts, t, dt, p, alt, sigma, amb))
 				return;
 		}
 		return;
@@ -826,7 +824,7 @@ CS_HD static void march_crossing(const struct ray_ctx *c, double t0, double t1,
 				continue;
 			if (adaptive && sigma[k] * bdt[k] > CS_ADAPTIVE_TAU
 				    ? march_parts(c, P, mask, bts[k], bdt[k], sigma[k])
-				    : march_sample(c, P, mask, bts[k], bt[k], bdt[k],
+				    : march_sample(c, P, mask, (j - m + k) & 1, bts[k], bt[k], bdt[k],
 						   v3(bx[k], by[k], bz[k]), balt[k], sigma[k], amb[k]))
 				return;
 		}
@@ -852,9 +850,7 @@ CS_HD static void march_intervals(const struct ray_ctx *c, struct interval *iv,
 			t1 = iv[i].t1 > t1 ? iv[i].t1 : t1;
 		}
 		march_crossing(c, t0, t1, mask, P);
-#ifndef __CUDA_ARCH__
 		flush_pending(P);
-#endif
 	}
 }
 

@@ -47,7 +47,8 @@ struct cs_render_settings {
 				  march, the column above, the diffuse light)
 				  found at every other one of a crossing, the
 				  one between taking the mean of its
-				  neighbours' (CPU only); 0 or 1: at each */
+				  neighbours' (the presets but the
+				  reference); 0 or 1: at each */
 };
 
 /* The view march (cs_render_settings.march). */
