@@ -21,11 +21,11 @@
  * from inside stratocumulus of 90 % cover, +26 % against +18 %).  Low
  * keeps two.  Low, medium and high find a cloudy sample's light at
  * every other view sample (source_every 2): on the study's 13 scenes
- * on one thread high's relative MSE is the same (0.0114) in 27 % less
- * time, medium's 0.0119 -> 0.0124 and low's 0.0159 -> 0.0166 in 26 and
- * 31 % less, the default 1280x720 scene 17 % faster on the CPU and an
- * H200 6 % at medium (cloudrender(1), QUALITY); the reference keeps the
- * light at every sample. */
+ * on one thread high's relative MSE is the same (0.0114) in 31 % less
+ * time, medium's 0.0119 -> 0.0123 and low's 0.0159 -> 0.0164 in 23 and
+ * 17 % less; the default 1280x720 scene renders 20 % faster on the CPU
+ * and 6 % on an H200 at medium (cloudrender(1), QUALITY).  The reference
+ * keeps the light at every sample. */
 #include "render/render.h"
 
 #include "core/err.h"
