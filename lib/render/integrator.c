@@ -46,8 +46,9 @@ struct path {
 	double pend_w, pend_ss, pend_t; /* its weight T th integ, ss, distance */
 };
 
-/* A waiting sample (--source-every 2) whose ray ended before the next
- * light: its neighbour's before it (its weight is near the ray's least
+/* A waiting sample (--source-every 2) without a next neighbour within
+ * its layer, or whose ray ended before the next light: its neighbour's
+ * before it (at the ray's end its weight is near the ray's least
  * transmittance). */
 CS_HD static void pending_prev(struct path *P)
 {
@@ -670,12 +671,12 @@ CS_HD static void flush_pending(const struct ray_ctx *c, struct path *P, unsigne
  * another layer or the ray ends first; its own where the crossing does,
  * flush_pending), its fwd the one before's; the light varies slowly along
  * a step, and the density, which draws the cloud's edge, is still looked
- * up at every sample.  The steps' parity, not the count of cloudy samples, decides
- * which samples wait, so that on a GPU the rays of a warp, which take
- * their steps together, find their light at the same steps (counted
- * from each ray's first cloudy sample, their light marches fell on
- * every step of the warp's, and the kernel was slower with it than
- * without). */
+ * up at every sample.  The steps' parity, not the count of cloudy
+ * samples, decides which samples wait, so that on a GPU the rays of a
+ * warp, which take their steps together, find their light at the same
+ * steps (counted from each ray's first cloudy sample, their light
+ * marches fell on every step of the warp's, and the kernel was slower
+ * with it than without). */
 CS_HD static void source_every_other(const struct ray_ctx *c, struct path *P, cs_v3 p,
 				     double alt, unsigned mask, int amb, int odd, double t,
 				     double dt, double ss, double integ, double S[3], double *fwd)
@@ -690,17 +691,19 @@ CS_HD static void source_every_other(const struct ray_ctx *c, struct path *P, cs
 		*fwd = P->src[3] * ss;
 		return;
 	}
+	/* a waiting sample whose next is far or in another layer: the light
+	 * before it */
+	if (P->pending && !(amb == P->src_layer && t - P->pend_t < 2.5 * dt))
+		pending_prev(P);
 	sample_source(c, p, alt, mask, amb, ss, S, fwd);
-	double prev[3] = {P->src[0], P->src[1], P->src[2]};
-	for (int k = 0; k < 3; k++)
-		P->src[k] = S[k] / ss;
-	P->src[3] = *fwd / ss;
-	if (P->pending) {
-		double b = amb == P->src_layer && t - P->pend_t < 2.5 * dt ? 0.5 : 0.0;
-		for (int k = 0; k < 3; k++)
-			P->L[k] += P->pend_w * P->pend_ss * ((1.0 - b) * prev[k] + b * P->src[k]);
-		P->pending = 0;
+	for (int k = 0; k < 3; k++) {
+		double now = S[k] / ss;
+		if (P->pending) /* the mean of its neighbours' */
+			P->L[k] += P->pend_w * P->pend_ss * (0.5 * P->src[k] + 0.5 * now);
+		P->src[k] = now;
 	}
+	P->src[3] = *fwd / ss;
+	P->pending = 0;
 	P->have_src = 1, P->src_t = t, P->src_layer = amb;
 }
 
