@@ -198,7 +198,8 @@ static void usage(void)
 	       "                         from the point; uniform: equal steps; quadratic:\n"
 	       "                         samples at (k + 1/2)^2 / n^2 of the path; cone: the\n"
 	       "                         geometric steps spread sideways by up to 0.2 of\n"
-	       "                         their distance\n"
+	       "                         their distance; cache: the depth looked up in a\n"
+	       "                         volume built once a frame (the CPU only)\n"
 	       "      --source-every N   2 (low, medium, high): a cloudy sample's light at\n"
 	       "                         every other view sample, the one between taking\n"
 	       "                         the mean of its neighbours' (the density still\n"
@@ -222,7 +223,8 @@ static void usage(void)
 	       "      --device D         cpu (default): the CPU's threads; cuda: the same\n"
 	       "                         integrator on the first CUDA GPU (a build made with\n"
 	       "                         make CUDA=1; the march only, not the reference\n"
-	       "                         nor --march adaptive or --light-march cone);\n"
+	       "                         nor --march adaptive or --light-march cone or\n"
+	       "                         cache);\n"
 	       "                         where there is none, it says why and exits 1\n"
 	       "      --device-bench N   with --device cuda: render the frame N more times\n"
 	       "                         on the GPU and print the mean time of one (kernel\n"
@@ -718,9 +720,11 @@ int main(int argc, char **argv)
 				o.light_march = CS_LIGHT_GEOMETRIC;
 			else if (strcasecmp(optarg, "cone") == 0)
 				o.light_march = CS_LIGHT_CONE;
+			else if (strcasecmp(optarg, "cache") == 0)
+				o.light_march = CS_LIGHT_CACHE;
 			else
-				cli_usage_error("--light-march: '%s' is not uniform, quadratic, geometric "
-						"or cone", optarg);
+				cli_usage_error("--light-march: '%s' is not uniform, quadratic, geometric, "
+						"cone or cache", optarg);
 			break;
 		case OPT_SOURCE_EVERY:
 			o.source_every = (int)cli_long("--source-every", optarg, 1, 2);

@@ -74,6 +74,19 @@ static double wind_period_m(const struct cs_genus_preset *p)
 	return p->stretch * across_period_m(p);
 }
 
+int cs_cloud_periods(const struct cs_cloud_layer *l, double *along_m, double *across_m)
+{
+	const struct cs_genus_preset *p = cs_genus_preset(l->genus);
+	double across = across_period_m(p);
+	/* the layer's tiles must be its genus's (a test may set its own) */
+	if (l->kind != CS_LAYER_CLOUD || !(across > 0.0) || l->inv_tile != 1.0 / p->tile_m ||
+	    l->inv_detail != 1.0 / p->detail_tile_m || l->stretch != p->stretch)
+		return 0;
+	*across_m = across;
+	*along_m = wind_period_m(p);
+	return 1;
+}
+
 double cs_cloud_aloft_factor(double height_m)
 {
 	double factor = pow(fmax(height_m, 10.0) / 10.0, 1.0 / 7.0);

@@ -111,6 +111,12 @@ void cs_cloud_layer_init(struct cs_cloud_layer *l, const struct cs_wx_layer *wl,
 void cs_cloud_layer_drift(struct cs_cloud_layer *l, double east_m, double north_m,
 			  double axis_deg, double ground_alt_m);
 
+/* The periods of layer l's density along and across the wind, m (the
+ * least common multiple of its genus's base and detail tiles, stretched
+ * along): 1, or 0 where it has none (tiles not whole metres, a
+ * homogeneous layer, tiles not its genus's). */
+int cs_cloud_periods(const struct cs_cloud_layer *l, double *along_m, double *across_m);
+
 /* The wind-aloft factor at height_m above the ground: (height / 10 m)^(1/7),
  * at least 1 and at most 3. */
 double cs_cloud_aloft_factor(double height_m);

@@ -122,12 +122,37 @@ int cs_render_image(const struct cs_scene *sc, const struct cs_camera *cam,
 	struct frame_job *job = aligned_alloc(64, size);
 	if (job == NULL)
 		return cs_error(CS_ENOMEM, "out of memory");
+	/* the light caches: built on a copy of the scene, for this frame */
+	struct cs_scene *cached = NULL;
+	uint64_t cache_evaluations = 0;
+	if (s->light_march == CS_LIGHT_CACHE) {
+		cached = malloc(sizeof *cached);
+		if (cached == NULL) {
+			free(job);
+			return cs_error(CS_ENOMEM, "out of memory");
+		}
+		*cached = *sc;
+		for (int n = 0; n < CS_SCENE_MAX_LAYERS; n++)
+			cached->light_cache[n] = (struct cs_light_cache){0};
+		rc = cs_light_cache_build(cached, s, nthreads, &cache_evaluations);
+		if (rc != CS_OK) {
+			free(cached);
+			free(job);
+			return rc;
+		}
+		sc = cached;
+	}
 	*job = (struct frame_job){.rows = kernel()->rows, .sc = sc, .cam = cam, .s = s, .out = out};
 	int tasks = (cam->height + ROWS_PER_TASK - 1) / ROWS_PER_TASK, workers = 0;
 	rc = cs_pool_run(tasks, nthreads, render_rows, job, progress, user, &workers);
 	memset(stats, 0, sizeof *stats);
 	for (int i = 0; i < workers; i++)
 		stats_add(stats, &job->stats[i].s);
+	stats->light_samples += cache_evaluations;
+	if (cached != NULL) {
+		cs_light_cache_free(cached);
+		free(cached);
+	}
 	free(job);
 	if (rc == CS_ECANCELED)
 		return cs_error(CS_ECANCELED, "rendering cancelled");

@@ -165,6 +165,41 @@ CS_HD static double layer_depth(const struct cs_scene *sc, const struct cs_rende
 	return tau;
 }
 
+/* The optical depth of layer l from the point (x, y) at altitude alt_m up
+ * to its top toward the sun, from its cache lc (CS_LIGHT_CACHE): trilinear
+ * between the columns and levels around the sun's ray through the point,
+ * the columns wrapped by the field's periods; a point below the layer
+ * takes the depth of the whole layer along its ray, above it 0. */
+CS_HD static double cached_depth(const struct cs_cloud_layer *l, const struct cs_light_cache *lc,
+				 double x, double y, double alt_m)
+{
+	if (alt_m >= l->top_m)
+		return 0.0;
+	double rise = alt_m - l->base_m; /* height above the base */
+	double along = x * l->wind_x + y * l->wind_y - l->offset_along_m - rise * lc->shear_u;
+	double across = -x * l->wind_y + y * l->wind_x - l->offset_across_m - rise * lc->shear_v;
+	double fu = along / lc->du_m, fv = across / lc->dv_m;
+	double fk = rise > 0.0 ? rise / lc->dh_m : 0.0;
+	fu -= floor(fu / lc->nu) * lc->nu; /* into [0, nu] */
+	fv -= floor(fv / lc->nv) * lc->nv;
+	long i0 = (long)fu, j0 = (long)fv, k0 = (long)fk;
+	k0 = k0 < lc->nh - 1 ? k0 : lc->nh - 1;
+	double a = fu - (double)i0, b = fv - (double)j0, c = fk - (double)k0;
+	c = c < 1.0 ? c : 1.0;
+	i0 = i0 < lc->nu ? i0 : 0; /* fu rounded up to nu */
+	j0 = j0 < lc->nv ? j0 : 0;
+	long i1 = i0 + 1 < lc->nu ? i0 + 1 : 0, j1 = j0 + 1 < lc->nv ? j0 + 1 : 0;
+	long nk = lc->nh + 1;
+	const float *c00 = lc->depth + ((size_t)j0 * (size_t)lc->nu + (size_t)i0) * (size_t)nk + k0;
+	const float *c10 = lc->depth + ((size_t)j0 * (size_t)lc->nu + (size_t)i1) * (size_t)nk + k0;
+	const float *c01 = lc->depth + ((size_t)j1 * (size_t)lc->nu + (size_t)i0) * (size_t)nk + k0;
+	const float *c11 = lc->depth + ((size_t)j1 * (size_t)lc->nu + (size_t)i1) * (size_t)nk + k0;
+	double d00 = c00[0] + c * (c00[1] - c00[0]), d10 = c10[0] + c * (c10[1] - c10[0]);
+	double d01 = c01[0] + c * (c01[1] - c01[0]), d11 = c11[0] + c * (c11[1] - c11[0]);
+	double d0 = d00 + a * (d10 - d00), d1 = d01 + a * (d11 - d01);
+	return d0 + b * (d1 - d0);
+}
+
 /* Optical depth from p toward the sun through every layer: light_steps
  * midpoint samples over each part of the path in a layer of mask (the
  * layers the sample is in), a third as many, at least 2, in the others
@@ -184,11 +219,17 @@ CS_HD CS_SHARED double cs_light_depth(const struct cs_scene *sc,
 			    const struct cs_render_settings *s, cs_v3 p,
 			    unsigned mask, struct cs_render_stats *st)
 {
-	double tau = 0.0;
+	double tau = 0.0, alt = s->light_march == CS_LIGHT_CACHE ? cs_altitude(p, sc->earth_radius_m)
+								  : 0.0;
 	int others = s->light_steps / 3 > 2 ? s->light_steps / 3 : 2;
-	for (int i = 0; i < sc->nlayers; i++)
+	for (int i = 0; i < sc->nlayers; i++) {
+		if (s->light_march == CS_LIGHT_CACHE && sc->light_cache[i].depth != NULL) {
+			tau += cached_depth(&sc->layers[i], &sc->light_cache[i], p.x, p.y, alt);
+			continue;
+		}
 		tau = layer_depth(sc, s, &sc->layers[i], p, sc->sun_dir,
 				  (mask & (1u << i)) ? s->light_steps : others, 0, tau, st);
+	}
 	return tau;
 }
 

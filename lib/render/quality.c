@@ -70,7 +70,7 @@ int cs_render_settings_check(const struct cs_render_settings *s)
 		return cs_error(CS_EINVAL, "jitter must be 0..1");
 	if (s->march < CS_MARCH_STANDARD || s->march > CS_MARCH_ADAPTIVE)
 		return cs_error(CS_EINVAL, "unknown march %d", s->march);
-	if (s->light_march < CS_LIGHT_UNIFORM || s->light_march > CS_LIGHT_CONE)
+	if (s->light_march < CS_LIGHT_UNIFORM || s->light_march > CS_LIGHT_CACHE)
 		return cs_error(CS_EINVAL, "unknown light march %d", s->light_march);
 	if (s->source_every < 0 || s->source_every > 2)
 		return cs_error(CS_EINVAL, "the source's stride must be 1 or 2, not %d",
@@ -100,6 +100,9 @@ int cs_render_settings_gpu_check(const struct cs_render_settings *s)
 				"(on a GPU: the standard, naive or skip march)");
 	if (s->light_march == CS_LIGHT_CONE)
 		return cs_error(CS_EINVAL, "the cone light march runs on the CPU only "
+				"(on a GPU: the geometric, uniform or quadratic light march)");
+	if (s->light_march == CS_LIGHT_CACHE)
+		return cs_error(CS_EINVAL, "the light cache runs on the CPU only "
 				"(on a GPU: the geometric, uniform or quadratic light march)");
 	return CS_OK;
 }

@@ -75,10 +75,14 @@ enum {
 	CS_LIGHT_GEOMETRIC, /* steps growing geometrically from the point: the
 			       first about the layer's thickness over n, as a
 			       vertical path's, however long the path (a low sun) */
-	CS_LIGHT_CONE       /* the geometric steps, each sample moved sideways
+	CS_LIGHT_CONE,      /* the geometric steps, each sample moved sideways
 			       in the horizontal by up to CS_CONE_TAN of its
 			       distance (Schneider 2015's cone), on the CPU
 			       only */
+	CS_LIGHT_CACHE      /* the optical depth toward the sun looked up in
+			       a volume built once a frame (struct
+			       cs_light_cache), the geometric steps in a layer
+			       that has none; on the CPU only */
 };
 #define CS_CONE_TAN 0.2
 
@@ -279,6 +283,28 @@ struct cs_deck {
 };
 #define CS_DECK_SHARES 33
 
+/* A layer's optical depth toward the sun, built once a frame for
+ * CS_LIGHT_CACHE (cs_light_cache_build).  The layer's density repeats
+ * across the wind every period_across_m and along it every
+ * period_along_m (the least common multiple of its tiles); so does the
+ * depth from a point up to the layer's top along the sun's direction, and
+ * one period of it is kept in sheared axes: column (i, j) is the sun's ray
+ * that meets the layer's base at (i du, j dv) along and across the wind
+ * (as cs_cloud_extinction moves them), its level k at the height base +
+ * k dh, nh + 1 levels from the base to the top, and depth[(j nu + i)
+ * (nh + 1) + k] the optical depth from there to the top along the ray.
+ * Flat: a point's height above the ground's sphere is its altitude, and
+ * the sun's direction is the site's (at 50 km from the site it turns by
+ * 0.45 deg). */
+struct cs_light_cache {
+	const float *depth;        /* NULL: none (the layer is marched) */
+	int nu, nv, nh;
+	double du_m, dv_m, dh_m;
+	double shear_u, shear_v;   /* along and across per metre of height
+				      toward the sun */
+	double path_per_m;         /* the ray's length per metre of height */
+};
+
 struct cs_scene {
 	double earth_radius_m;
 	double ground_alt_m;          /* flat ground: the sphere at this altitude */
@@ -316,6 +342,9 @@ struct cs_scene {
 	double moon_scale;            /* its light relative to the sun's */
 	cs_v3 star_frame[3];          /* local east, north, up in equatorial axes */
 	unsigned effects;
+	/* CS_LIGHT_CACHE's volumes, per layer; cs_render_image builds them
+	 * for its frame (a scene handed to it has none) */
+	struct cs_light_cache light_cache[CS_SCENE_MAX_LAYERS];
 };
 
 /* Optical extinction (1/m) of rain falling at rate_mm_h, from the
@@ -436,6 +465,16 @@ int cs_render_image(const struct cs_scene *sc, const struct cs_camera *cam,
 		    const struct cs_render_settings *s, int nthreads,
 		    cs_progress_fn progress, void *user, float *out,
 		    struct cs_render_stats *stats);
+
+/* Builds the light caches of sc's layers (struct cs_light_cache) for
+ * CS_LIGHT_CACHE with s's light steps, on the CPU pool: for each layer of
+ * clouds of one site whose density has periods, under a key light 15 deg
+ * up or more (else the layer is marched); *evaluations: the density
+ * evaluations it took.  CS_OK, CS_ENOMEM (none is left built). */
+int cs_light_cache_build(struct cs_scene *sc, const struct cs_render_settings *s, int nthreads,
+			 uint64_t *evaluations);
+/* Frees sc's light caches (none: nothing). */
+void cs_light_cache_free(struct cs_scene *sc);
 
 /* The build of the per-pixel code cs_render_image runs on this CPU
  * (cpu/kernel.c, -O3): "avx512" where the CPU has x86-64-v4, else "avx2"
