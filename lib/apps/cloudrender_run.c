@@ -669,9 +669,27 @@ static int render_device(const struct cs_cloudrender_opts *o, struct cs_cloudren
 		cs_cuda_scene_free(*gpu);
 		*gpu = NULL;
 	}
-	int rc = *gpu ? cs_cuda_scene_update(*gpu, sc) : cs_cuda_scene_new(sc, gpu);
+	/* the light caches: built on the host (the CPU pool) into a copy of
+	 * the scene, which the device takes its copies from */
+	struct cs_scene *cached = NULL;
+	uint64_t cache_evaluations = 0;
+	int rc = CS_OK;
+	if (r->settings.light_march == CS_LIGHT_CACHE) {
+		if ((cached = malloc(sizeof *cached)) == NULL)
+			return cs_error(CS_ENOMEM, "out of memory");
+		*cached = *sc;
+		rc = cs_light_cache_build(cached, &r->settings, o->threads, &cache_evaluations);
+		sc = cached;
+	}
+	if (rc == CS_OK)
+		rc = *gpu ? cs_cuda_scene_update(*gpu, sc) : cs_cuda_scene_new(sc, gpu);
+	if (cached != NULL) {
+		cs_light_cache_free(cached);
+		free(cached);
+	}
 	if (rc == CS_OK)
 		rc = cs_cuda_render(*gpu, cam, &r->settings, px, &r->stats, &r->device_kernel_ms);
+	r->stats.light_samples += cache_evaluations;
 	if (rc == CS_OK && o->device_bench > 0)
 		rc = cs_cuda_bench(*gpu, cam, &r->settings, o->device_bench, &r->device_frame_ms);
 	return rc;

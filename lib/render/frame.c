@@ -132,8 +132,6 @@ int cs_render_image(const struct cs_scene *sc, const struct cs_camera *cam,
 			return cs_error(CS_ENOMEM, "out of memory");
 		}
 		*cached = *sc;
-		for (int n = 0; n < CS_SCENE_MAX_LAYERS; n++)
-			cached->light_cache[n] = (struct cs_light_cache){0};
 		rc = cs_light_cache_build(cached, s, nthreads, &cache_evaluations);
 		if (rc != CS_OK) {
 			free(cached);

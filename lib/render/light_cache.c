@@ -1,7 +1,8 @@
 /* light_cache.c - CS_LIGHT_CACHE: each layer's optical depth toward the
  * sun, one period of it (struct cs_light_cache), built once a frame on
  * the CPU pool, so that a cloudy sample looks its light up instead of
- * marching toward the sun. */
+ * marching toward the sun (on a GPU too: cuda/render_cuda.cu copies the
+ * volumes with the scene). */
 #include "render/render.h"
 
 #include "core/err.h"
@@ -59,6 +60,8 @@ int cs_light_cache_build(struct cs_scene *sc, const struct cs_render_settings *s
 			 uint64_t *evaluations)
 {
 	*evaluations = 0;
+	for (int n = 0; n < CS_SCENE_MAX_LAYERS; n++) /* a copy's: not its to free */
+		sc->light_cache[n] = (struct cs_light_cache){0};
 	cs_v3 sun = sc->sun_dir;
 	if (!(sc->effects & CS_FX_KEY) || !(sun.z >= CACHE_MIN_SUN_SIN))
 		return CS_OK;

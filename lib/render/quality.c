@@ -100,9 +100,7 @@ int cs_render_settings_gpu_check(const struct cs_render_settings *s)
 				"(on a GPU: the standard, naive or skip march)");
 	if (s->light_march == CS_LIGHT_CONE)
 		return cs_error(CS_EINVAL, "the cone light march runs on the CPU only "
-				"(on a GPU: the geometric, uniform or quadratic light march)");
-	if (s->light_march == CS_LIGHT_CACHE)
-		return cs_error(CS_EINVAL, "the light cache runs on the CPU only "
-				"(on a GPU: the geometric, uniform or quadratic light march)");
+				"(on a GPU: the geometric, uniform or quadratic light march or "
+				"the light cache)");
 	return CS_OK;
 }

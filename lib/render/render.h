@@ -82,7 +82,7 @@ enum {
 	CS_LIGHT_CACHE      /* the optical depth toward the sun looked up in
 			       a volume built once a frame (struct
 			       cs_light_cache), the geometric steps in a layer
-			       that has none; on the CPU only */
+			       that has none */
 };
 #define CS_CONE_TAN 0.2
 
@@ -470,7 +470,9 @@ int cs_render_image(const struct cs_scene *sc, const struct cs_camera *cam,
  * CS_LIGHT_CACHE with s's light steps, on the CPU pool: for each layer of
  * clouds of one site whose density has periods, under a key light 15 deg
  * up or more (else the layer is marched); *evaluations: the density
- * evaluations it took.  CS_OK, CS_ENOMEM (none is left built). */
+ * evaluations it took.  The caches sc held are forgotten first, not freed
+ * (sc is a copy of a scene: cs_render_image's, the GPU's).  CS_OK,
+ * CS_ENOMEM (none is left built). */
 int cs_light_cache_build(struct cs_scene *sc, const struct cs_render_settings *s, int nthreads,
 			 uint64_t *evaluations);
 /* Frees sc's light caches (none: nothing). */
