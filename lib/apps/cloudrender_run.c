@@ -689,7 +689,8 @@ static int render_device(const struct cs_cloudrender_opts *o, struct cs_cloudren
 	}
 	if (rc == CS_OK)
 		rc = cs_cuda_render(*gpu, cam, &r->settings, px, &r->stats, &r->device_kernel_ms);
-	r->stats.light_samples += cache_evaluations;
+	if (rc == CS_OK)
+		r->stats.light_samples += cache_evaluations;
 	if (rc == CS_OK && o->device_bench > 0)
 		rc = cs_cuda_bench(*gpu, cam, &r->settings, o->device_bench, &r->device_frame_ms);
 	return rc;

@@ -552,7 +552,14 @@ CS_HD static void sample_source(const struct ray_ctx *c, cs_v3 p, double alt,
 		 * so a base is darker under thick parts */
 		double tau_above = 0.0;
 		int n = c->s->light_steps / 2 > 2 ? c->s->light_steps / 2 : 2;
-		if (sc->deck.on) {
+		/* the column's volume (--light-march cache), or n samples */
+		const struct cs_light_cache *vc = c->s->light_march == CS_LIGHT_CACHE &&
+								  sc->column_cache[li].depth != NULL
+							  ? &sc->column_cache[li]
+							  : NULL;
+		if (sc->deck.on && vc != NULL) {
+			tau_above = cs_cached_depth(l, vc, p.x, p.y, alt);
+		} else if (sc->deck.on) {
 			tau_above = cs_cloud_column(l, sc->noise, p.x, p.y, alt, l->top_m, n);
 			c->st->light_samples += alt < l->top_m ? (uint64_t)n : 0u;
 		}
@@ -568,8 +575,14 @@ CS_HD static void sample_source(const struct ray_ctx *c, cs_v3 p, double alt,
 			for (int k = 0; k < 3; k++)
 				A[k] += L[k];
 		if (field >= 0) { /* and the column under it, for its fields */
-			double tau_below = cs_cloud_column(l, sc->noise, p.x, p.y, l->base_m, alt, n), F[3];
-			c->st->light_samples += alt > l->base_m ? (uint64_t)n : 0u;
+			double tau_below, F[3];
+			if (vc != NULL) { /* the whole column less the part above */
+				tau_below = cs_cached_depth(l, vc, p.x, p.y, l->base_m) - tau_above;
+				tau_below = tau_below > 0.0 ? tau_below : 0.0;
+			} else {
+				tau_below = cs_cloud_column(l, sc->noise, p.x, p.y, l->base_m, alt, n);
+				c->st->light_samples += alt > l->base_m ? (uint64_t)n : 0u;
+			}
 			cs_deck_field_source(&sc->deck, field, tau_above, tau_below, -c->d.z,
 					     c->cphi_sun, F);
 			for (int k = 0; k < 3; k++)

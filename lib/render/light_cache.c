@@ -15,6 +15,14 @@
  * enough that the Earth's curve, which the cache's flat layers leave out,
  * bends them (15 deg: 3.9 times the thickness). */
 #define CACHE_MIN_SUN_SIN 0.2588190451 /* sin 15 deg */
+/* A volume's cells at most (16 MB of floats; --light-steps beyond 48
+ * adds no more), and the columns' spacing across the wind that a field
+ * larger than its light steps' share of cells may take up to them: a
+ * cumulonimbus's 40 km period was 449 m between columns at medium, its
+ * lit fringe's depth 1.75 times off on average against 0.49 for the
+ * geometric march it replaced. */
+#define MAX_CELLS 4000000.0
+#define MAX_SPACING_M 200.0
 
 struct build_job {
 	const struct cs_scene *sc;
@@ -23,9 +31,12 @@ struct build_job {
 	float *depth;
 };
 
-/* Row j of the columns: each column's extinction at its nh + 1 levels
- * (the per-pixel code's build, cs_render_extinction), summed down from
- * the top by the trapezoid rule along the ray. */
+/* Row j of the columns: each column's extinction at the middle of each
+ * of its nh steps between levels (the per-pixel code's build,
+ * cs_render_extinction), summed down from the top by the midpoint rule
+ * along the ray.  (The trapezoid rule on the levels counted half a level
+ * of full density at the sharp ramps of a stratus's base and top: its
+ * depth came out 10 % too high at medium, 50 m levels.) */
 static void build_row(void *user, int j, int worker)
 {
 	(void)worker;
@@ -33,38 +44,92 @@ static void build_row(void *user, int j, int worker)
 	const struct cs_cloud_layer *l = job->l;
 	const struct cs_light_cache *lc = job->lc;
 	int nk = lc->nh + 1;
-	double xyz[3 * 129], e[129];
+	double xyz[3 * 128], e[128];
 	for (int i = 0; i < lc->nu; i++) {
-		for (int k = 0; k < nk; k++) {
-			double rise = k * lc->dh_m;
+		for (int k = 0; k < lc->nh; k++) {
+			double rise = (k + 0.5) * lc->dh_m;
 			/* along and across as cs_cloud_extinction moves them,
 			 * back to east and north */
 			double a = i * lc->du_m + rise * lc->shear_u + l->offset_along_m;
 			double c = j * lc->dv_m + rise * lc->shear_v + l->offset_across_m;
 			xyz[3 * k] = a * l->wind_x - c * l->wind_y;
 			xyz[3 * k + 1] = a * l->wind_y + c * l->wind_x;
-			xyz[3 * k + 2] = k == lc->nh ? l->top_m : l->base_m + rise;
+			xyz[3 * k + 2] = l->base_m + rise;
 		}
-		cs_render_extinction(l, job->sc->noise, nk, xyz, e);
+		cs_render_extinction(l, job->sc->noise, lc->nh, xyz, e);
 		float *col = job->depth + ((size_t)j * (size_t)lc->nu + (size_t)i) * (size_t)nk;
-		double d = 0.0, w = 0.5 * lc->dh_m * lc->path_per_m;
+		double d = 0.0, w = lc->dh_m * lc->path_per_m;
 		col[lc->nh] = 0.0f;
 		for (int k = lc->nh - 1; k >= 0; k--) {
-			d += w * (e[k] + e[k + 1]);
+			d += w * e[k];
 			col[k] = (float)d;
 		}
 	}
+}
+
+/* The volume of layer l whose columns lean by (shear_u, shear_v) along
+ * and across the wind per metre of height, path_per_m metres of ray a
+ * metre of height, into *out (its depth NULL where the layer has none:
+ * far weather, no periods, no cover); levels about dh_want apart (at
+ * most 128 of them), columns within budget cells, stretched along the
+ * wind as the field is, and no more than MAX_SPACING_M apart across it
+ * while that fits in MAX_CELLS.  CS_OK, CS_ENOMEM, or the pool's error. */
+static int build_volume(const struct cs_scene *sc, const struct cs_cloud_layer *l, int nthreads,
+			double dh_want, double budget, double shear_u, double shear_v,
+			double path_per_m, struct cs_light_cache *out, uint64_t *evaluations)
+{
+	*out = (struct cs_light_cache){0};
+	double pa, pc, th = l->top_m - l->base_m;
+	if (l->nfar > 0 || !(l->coverage > 0.0) || !(th > 0.0) || !cs_cloud_periods(l, &pa, &pc))
+		return CS_OK;
+	int nh = (int)ceil(th / dh_want);
+	nh = nh < 4 ? 4 : nh > 128 ? 128 : nh;
+	double st = l->stretch >= 1.0 ? l->stretch : 1.0, area = pa * pc * (nh + 1) / st;
+	budget = budget < MAX_CELLS ? budget : MAX_CELLS;
+	double dv = sqrt(area / budget);
+	dv = dv > dh_want ? dv : dh_want;
+	if (dv > MAX_SPACING_M) { /* the large fields (Cb, Ns, Cs): more cells */
+		double least = sqrt(area / MAX_CELLS);
+		dv = least > MAX_SPACING_M ? least : MAX_SPACING_M;
+	}
+	double nu = ceil(pa / (dv * st)), nv = ceil(pc / dv);
+	/* (the columns rounded up to whole numbers: a little over MAX_CELLS) */
+	if (nu * nv * (nh + 1) > 1.1 * MAX_CELLS)
+		return CS_OK; /* a period too long for the cells (never for the genera) */
+	struct cs_light_cache c = {
+		.nu = (int)nu, .nv = (int)nv, .nh = nh,
+		.du_m = pa / nu, .dv_m = pc / nv, .dh_m = th / nh,
+		.shear_u = shear_u, .shear_v = shear_v, .path_per_m = path_per_m,
+	};
+	size_t cells = (size_t)c.nu * (size_t)c.nv * (size_t)(nh + 1);
+	float *depth = malloc(cells * sizeof *depth);
+	if (depth == NULL)
+		return cs_error(CS_ENOMEM, "out of memory for the light cache (%zu cells)", cells);
+	struct build_job job = {sc, l, &c, depth};
+	int rc = cs_pool_run(c.nv, nthreads, build_row, &job, NULL, NULL, NULL);
+	if (rc != CS_OK) {
+		free(depth);
+		return rc;
+	}
+	c.depth = depth;
+	*out = c;
+	*evaluations += cells;
+	return CS_OK;
 }
 
 int cs_light_cache_build(struct cs_scene *sc, const struct cs_render_settings *s, int nthreads,
 			 uint64_t *evaluations)
 {
 	*evaluations = 0;
-	for (int n = 0; n < CS_SCENE_MAX_LAYERS; n++) /* a copy's: not its to free */
+	for (int n = 0; n < CS_SCENE_MAX_LAYERS; n++) { /* a copy's: not its to free */
 		sc->light_cache[n] = (struct cs_light_cache){0};
+		sc->column_cache[n] = (struct cs_light_cache){0};
+	}
 	cs_v3 sun = sc->sun_dir;
-	if (!(sc->effects & CS_FX_KEY) || !(sun.z >= CACHE_MIN_SUN_SIN))
-		return CS_OK;
+	int toward_sun = (sc->effects & CS_FX_KEY) && sun.z >= CACHE_MIN_SUN_SIN;
+	/* the column above a sample (and below it, for the light fields):
+	 * where the diffuse light is found, which takes it (sample_source) */
+	int columns = sc->deck.on && s->ambient;
 	/* levels about 50 m apart at 12 light steps (finer with more), and
 	 * columns as close within 1/12 million cells a light step: a
 	 * cumulus layer's period at 12 steps is 25 levels of 200 x 200
@@ -74,52 +139,31 @@ int cs_light_cache_build(struct cs_scene *sc, const struct cs_render_settings *s
 	 * many 0.01211, levels twice as far apart 0.0125 */
 	int ls = s->light_steps > 1 ? s->light_steps : 1;
 	double dh_want = 600.0 / ls, budget = 83333.0 * ls;
-	for (int n = 0; n < sc->nlayers; n++) {
+	int rc = CS_OK;
+	for (int n = 0; n < sc->nlayers && rc == CS_OK; n++) {
 		const struct cs_cloud_layer *l = &sc->layers[n];
-		struct cs_light_cache *lc = &sc->light_cache[n];
-		double pa, pc, th = l->top_m - l->base_m;
-		if (l->nfar > 0 || !(l->coverage > 0.0) || !(th > 0.0) ||
-		    !cs_cloud_periods(l, &pa, &pc))
-			continue;
-		int nh = (int)ceil(th / dh_want);
-		nh = nh < 4 ? 4 : nh > 128 ? 128 : nh;
-		double dxy = sqrt(pa * pc * (nh + 1) / budget);
-		dxy = dxy > dh_want ? dxy : dh_want;
-		double nu = ceil(pa / dxy), nv = ceil(pc / dxy);
-		if (nu * nv * (nh + 1) > 4.0 * budget)
-			continue; /* a period too long for the cells (never for the genera) */
-		struct cs_light_cache c = {
-			.nu = (int)nu, .nv = (int)nv, .nh = nh,
-			.du_m = pa / nu, .dv_m = pc / nv, .dh_m = th / nh,
-			.shear_u = (sun.x * l->wind_x + sun.y * l->wind_y) / sun.z,
-			.shear_v = (-sun.x * l->wind_y + sun.y * l->wind_x) / sun.z,
-			.path_per_m = 1.0 / sun.z,
-		};
-		size_t cells = (size_t)c.nu * (size_t)c.nv * (size_t)(nh + 1);
-		float *depth = malloc(cells * sizeof *depth);
-		if (depth == NULL) {
-			cs_light_cache_free(sc);
-			return cs_error(CS_ENOMEM, "out of memory for the light cache (%zu cells)",
-					cells);
-		}
-		struct build_job job = {sc, l, &c, depth};
-		int rc = cs_pool_run(c.nv, nthreads, build_row, &job, NULL, NULL, NULL);
-		if (rc != CS_OK) {
-			free(depth);
-			cs_light_cache_free(sc);
-			return rc;
-		}
-		c.depth = depth;
-		*lc = c;
-		*evaluations += cells;
+		if (toward_sun)
+			rc = build_volume(sc, l, nthreads, dh_want, budget,
+					  (sun.x * l->wind_x + sun.y * l->wind_y) / sun.z,
+					  (-sun.x * l->wind_y + sun.y * l->wind_x) / sun.z, 1.0 / sun.z,
+					  &sc->light_cache[n], evaluations);
+		if (rc == CS_OK && columns)
+			rc = build_volume(sc, l, nthreads, dh_want, budget, 0.0, 0.0, 1.0,
+					  &sc->column_cache[n], evaluations);
 	}
-	return CS_OK;
+	if (rc != CS_OK) {
+		cs_light_cache_free(sc);
+		*evaluations = 0;
+	}
+	return rc;
 }
 
 void cs_light_cache_free(struct cs_scene *sc)
 {
 	for (int n = 0; n < CS_SCENE_MAX_LAYERS; n++) {
 		free((void *)sc->light_cache[n].depth);
+		free((void *)sc->column_cache[n].depth);
 		sc->light_cache[n] = (struct cs_light_cache){0};
+		sc->column_cache[n] = (struct cs_light_cache){0};
 	}
 }

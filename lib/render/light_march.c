@@ -165,13 +165,10 @@ CS_HD static double layer_depth(const struct cs_scene *sc, const struct cs_rende
 	return tau;
 }
 
-/* The optical depth of layer l from the point (x, y) at altitude alt_m up
- * to its top toward the sun, from its cache lc (CS_LIGHT_CACHE): trilinear
- * between the columns and levels around the sun's ray through the point,
- * the columns wrapped by the field's periods; a point below the layer
- * takes the depth of the whole layer along its ray, above it 0. */
-CS_HD static double cached_depth(const struct cs_cloud_layer *l, const struct cs_light_cache *lc,
-				 double x, double y, double alt_m)
+/* (march.h) Trilinear between the columns and levels around the ray
+ * through the point. */
+CS_HD CS_SHARED double cs_cached_depth(const struct cs_cloud_layer *l, const struct cs_light_cache *lc,
+				       double x, double y, double alt_m)
 {
 	if (alt_m >= l->top_m)
 		return 0.0;
@@ -224,7 +221,7 @@ CS_HD CS_SHARED double cs_light_depth(const struct cs_scene *sc,
 	int others = s->light_steps / 3 > 2 ? s->light_steps / 3 : 2;
 	for (int i = 0; i < sc->nlayers; i++) {
 		if (s->light_march == CS_LIGHT_CACHE && sc->light_cache[i].depth != NULL) {
-			tau += cached_depth(&sc->layers[i], &sc->light_cache[i], p.x, p.y, alt);
+			tau += cs_cached_depth(&sc->layers[i], &sc->light_cache[i], p.x, p.y, alt);
 			continue;
 		}
 		tau = layer_depth(sc, s, &sc->layers[i], p, sc->sun_dir,

@@ -38,6 +38,14 @@ CS_HD double cs_light_depth(const struct cs_scene *sc,
 			    const struct cs_render_settings *s, cs_v3 p,
 			    unsigned mask, struct cs_render_stats *st);
 
+/* The optical depth of layer l from the point (x, y) at altitude alt_m up
+ * to its top along the rays of its volume lc (struct cs_light_cache:
+ * toward the sun, or up the vertical column): trilinear, the columns
+ * wrapped by the field's periods; below the layer the whole layer along
+ * the ray through the point, above it 0. */
+CS_HD double cs_cached_depth(const struct cs_cloud_layer *l, const struct cs_light_cache *lc,
+			     double x, double y, double alt_m);
+
 /* Optical depth of the cloud of layer li that p is in, from p along the
  * unit vector dir up to the first sample without cloud (light_steps
  * samples over the path through the layer, spaced as cs_light_depth's):

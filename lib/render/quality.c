@@ -25,16 +25,16 @@
  * time, medium's 0.0119 -> 0.0123 and low's 0.0159 -> 0.0164 in 23 and
  * 17 % less; the default 1280x720 scene renders 20 % faster on the CPU
  * and 6 % on an H200 at medium (cloudrender(1), QUALITY).  The reference
- * keeps the light at every sample.  Low and medium look the depth
- * toward the sun up in the light cache (CS_LIGHT_CACHE) where it has one
- * (a sun 15 deg up or more): on the study's scenes their relative MSE is
- * the same or less (0.01639 and 0.01228 -> 0.01625 and 0.01225), and
- * the default 1280x720 scene renders 30 % faster on the CPU, 55 % on an
- * H200 at medium (cloudrender(1), QUALITY).  High and the reference
- * march (geometric): the cache's volume, 120 m between its columns,
- * holds high 5 dB further from the converged march than its own march
- * does (50.0 against 55.0 dB, quality-study), though no further from
- * the path tracer (0.01125 against 0.01144). */
+ * keeps the light at every sample.  Low and medium look the depths
+ * toward the sun and up the column in the light cache (CS_LIGHT_CACHE)
+ * where it has them: on the study's scenes their relative MSE is less
+ * (0.01639 and 0.01228 -> 0.01537 and 0.01195), and the default 1280x720
+ * scene renders in 0.63 of the time on the CPU, 0.60 on an H200 at
+ * medium (cloudrender(1), QUALITY).  High and the reference march
+ * (geometric): the cache's volume, 120 m between its columns, holds high
+ * 5 dB further from the converged march than its own march does (50.0
+ * against 55.0 dB, quality-study), though no further from the path
+ * tracer (0.01128 against 0.01144). */
 #include "render/render.h"
 
 #include "core/err.h"

@@ -343,8 +343,12 @@ struct cs_scene {
 	cs_v3 star_frame[3];          /* local east, north, up in equatorial axes */
 	unsigned effects;
 	/* CS_LIGHT_CACHE's volumes, per layer; cs_render_image builds them
-	 * for its frame (a scene handed to it has none) */
+	 * for its frame (a scene handed to it has none): the depth toward
+	 * the sun, and the vertical column's (shear 0, a metre of path a
+	 * metre of height: the depth from a point up to the layer's top, the
+	 * column above a sample that its diffuse light takes) */
 	struct cs_light_cache light_cache[CS_SCENE_MAX_LAYERS];
+	struct cs_light_cache column_cache[CS_SCENE_MAX_LAYERS];
 };
 
 /* Optical extinction (1/m) of rain falling at rate_mm_h, from the
@@ -471,8 +475,10 @@ int cs_render_image(const struct cs_scene *sc, const struct cs_camera *cam,
  * clouds of one site whose density has periods, under a key light 15 deg
  * up or more (else the layer is marched); *evaluations: the density
  * evaluations it took.  The caches sc held are forgotten first, not freed
- * (sc is a copy of a scene: cs_render_image's, the GPU's).  CS_OK,
- * CS_ENOMEM (none is left built). */
+ * (sc is a copy of a scene: cs_render_image's, the GPU's).  Also the
+ * vertical columns' volumes where the light fields and the ambient light
+ * are on (sc->column_cache).  CS_OK, CS_ENOMEM or the pool's error (then
+ * none is left built and *evaluations is 0). */
 int cs_light_cache_build(struct cs_scene *sc, const struct cs_render_settings *s, int nthreads,
 			 uint64_t *evaluations);
 /* Frees sc's light caches (none: nothing). */

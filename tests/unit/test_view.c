@@ -135,11 +135,14 @@ static void default_view_looks_away_from_the_sun(void)
 }
 
 /* Cumulus at 0.35 behind haze of 2 km visibility: the default view (raised
- * until the lowest base shows) sees textured cloud on more than 5 % of the
+ * until the lowest base shows) sees textured cloud on more than 3 % of the
  * pixels, and more than twice what the fixed 8-degree pitch of before saw
  * (measured: 14 % when the rule was made, 9.4 % since the deck's
  * transmittance follows the sun's elevation and the clouds' insides are
- * darker, 0.1 % at 8 degrees). */
+ * darker, 4.9 % since medium looks the depths toward the sun and up the
+ * column up in the light cache, whose light has none of the march's
+ * grain, which a pixel 1 % off its neighbours' mean also counts; 0.1 %
+ * at 8 degrees). */
 static void hazy_default_view_still_shows_the_nearest_clouds(void)
 {
 	struct cs_wx wx;
@@ -162,9 +165,10 @@ static void hazy_default_view_still_shows_the_nearest_clouds(void)
 		double f8 = cloud_pixels(f1, g0, w, h), c8 = cloud_pixels(f0, g0, w, h);
 		printf("  visibility 2 km: default elevation %.1f deg, cloud pixels %.3f "
 		       "(cloudless %.3f); at 8 deg %.3f (%.3f)\n", el, f, c, f8, c8);
+
 		CHECK(c < 0.01 && c8 < 0.01);
 		CHECK(el > CS_VIEW_DEFAULT_ELEVATION_DEG);
-		CHECK(f > 0.05);
+		CHECK(f > 0.03);
 		/* the fixed 8-degree pitch of before sees (almost) only haze */
 		CHECK(f8 < f / 2);
 	}

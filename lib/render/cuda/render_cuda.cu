@@ -254,8 +254,9 @@ struct cs_cuda_scene {
 	struct dev_scene *d;       /* device */
 	void *arrays[5];           /* device: noise, heights, block maxima, water, colour */
 	const void *src[5];        /* the host arrays they were copied from */
-	float *cache[CS_SCENE_MAX_LAYERS]; /* device: the layers' light caches */
-	size_t cache_n[CS_SCENE_MAX_LAYERS]; /* their sizes, bytes */
+	float *cache[2 * CS_SCENE_MAX_LAYERS]; /* device: the layers' light caches,
+						  toward the sun and the columns' */
+	size_t cache_n[2 * CS_SCENE_MAX_LAYERS]; /* their sizes, bytes */
 	unsigned long long *stats; /* device: NSTATS counters */
 	float *frame;              /* device: 5 floats a pixel */
 	size_t frame_px;
@@ -440,8 +441,9 @@ static int scene_struct(struct cs_cuda_scene *c, const struct cs_scene *sc)
 	/* the light caches (CS_LIGHT_CACHE), built on the host for this
 	 * frame: copied every frame, into the same device memory while their
 	 * size stays */
-	for (int n = 0; rc == CS_OK && n < CS_SCENE_MAX_LAYERS; n++) {
-		const struct cs_light_cache *lc = &sc->light_cache[n];
+	for (int n = 0; rc == CS_OK && n < 2 * CS_SCENE_MAX_LAYERS; n++) {
+		int col = n >= CS_SCENE_MAX_LAYERS, li = n - col * CS_SCENE_MAX_LAYERS;
+		const struct cs_light_cache *lc = col ? &sc->column_cache[li] : &sc->light_cache[li];
 		if (lc->depth == NULL)
 			continue;
 		size_t bytes = (size_t)lc->nu * lc->nv * (lc->nh + 1) * sizeof(float);
@@ -457,7 +459,10 @@ static int scene_struct(struct cs_cuda_scene *c, const struct cs_scene *sc)
 		}
 		if ((e = cudaMemcpy(c->cache[n], lc->depth, bytes, cudaMemcpyHostToDevice)) != cudaSuccess)
 			rc = cuda_error(e, "uploading the light cache");
-		h->sc.light_cache[n].depth = c->cache[n];
+		if (col)
+			h->sc.column_cache[li].depth = c->cache[n];
+		else
+			h->sc.light_cache[li].depth = c->cache[n];
 	}
 	if (rc == CS_OK && (e = cudaMemcpy(c->d, h, sizeof *h, cudaMemcpyHostToDevice)) != cudaSuccess)
 		rc = cuda_error(e, "uploading the scene");
@@ -513,7 +518,7 @@ extern "C" void cs_cuda_scene_free(struct cs_cuda_scene *c)
 		return;
 	for (int k = 0; k < 5; k++)
 		cudaFree(c->arrays[k]);
-	for (int n = 0; n < CS_SCENE_MAX_LAYERS; n++)
+	for (int n = 0; n < 2 * CS_SCENE_MAX_LAYERS; n++)
 		cudaFree(c->cache[n]);
 	if (c->noise_tex)
 		cudaDestroyTextureObject(c->noise_tex);
