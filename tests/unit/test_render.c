@@ -525,6 +525,19 @@ static void cloud_shadow_is_displaced_along_the_sun(void)
 	}
 }
 
+/* A point of the cumulus layer (1500-2700 m) within 4 km of the site,
+ * from the linear congruential sequence *h: x, y and altitude, 20 m
+ * inside the base and the top. */
+static void cumulus_point(uint32_t *h, double *x, double *y, double *alt)
+{
+	double r[3];
+	for (int c = 0; c < 3; c++) {
+		*h = *h * 1664525u + 1013904223u;
+		r[c] = (*h >> 8) / 16777216.0;
+	}
+	*x = (r[0] - 0.5) * 8000, *y = (r[1] - 0.5) * 8000, *alt = 1520 + r[2] * 1160;
+}
+
 /* The light cache (--light-march cache) against a fine march toward the
  * sun through the same cumulus layer (512 equal steps, no cache code),
  * at 400 points inside the layer within 4 km of the site, under a sun 40
@@ -563,12 +576,8 @@ static void light_cache_agrees_with_a_fine_march(void)
 	CHECK_NEAR(pc, 24000.0, 1e-9);
 	uint32_t h = 12345;
 	for (int k = 0; k < 400; k++) {
-		double r[3];
-		for (int c = 0; c < 3; c++) {
-			h = h * 1664525u + 1013904223u;
-			r[c] = (h >> 8) / 16777216.0;
-		}
-		double x = (r[0] - 0.5) * 8000, y = (r[1] - 0.5) * 8000, alt = 1520 + r[2] * 1160;
+		double x, y, alt;
+		cumulus_point(&h, &x, &y, &alt);
 		double Ra = CS_EARTH_RADIUS_M + alt; /* the point alt above the sphere */
 		cs_v3 p = v3(x, y, sqrt(Ra * Ra - x * x - y * y) - CS_EARTH_RADIUS_M);
 		double tf = cs_light_depth(&sc, &fine, p, 1u, &st);
@@ -607,12 +616,8 @@ static void light_cache_agrees_with_a_fine_march(void)
 	const struct cs_cloud_layer *l = &sc.layers[0];
 	double sa_c = 0, sa_f = 0, sb_c = 0, sb_f = 0, dA = 0;
 	for (int k = 0; k < 1000; k++) {
-		double r[3];
-		for (int c = 0; c < 3; c++) {
-			h = h * 1664525u + 1013904223u;
-			r[c] = (h >> 8) / 16777216.0;
-		}
-		double x = (r[0] - 0.5) * 8000, y = (r[1] - 0.5) * 8000, alt = 1520 + r[2] * 1160;
+		double x, y, alt;
+		cumulus_point(&h, &x, &y, &alt);
 		double above = cs_cached_depth(l, vc, x, y, alt);
 		double below = cs_cached_depth(l, vc, x, y, l->base_m) - above;
 		double fa = cs_cloud_column(l, &noise, x, y, alt, l->top_m, 400);
