@@ -448,13 +448,15 @@ static int scene_struct(struct cs_cuda_scene *c, const struct cs_scene *sc)
 			continue;
 		size_t bytes = (size_t)lc->nu * lc->nv * (lc->nh + 1) * sizeof(float);
 		if (c->cache[n] == NULL || c->cache_n[n] != bytes) {
-			cudaFree(c->cache[n]);
-			c->cache[n] = NULL;
-			c->cache_n[n] = 0;
-			if ((e = cudaMalloc((void **)&c->cache[n], bytes)) != cudaSuccess) {
+			/* the new memory first: where it fails, the device's
+			 * scene of the frame before keeps valid memory */
+			float *mem = NULL;
+			if ((e = cudaMalloc((void **)&mem, bytes)) != cudaSuccess) {
 				rc = cuda_error(e, "device memory for the light cache");
 				break;
 			}
+			cudaFree(c->cache[n]);
+			c->cache[n] = mem;
 			c->cache_n[n] = bytes;
 		}
 		if ((e = cudaMemcpy(c->cache[n], lc->depth, bytes, cudaMemcpyHostToDevice)) != cudaSuccess)
