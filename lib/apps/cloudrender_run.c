@@ -213,7 +213,7 @@ static int write_exr(const struct cs_cloudrender_opts *o, const struct cs_cloudr
 		{"altitude", CS_EXR_FLOAT, {0, 0, 0}, NULL, r->cam_alt_m},
 	};
 	return cs_exr_write_to(of, name, o->width, o->height, ch, 5, attrs,
-			       (int)(sizeof attrs / sizeof attrs[0]));
+			       (int)(sizeof attrs / sizeof attrs[0]), o->threads);
 }
 
 /* One output, into its open temporary. */

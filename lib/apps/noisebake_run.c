@@ -139,7 +139,7 @@ int cs_noisebake_run(const struct cs_noisebake_opts *o, struct cs_noisebake_resu
 	if (rc == CS_OK && o->output && (rc = cs_outset_open(&set, o->output, &of)) == CS_OK)
 		rc = cs_volume_write_exr_to(&v, of, strcmp(o->output, "-") == 0 ? "standard output"
 										 : o->output,
-					    o->use_float);
+					    o->use_float, o->threads);
 	if (rc == CS_OK && o->preview) {
 		uint8_t *pix = NULL;
 		int w = 0, h = 0;

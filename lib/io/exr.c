@@ -3,6 +3,7 @@
 #include "core/err.h"
 #include "core/fileio.h"
 #include "core/half.h"
+#include "core/pool.h"
 
 #include <errno.h>
 #include <stddef.h>
@@ -102,18 +103,124 @@ static int set_attr(exr_context_t f, const struct cs_exr_attr *a)
 	return EXR_ERR_INVALID_ARGUMENT;
 }
 
+/* One chunk of an image being written: its bytes once compressed, or
+ * why it could not be (the message of the worker that tried). */
+struct enc_chunk {
+	void *data;
+	size_t size;
+	int rc;
+	char msg[512];
+};
+
+/* A worker's encoder and the planar block it converts a chunk into. */
+struct enc_worker {
+	exr_encode_pipeline_t enc;
+	int live;
+	void *scratch;
+};
+
+/* The chunks of one image, compressed in parallel (encode_task) and then
+ * written in order by the calling thread: the file is the same bytes
+ * whatever the number of threads. */
+struct enc_job {
+	exr_context_t f;
+	const char *name;
+	int width, height, spc, nch;
+	const struct cs_exr_channel *ch;
+	size_t block; /* floats: one channel, one chunk */
+	struct enc_worker *wk;
+	struct enc_chunk *out;
+};
+
+/* Converts and compresses chunk task (scanlines task * spc on) with the
+ * worker's encoder, leaving the bytes to write in out[task]: the core's
+ * own pipeline without its last two steps (the wait for the chunk's turn
+ * and the write).  Compression reads the context only. */
+static void encode_task(void *user, int task, int worker)
+{
+	struct enc_job *j = user;
+	struct enc_worker *w = &j->wk[worker];
+	struct enc_chunk *o = &j->out[task];
+	exr_context_t f = j->f;
+	const char *name = j->name;
+	int width = j->width, rc = CS_OK;
+	exr_msg[0] = '\0';
+	exr_chunk_info_t ci;
+	TRY(exr_write_scanline_chunk_info(f, 0, task * j->spc, &ci), "chunk");
+	if (!w->live)
+		TRY(exr_encoding_initialize(f, 0, &ci, &w->enc), "encoder");
+	else
+		TRY(exr_encoding_update(f, 0, &ci, &w->enc), "encoder");
+	size_t n = (size_t)ci.height * (size_t)width;
+	for (int k = 0; k < w->enc.channel_count; k++) {
+		exr_coding_channel_info_t *e = &w->enc.channels[k];
+		int c = 0;
+		while (c < j->nch && strcmp(j->ch[c].name, e->channel_name) != 0)
+			c++;
+		const struct cs_exr_channel *src_ch = &j->ch[c];
+		const float *src = src_ch->data + (size_t)ci.start_y * width * src_ch->stride;
+		unsigned char *dst = (unsigned char *)w->scratch + (size_t)c * j->block * sizeof(float);
+		if (src_ch->is_float) {
+			float *fd = (float *)dst;
+			for (size_t i = 0; i < n; i++)
+				fd[i] = src[i * src_ch->stride];
+			e->user_bytes_per_element = 4;
+			e->user_data_type = EXR_PIXEL_FLOAT;
+		} else {
+			uint16_t *hd = (uint16_t *)dst;
+			for (size_t i = 0; i < n; i++)
+				hd[i] = cs_float_to_half(src[i * src_ch->stride]);
+			e->user_bytes_per_element = 2;
+			e->user_data_type = EXR_PIXEL_HALF;
+		}
+		e->encode_from_ptr = dst;
+		e->user_pixel_stride = e->user_bytes_per_element;
+		e->user_line_stride = width * e->user_bytes_per_element;
+	}
+	if (!w->live) {
+		TRY(exr_encoding_choose_default_routines(f, 0, &w->enc), "encoder");
+		w->live = 1;
+	}
+	w->enc.yield_until_ready_fn = NULL;
+	w->enc.write_fn = NULL;
+	TRY(exr_encoding_run(f, 0, &w->enc), "cannot compress pixels");
+	o->size = w->enc.compressed_bytes;
+	o->data = malloc(o->size ? o->size : 1);
+	if (o->data == NULL) {
+		rc = cs_error(CS_ENOMEM, "out of memory");
+		goto fail;
+	}
+	memcpy(o->data, w->enc.compressed_buffer, o->size);
+	return;
+fail:
+	o->rc = rc;
+	snprintf(o->msg, sizeof o->msg, "%s", cs_errmsg());
+}
+
+/* Frees the workers' encoders and blocks and the compressed chunks (the
+ * encoders with the context, before it is finished). */
+static void free_workers(struct enc_job *j, exr_context_t f, int nworkers)
+{
+	for (int k = 0; j->wk != NULL && k < nworkers; k++) {
+		if (j->wk[k].live)
+			exr_encoding_destroy(f, &j->wk[k].enc);
+		free(j->wk[k].scratch);
+	}
+	free(j->wk);
+	j->wk = NULL;
+}
+
 /* Writes the image once, with the given compression, into the (empty)
- * temporary of. */
+ * temporary of, its chunks compressed on nthreads threads. */
 static int write_once(struct cs_outfile *of, const char *name, int width,
 		      int height, const struct cs_exr_channel *ch, int nch,
 		      const struct cs_exr_attr *attrs, int nattrs,
-		      exr_compression_t compression)
+		      exr_compression_t compression, int nthreads)
 {
 	int rc = CS_OK;
 	exr_context_t f = NULL;
-	exr_encode_pipeline_t enc = EXR_ENCODE_PIPELINE_INITIALIZER;
-	int enc_live = 0;
-	void *scratch = NULL;
+	struct enc_job job = {0};
+	int nchunks = 0, nworkers = 0;
 
 	exr_msg[0] = '\0';
 	exr_context_initializer_t init = EXR_DEFAULT_CONTEXT_INITIALIZER;
@@ -136,69 +243,56 @@ static int write_once(struct cs_outfile *of, const char *name, int width,
 
 	int32_t spc = 0;
 	TRY(exr_get_scanlines_per_chunk(f, part, &spc), "chunk size");
-	/* one planar row block per channel, converted from the caller's floats */
-	size_t block = (size_t)spc * (size_t)width;
-	scratch = malloc(block * (size_t)nch * sizeof(float));
-	if (scratch == NULL) {
+	nchunks = (height + spc - 1) / spc;
+	nworkers = nthreads > 0 ? nthreads : cs_pool_cpus();
+	nworkers = nworkers < nchunks ? nworkers : nchunks;
+	nworkers = nworkers < CS_POOL_MAX_THREADS ? nworkers : CS_POOL_MAX_THREADS;
+	job = (struct enc_job){f, name, width, height, spc, nch, ch, (size_t)spc * (size_t)width,
+			       calloc((size_t)nworkers, sizeof *job.wk),
+			       calloc((size_t)nchunks, sizeof *job.out)};
+	if (job.wk == NULL || job.out == NULL) {
 		rc = cs_error(CS_ENOMEM, "out of memory");
 		goto fail;
 	}
-	for (int y = 0; y < height; y += spc) {
-		exr_chunk_info_t ci;
-		TRY(exr_write_scanline_chunk_info(f, part, y, &ci), "chunk");
-		if (!enc_live)
-			TRY(exr_encoding_initialize(f, part, &ci, &enc), "encoder");
-		else
-			TRY(exr_encoding_update(f, part, &ci, &enc), "encoder");
-		size_t n = (size_t)ci.height * (size_t)width;
-		for (int k = 0; k < enc.channel_count; k++) {
-			exr_coding_channel_info_t *e = &enc.channels[k];
-			int c = 0;
-			while (c < nch && strcmp(ch[c].name, e->channel_name) != 0)
-				c++;
-			const float *src = ch[c].data + (size_t)ci.start_y * width * ch[c].stride;
-			unsigned char *dst = (unsigned char *)scratch + (size_t)c * block * sizeof(float);
-			if (ch[c].is_float) {
-				float *fd = (float *)dst;
-				for (size_t i = 0; i < n; i++)
-					fd[i] = src[i * ch[c].stride];
-				e->user_bytes_per_element = 4;
-				e->user_data_type = EXR_PIXEL_FLOAT;
-			} else {
-				uint16_t *hd = (uint16_t *)dst;
-				for (size_t i = 0; i < n; i++)
-					hd[i] = cs_float_to_half(src[i * ch[c].stride]);
-				e->user_bytes_per_element = 2;
-				e->user_data_type = EXR_PIXEL_HALF;
-			}
-			e->encode_from_ptr = dst;
-			e->user_pixel_stride = e->user_bytes_per_element;
-			e->user_line_stride = width * e->user_bytes_per_element;
+	for (int k = 0; k < nworkers; k++) {
+		job.wk[k].scratch = malloc(job.block * (size_t)nch * sizeof(float));
+		if (job.wk[k].scratch == NULL) {
+			rc = cs_error(CS_ENOMEM, "out of memory");
+			goto fail;
 		}
-		if (!enc_live) {
-			TRY(exr_encoding_choose_default_routines(f, part, &enc), "encoder");
-			enc_live = 1;
-		}
-		TRY(exr_encoding_run(f, part, &enc), "cannot write pixels");
 	}
-	exr_encoding_destroy(f, &enc);
-	enc_live = 0;
+	rc = cs_pool_run(nchunks, nworkers, encode_task, &job, NULL, NULL, NULL);
+	/* in order: the first chunk that failed says why */
+	for (int t = 0; rc == CS_OK && t < nchunks; t++) {
+		if (job.out[t].rc != CS_OK) {
+			rc = cs_error(job.out[t].rc, "%s", job.out[t].msg);
+			break;
+		}
+		TRY(exr_write_scanline_chunk(f, part, t * spc, job.out[t].data, job.out[t].size),
+		    "cannot write pixels");
+	}
+	if (rc != CS_OK)
+		goto fail;
+	free_workers(&job, f, nworkers);
 	TRY(exr_finish(&f), "cannot finish file");
-	free(scratch);
-	return CS_OK;
 fail:
-	if (enc_live)
-		exr_encoding_destroy(f, &enc);
+	free_workers(&job, f, nworkers);
+	for (int t = 0; job.out != NULL && t < nchunks; t++)
+		free(job.out[t].data);
+	free(job.out);
 	if (f)
 		exr_finish(&f);
-	free(scratch);
 	return rc;
 }
 
 /* Reads the temporary back and compares every channel with what was meant
  * to be written (half channels: with the rounding to half). */
+static int read_channels(const void *data, size_t len, const char *name,
+			 const char *const *channels, int nch, int nthreads, int *width,
+			 int *height, float **pixels);
+
 static int verify(const struct cs_outfile *of, const char *name, int width,
-		  int height, const struct cs_exr_channel *ch, int nch)
+		  int height, const struct cs_exr_channel *ch, int nch, int nthreads)
 {
 	struct stat st;
 	if (fstat(of->fd, &st) < 0 || st.st_size <= 0)
@@ -216,7 +310,7 @@ static int verify(const struct cs_outfile *of, const char *name, int width,
 	int w = 0, h = 0;
 	float *px = NULL;
 	if (rc == CS_OK)
-		rc = cs_exr_read_channels(data, len, name, names, nch, &w, &h, &px);
+		rc = read_channels(data, len, name, names, nch, nthreads, &w, &h, &px);
 	if (rc == CS_OK && (w != width || h != height))
 		rc = CS_EDATA;
 	for (size_t i = 0; rc == CS_OK && i < (size_t)width * height; i++)
@@ -234,7 +328,7 @@ static int verify(const struct cs_outfile *of, const char *name, int width,
 
 int cs_exr_write_to(struct cs_outfile *of, const char *name, int width, int height,
 		    const struct cs_exr_channel *ch, int nch,
-		    const struct cs_exr_attr *attrs, int nattrs)
+		    const struct cs_exr_attr *attrs, int nattrs, int nthreads)
 {
 	if (width < 1 || height < 1 || nch < 1 || nch > 16)
 		return cs_error(CS_EINVAL, "cannot write a %dx%d image of %d channels",
@@ -248,10 +342,11 @@ int cs_exr_write_to(struct cs_outfile *of, const char *name, int width, int heig
 	for (int k = 0; k < 2; k++) {
 		if (ftruncate(of->fd, 0) < 0)
 			return cs_error(CS_EIO, "%s: cannot write: %s", name, strerror(errno));
-		rc = write_once(of, name, width, height, ch, nch, attrs, nattrs, tries[k]);
+		rc = write_once(of, name, width, height, ch, nch, attrs, nattrs, tries[k],
+				nthreads);
 		if (rc != CS_OK)
 			return rc;
-		rc = verify(of, name, width, height, ch, nch);
+		rc = verify(of, name, width, height, ch, nch, nthreads);
 		if (rc == CS_OK)
 			return CS_OK;
 		if (rc != CS_EDATA)
@@ -264,7 +359,7 @@ int cs_exr_write_to(struct cs_outfile *of, const char *name, int width, int heig
 
 int cs_exr_write(const char *path, int width, int height,
 		 const struct cs_exr_channel *ch, int nch,
-		 const struct cs_exr_attr *attrs, int nattrs)
+		 const struct cs_exr_attr *attrs, int nattrs, int nthreads)
 {
 	const char *name = strcmp(path, "-") == 0 ? "standard output" : path;
 	if (width < 1 || height < 1 || nch < 1 || nch > 16)
@@ -274,7 +369,7 @@ int cs_exr_write(const char *path, int width, int height,
 	int rc = cs_outfile_open(&of, path);
 	if (rc != CS_OK)
 		return rc;
-	rc = cs_exr_write_to(&of, name, width, height, ch, nch, attrs, nattrs);
+	rc = cs_exr_write_to(&of, name, width, height, ch, nch, attrs, nattrs, nthreads);
 	if (rc == CS_OK)
 		return cs_outfile_commit(&of);
 	cs_outfile_abort(&of);
@@ -311,22 +406,30 @@ size_t cs_exr_max_pixel_bytes(size_t len, int compression)
 	return len > SIZE_MAX / ratio ? SIZE_MAX : len * ratio;
 }
 
-/* One read of cs_exr_read_channels() in progress: the file, its decoder,
- * the result, and the blocks chunks are decoded into. */
+/* A worker's decoder and the blocks it decodes a chunk into. */
+struct dec_worker {
+	exr_decode_pipeline_t dec;
+	int live;
+	uint8_t *skip;      /* scratch for the channels not asked for */
+	uint8_t *stage;     /* nch planar blocks, one per channel asked for */
+};
+
+/* One read of cs_exr_read_channels() in progress: the file, the result,
+ * and its workers, each decoding whole chunks (the context reads only
+ * from memory, from any thread). */
 struct chunk_reader {
 	const char *name;
 	const char *const *channels;
 	int nch;
 	size_t len;         /* bytes of the whole file */
 	exr_context_t f;
-	exr_decode_pipeline_t dec;
-	int dec_live;
 	long w, h;
 	int32_t spc;        /* scanlines per chunk */
 	float *px;          /* w * h * nch floats, the result */
 	size_t block;       /* bytes: one channel, one chunk */
-	uint8_t *skip;      /* scratch for the channels not asked for */
-	uint8_t *stage;     /* nch planar blocks, one per channel asked for */
+	int nworkers;
+	struct dec_worker *wk;
+	struct enc_chunk *out; /* per chunk: why it failed (data unused) */
 };
 
 /* Opens the file in src as r->f; it must be a single-part scanline image. */
@@ -431,10 +534,19 @@ static int alloc_buffers(struct chunk_reader *r)
 				name, r->spc);
 	/* a chunk never holds more rows than the image */
 	r->block = (size_t)w * (size_t)(r->spc < h ? r->spc : h) * 4;
-	r->skip = malloc(r->block);
-	r->stage = malloc(r->block * (size_t)r->nch);
-	if (r->skip == NULL || r->stage == NULL)
+	long nchunks = (h + r->spc - 1) / r->spc;
+	r->nworkers = r->nworkers < nchunks ? r->nworkers : (int)nchunks;
+	r->wk = calloc((size_t)r->nworkers, sizeof *r->wk);
+	r->out = calloc((size_t)nchunks, sizeof *r->out);
+	if (r->wk == NULL || r->out == NULL)
 		return cs_error(CS_ENOMEM, "%s: out of memory for %ldx%ld pixels", name, w, h);
+	for (int k = 0; k < r->nworkers; k++) {
+		r->wk[k].skip = malloc(r->block);
+		r->wk[k].stage = malloc(r->block * (size_t)r->nch);
+		if (r->wk[k].skip == NULL || r->wk[k].stage == NULL)
+			return cs_error(CS_ENOMEM, "%s: out of memory for %ldx%ld pixels",
+					name, w, h);
+	}
 done:
 	return rc;
 }
@@ -443,15 +555,15 @@ done:
  * or the scratch block (the others), to be decoded in its own type.  We
  * convert ourselves: OpenEXR 3.1's converting unpacker garbles interleaved
  * half-to-float output and crashes on a NULL destination. */
-static void route_channels(struct chunk_reader *r)
+static void route_channels(const struct chunk_reader *r, struct dec_worker *wk)
 {
-	for (int k = 0; k < r->dec.channel_count; k++) {
-		exr_coding_channel_info_t *c = &r->dec.channels[k];
+	for (int k = 0; k < wk->dec.channel_count; k++) {
+		exr_coding_channel_info_t *c = &wk->dec.channels[k];
 		int want = 0;
 		while (want < r->nch && strcmp(c->channel_name, r->channels[want]) != 0)
 			want++;
-		c->decode_to_ptr = want < r->nch ? r->stage + (size_t)want * r->block
-						  : r->skip;
+		c->decode_to_ptr = want < r->nch ? wk->stage + (size_t)want * r->block
+						  : wk->skip;
 		c->user_bytes_per_element = c->bytes_per_element;
 		c->user_data_type = c->data_type;
 		c->user_pixel_stride = c->bytes_per_element;
@@ -461,15 +573,16 @@ static void route_channels(struct chunk_reader *r)
 
 /* Converts the staged channels of the chunk of rows rows at scanline y
  * into the interleaved floats of the result. */
-static void convert_chunk(const struct chunk_reader *r, long y, int32_t rows)
+static void convert_chunk(const struct chunk_reader *r, const struct dec_worker *wk, long y,
+			  int32_t rows)
 {
 	const long w = r->w;
 	const int nch = r->nch;
-	for (int k = 0; k < r->dec.channel_count; k++) {
-		const exr_coding_channel_info_t *c = &r->dec.channels[k];
-		if (c->decode_to_ptr == r->skip)
+	for (int k = 0; k < wk->dec.channel_count; k++) {
+		const exr_coding_channel_info_t *c = &wk->dec.channels[k];
+		if (c->decode_to_ptr == wk->skip)
 			continue;
-		int want = (int)((c->decode_to_ptr - r->stage) / (ptrdiff_t)r->block);
+		int want = (int)((c->decode_to_ptr - wk->stage) / (ptrdiff_t)r->block);
 		size_t n = (size_t)rows * (size_t)w;
 		float *dst = r->px + (size_t)y * w * nch + want;
 		for (size_t i = 0; i < n; i++) {
@@ -486,8 +599,9 @@ static void convert_chunk(const struct chunk_reader *r, long y, int32_t rows)
 	}
 }
 
-/* Decodes the chunk that starts at scanline y into the result. */
-static int decode_chunk(struct chunk_reader *r, long y)
+/* Decodes the chunk that starts at scanline y into the result with the
+ * worker's decoder. */
+static int decode_chunk(const struct chunk_reader *r, struct dec_worker *wk, long y)
 {
 	int rc = CS_OK;
 	const char *name = r->name;
@@ -496,29 +610,42 @@ static int decode_chunk(struct chunk_reader *r, long y)
 	    "truncated or corrupt pixel data");
 	if (ci.start_y != y || ci.height < 1 || y + ci.height > r->h || ci.width != r->w)
 		return cs_error(CS_EDATA, "%s: inconsistent chunk at scanline %ld", name, y);
-	if (!r->dec_live)
-		TRY(exr_decoding_initialize(r->f, 0, &ci, &r->dec), "decoder");
+	if (!wk->live)
+		TRY(exr_decoding_initialize(r->f, 0, &ci, &wk->dec), "decoder");
 	else
-		TRY(exr_decoding_update(r->f, 0, &ci, &r->dec), "decoder");
-	route_channels(r);
-	if (!r->dec_live) {
-		TRY(exr_decoding_choose_default_routines(r->f, 0, &r->dec), "decoder");
-		r->dec_live = 1;
+		TRY(exr_decoding_update(r->f, 0, &ci, &wk->dec), "decoder");
+	route_channels(r, wk);
+	if (!wk->live) {
+		TRY(exr_decoding_choose_default_routines(r->f, 0, &wk->dec), "decoder");
+		wk->live = 1;
 	}
-	TRY(exr_decoding_run(r->f, 0, &r->dec), "truncated or corrupt pixel data");
-	convert_chunk(r, y, ci.height);
+	TRY(exr_decoding_run(r->f, 0, &wk->dec), "truncated or corrupt pixel data");
+	convert_chunk(r, wk, y, ci.height);
 done:
 	return rc;
 }
 
-int cs_exr_read_channels(const void *data, size_t len, const char *name,
-			 const char *const *channels, int nch, int *width,
+static void decode_task(void *user, int task, int worker)
+{
+	struct chunk_reader *r = user;
+	exr_msg[0] = '\0';
+	int rc = decode_chunk(r, &r->wk[worker], (long)task * r->spc);
+	if (rc != CS_OK) {
+		r->out[task].rc = rc;
+		snprintf(r->out[task].msg, sizeof r->out[task].msg, "%s", cs_errmsg());
+	}
+}
+
+/* cs_exr_read_channels on nthreads threads (<= 0: one per processor). */
+static int read_channels(const void *data, size_t len, const char *name,
+			 const char *const *channels, int nch, int nthreads, int *width,
 			 int *height, float **pixels)
 {
 	struct chunk_reader r = {
 		.name = name, .channels = channels, .nch = nch, .len = len,
-		.dec = EXR_DECODE_PIPELINE_INITIALIZER,
+		.nworkers = nthreads > 0 ? nthreads : cs_pool_cpus(),
 	};
+	r.nworkers = r.nworkers < CS_POOL_MAX_THREADS ? r.nworkers : CS_POOL_MAX_THREADS;
 	struct cs_exr_mem src = {data, len};
 
 	*pixels = NULL;
@@ -527,22 +654,38 @@ int cs_exr_read_channels(const void *data, size_t len, const char *name,
 		rc = check_channels(&r);
 	if (rc == CS_OK)
 		rc = alloc_buffers(&r);
-	for (long y = 0; rc == CS_OK && y < r.h; y += r.spc)
-		rc = decode_chunk(&r, y);
+	int nchunks = rc == CS_OK ? (int)((r.h + r.spc - 1) / r.spc) : 0;
+	if (rc == CS_OK)
+		rc = cs_pool_run(nchunks, r.nworkers, decode_task, &r, NULL, NULL, NULL);
+	/* in order: the first chunk that failed says why */
+	for (int t = 0; rc == CS_OK && t < nchunks; t++)
+		if (r.out[t].rc != CS_OK)
+			rc = cs_error(r.out[t].rc, "%s", r.out[t].msg);
 	if (rc == CS_OK) {
 		*width = (int)r.w;
 		*height = (int)r.h;
 		*pixels = r.px;
 		r.px = NULL;
 	}
-	if (r.dec_live)
-		exr_decoding_destroy(r.f, &r.dec);
+	for (int k = 0; r.wk != NULL && k < r.nworkers; k++) {
+		if (r.wk[k].live)
+			exr_decoding_destroy(r.f, &r.wk[k].dec);
+		free(r.wk[k].skip);
+		free(r.wk[k].stage);
+	}
 	if (r.f)
 		exr_finish(&r.f);
+	free(r.wk);
+	free(r.out);
 	free(r.px);
-	free(r.skip);
-	free(r.stage);
 	return rc;
+}
+
+int cs_exr_read_channels(const void *data, size_t len, const char *name,
+			 const char *const *channels, int nch, int *width,
+			 int *height, float **pixels)
+{
+	return read_channels(data, len, name, channels, nch, 1, width, height, pixels);
 }
 
 int cs_exr_read_float_channel(const void *data, size_t len, const char *name,

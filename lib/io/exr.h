@@ -30,10 +30,12 @@ struct cs_exr_attr {
 
 /* Writes a single-part scanline image, ZIP-compressed, with the given
  * channels (any order; the file sorts them) and extra attributes, to path
- * ("-" = stdout).  Atomic: no partial file on failure. */
+ * ("-" = stdout).  Atomic: no partial file on failure.  The chunks are
+ * compressed, and read back to be checked, on nthreads threads (<= 0: one
+ * per processor); the file is the same bytes for any number. */
 int cs_exr_write(const char *path, int width, int height,
 		 const struct cs_exr_channel *ch, int nch,
-		 const struct cs_exr_attr *attrs, int nattrs);
+		 const struct cs_exr_attr *attrs, int nattrs, int nthreads);
 
 struct cs_outfile;
 
@@ -41,7 +43,7 @@ struct cs_outfile;
  * labels messages. */
 int cs_exr_write_to(struct cs_outfile *of, const char *name, int width, int height,
 		    const struct cs_exr_channel *ch, int nch,
-		    const struct cs_exr_attr *attrs, int nattrs);
+		    const struct cs_exr_attr *attrs, int nattrs, int nthreads);
 
 /* A memory source for exr_start_read(). */
 struct cs_exr_mem {

@@ -77,16 +77,17 @@ CS_HD void cs_volume_sample4(const struct cs_volume *v, double u, double vv,
 /* Writes the volume as an OpenEXR atlas (see man 5 cloudscape-noise):
  * nx wide, nx * nz high, channels A B G R, half (or 32-bit float when
  * use_float), ZIP, with the cloudscape* attributes.  path "-" = stdout.
- * Atomic: no partial file on failure. */
+ * Atomic: no partial file on failure.  Compressed on nthreads threads (<= 0:
+ * one per processor), the same bytes for any number. */
 int cs_volume_write_exr(const struct cs_volume *v, const char *path,
-			int use_float);
+			int use_float, int nthreads);
 
 struct cs_outfile;
 
 /* cs_volume_write_exr() into an open output (core/fileio.h), not
  * committed; name labels messages. */
 int cs_volume_write_exr_to(const struct cs_volume *v, struct cs_outfile *of,
-			   const char *name, int use_float);
+			   const char *name, int use_float, int nthreads);
 
 /* Reads and validates a volume written by cs_volume_write_exr() ("-" =
  * stdin).  On error v is left empty and the message says what is wrong. */

@@ -35,14 +35,14 @@ static void format_periods(const struct cs_volume *v, char *buf, size_t size)
 }
 
 int cs_volume_write_exr(const struct cs_volume *v, const char *path,
-			int use_float)
+			int use_float, int nthreads)
 {
 	struct cs_outfile of;
 	int rc = cs_outfile_open(&of, path);
 	if (rc != CS_OK)
 		return rc;
 	rc = cs_volume_write_exr_to(v, &of, strcmp(path, "-") == 0 ? "standard output" : path,
-				    use_float);
+				    use_float, nthreads);
 	if (rc == CS_OK)
 		return cs_outfile_commit(&of);
 	cs_outfile_abort(&of);
@@ -50,7 +50,7 @@ int cs_volume_write_exr(const struct cs_volume *v, const char *path,
 }
 
 int cs_volume_write_exr_to(const struct cs_volume *v, struct cs_outfile *of,
-			   const char *name, int use_float)
+			   const char *name, int use_float, int nthreads)
 {
 	if (v->data == NULL || v->nx != v->ny)
 		return cs_error(CS_EINVAL, "volume is empty or not square");
@@ -71,7 +71,7 @@ int cs_volume_write_exr_to(const struct cs_volume *v, struct cs_outfile *of,
 	for (int c = 0; c < 4; c++)
 		ch[c] = (struct cs_exr_channel){names[c], use_float, v->data + c, 4};
 	return cs_exr_write_to(of, name, v->nx, v->nx * v->nz, ch, 4, attrs,
-			       (int)(sizeof attrs / sizeof attrs[0]));
+			       (int)(sizeof attrs / sizeof attrs[0]), nthreads);
 }
 
 #define EXR_TRY(call, what) CS_EXR_CHECK(call, CS_EDATA, name, what, done)

@@ -204,7 +204,7 @@ static int write_data(struct cs_outfile *of, const char *path, const struct cs_t
 	const struct cs_exr_channel ch[2] = {{"Y", 1, t->h, 1}, {"W", 0, t->water, 1}};
 	const struct cs_exr_attr attr = {"cloudscapeTerrain", CS_EXR_INT,
 					 {CS_TERRAIN_FORMAT, 0, 0}, NULL, 0};
-	return cs_exr_write_to(of, path, t->width, t->height, ch, t->water ? 2 : 1, &attr, 1);
+	return cs_exr_write_to(of, path, t->width, t->height, ch, t->water ? 2 : 1, &attr, 1, 0);
 }
 
 int cs_terrain_write_into(struct cs_outset *set, const char *path,

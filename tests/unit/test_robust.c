@@ -73,7 +73,7 @@ static void heightfield_header_claiming_more_than_the_file_holds_is_refused(void
 		z[i] = (float)i;
 	struct cs_exr_channel ch = {"Y", 1, z, 1};
 	const char *p = tmp_path("hf.exr");
-	CHECK(cs_exr_write(p, 4, 4, &ch, 1, NULL, 0) == CS_OK);
+	CHECK(cs_exr_write(p, 4, 4, &ch, 1, NULL, 0, 1) == CS_OK);
 	size_t len = 0;
 	unsigned char *b = slurp(p, &len);
 	CHECK(b != NULL);
@@ -108,7 +108,7 @@ static void exr_bound_follows_the_compression(void)
 	static float zero[64 * 64];
 	struct cs_exr_channel ch = {"Y", 1, zero, 1};
 	const char *p = tmp_path("zero.exr");
-	CHECK(cs_exr_write(p, 64, 64, &ch, 1, NULL, 0) == CS_OK);
+	CHECK(cs_exr_write(p, 64, 64, &ch, 1, NULL, 0, 1) == CS_OK);
 	size_t len = 0;
 	unsigned char *b = slurp(p, &len);
 	int w = 0, h = 0;
@@ -128,7 +128,7 @@ static void noise_header_claiming_a_huge_volume_is_refused_before_allocating(voi
 	struct cs_volume v;
 	CHECK(cs_volume_new(&v, 8, 8) == CS_OK);
 	const char *p = tmp_path("n.exr");
-	CHECK(cs_volume_write_exr(&v, p, 0) == CS_OK);
+	CHECK(cs_volume_write_exr(&v, p, 0, 1) == CS_OK);
 	cs_volume_free(&v);
 	size_t len = 0;
 	unsigned char *b = slurp(p, &len);

@@ -296,7 +296,7 @@ static void exr_reads_one_channel_of_half_or_float(void)
 	for (int i = 0; i < 12; i++)
 		px[i] = 0.5f * i;
 	const struct cs_exr_channel ch[2] = {{"Y", 0, px, 2}, {"Z", 1, px + 1, 2}};
-	CHECK(cs_exr_write(tmp("two.exr"), 3, 2, ch, 2, NULL, 0) == CS_OK);
+	CHECK(cs_exr_write(tmp("two.exr"), 3, 2, ch, 2, NULL, 0, 1) == CS_OK);
 	unsigned char *d = NULL;
 	size_t len = 0;
 	CHECK(cs_read_all(tmp("two.exr"), 1 << 20, &d, &len) == CS_OK);

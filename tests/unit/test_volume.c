@@ -212,8 +212,8 @@ static void exr_round_trip_half_and_float(void)
 	struct cs_volume v, h, f;
 	CHECK(bake_small(&v, 16, 5, 2) == CS_OK);
 	v.recipe.seed = 1234567;
-	CHECK(cs_volume_write_exr(&v, tmp("h.exr"), 0) == CS_OK);
-	CHECK(cs_volume_write_exr(&v, tmp("f.exr"), 1) == CS_OK);
+	CHECK(cs_volume_write_exr(&v, tmp("h.exr"), 0, 1) == CS_OK);
+	CHECK(cs_volume_write_exr(&v, tmp("f.exr"), 1, 1) == CS_OK);
 	CHECK(cs_volume_read_exr(tmp("h.exr"), &h) == CS_OK);
 	CHECK(cs_volume_read_exr(tmp("f.exr"), &f) == CS_OK);
 	if (h.data == NULL || f.data == NULL)
@@ -237,7 +237,7 @@ static void exr_truncated_file_is_a_clear_error(void)
 {
 	struct cs_volume v;
 	CHECK(bake_small(&v, 16, 4, 1) == CS_OK);
-	CHECK(cs_volume_write_exr(&v, tmp("t.exr"), 0) == CS_OK);
+	CHECK(cs_volume_write_exr(&v, tmp("t.exr"), 0, 1) == CS_OK);
 	cs_volume_free(&v);
 	unsigned char *data;
 	size_t len;
@@ -261,7 +261,7 @@ static void exr_corrupt_bytes_never_crash(void)
 {
 	struct cs_volume v;
 	CHECK(bake_small(&v, 16, 4, 1) == CS_OK);
-	CHECK(cs_volume_write_exr(&v, tmp("c.exr"), 0) == CS_OK);
+	CHECK(cs_volume_write_exr(&v, tmp("c.exr"), 0, 1) == CS_OK);
 	cs_volume_free(&v);
 	unsigned char *data;
 	size_t len;
@@ -411,13 +411,13 @@ static void outputs_are_atomic(void)
 
 	struct cs_volume v;
 	CHECK(bake_small(&v, 8, 2, 1) == CS_OK);
-	CHECK(cs_volume_write_exr(&v, dst, 0) == CS_OK);
+	CHECK(cs_volume_write_exr(&v, dst, 0, 1) == CS_OK);
 	CHECK(count_files(dir) == 1);
 	struct cs_volume r;
 	CHECK(cs_volume_read_exr(dst, &r) == CS_OK);
 	cs_volume_free(&r);
 
-	CHECK(cs_volume_write_exr(&v, "/nonexistent-dir/x.exr", 0) == CS_EIO);
+	CHECK(cs_volume_write_exr(&v, "/nonexistent-dir/x.exr", 0, 1) == CS_EIO);
 	CHECK_STR_CONTAINS(cs_errmsg(), "/nonexistent-dir/x.exr");
 	cs_volume_free(&v);
 }
