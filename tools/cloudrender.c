@@ -13,6 +13,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <strings.h>
+#include <time.h>
 #include <unistd.h>
 
 #ifndef CS_VERSION
@@ -87,8 +88,15 @@ struct series_report {
 	int stats;
 	char label[64];
 	int rendered, skipped;
-	double wall_s;
+	double first_s, last_s; /* the first frame's start, the last one's end */
 };
+
+static double mono_s(void)
+{
+	struct timespec ts;
+	clock_gettime(CLOCK_MONOTONIC, &ts);
+	return (double)ts.tv_sec + ts.tv_nsec * 1e-9;
+}
 
 static void print_stats(const struct cs_cloudrender_opts *o,
 			const struct cs_cloudrender_result *r);
@@ -100,6 +108,8 @@ static void frame_report(void *user, const struct cs_cloudrender_frame *f,
 	int series = f->states > 1 || f->count > 1;
 	switch (f->stage) {
 	case CS_FRAME_START:
+		if (rep->first_s < 0.0)
+			rep->first_s = mono_s();
 		if (series)
 			snprintf(rep->label, sizeof rep->label, "frame %d/%d", f->nth, f->count);
 		break;
@@ -112,7 +122,7 @@ static void frame_report(void *user, const struct cs_cloudrender_frame *f,
 		break;
 	case CS_FRAME_DONE:
 		rep->rendered++;
-		rep->wall_s += f->wall_s;
+		rep->last_s = mono_s(); /* (frames written while others render: not a sum) */
 		if (cli_verbose && series) {
 			cli_progress_break();
 			cli_err("frame %lld (%d/%d, state %d of %d): %s%s in %.2f s", f->number,
@@ -800,7 +810,7 @@ int main(int argc, char **argv)
 	    strcmp(o.noise_path, "-") == 0)
 		cli_usage_error("--wx - and --noise - cannot both read standard input");
 
-	struct series_report rep = {&o, stats, "rendering", 0, 0, 0.0};
+	struct series_report rep = {&o, stats, "rendering", 0, 0, -1.0, -1.0};
 	o.progress = cli_progress;
 	o.progress_user = rep.label;
 	o.frame = frame_report;
@@ -820,7 +830,8 @@ int main(int argc, char **argv)
 	}
 	if (cli_verbose && rep.rendered + rep.skipped > 1)
 		cli_err("%d frames rendered in %.1f s (%.2f s a frame), %d skipped", rep.rendered,
-			rep.wall_s, rep.rendered ? rep.wall_s / rep.rendered : 0.0, rep.skipped);
+			rep.rendered ? rep.last_s - rep.first_s : 0.0,
+			rep.rendered ? (rep.last_s - rep.first_s) / rep.rendered : 0.0, rep.skipped);
 	if (rc != CS_OK) {
 		cli_err("%s", cs_errmsg());
 		cs_cloudrender_result_free(&r);

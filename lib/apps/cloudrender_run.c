@@ -717,10 +717,10 @@ static int check_device(const struct cs_cloudrender_opts *o, struct cs_cloudrend
 	return CS_OK;
 }
 
-/* The frame, what is measured on it, and the outputs. */
-static int render_and_write(const struct cs_cloudrender_opts *o, struct cs_cloudrender_result *r,
-			    struct cs_cuda_scene **gpu, int gpu_fresh, const struct cs_scene *sc,
-			    const struct cs_camera *cam, float *px)
+/* The frame and what is measured on it. */
+static int render_frame(const struct cs_cloudrender_opts *o, struct cs_cloudrender_result *r,
+			struct cs_cuda_scene **gpu, int gpu_fresh, const struct cs_scene *sc,
+			const struct cs_camera *cam, float *px)
 {
 	double t0 = now_s();
 	int rc = o->reference ? render_reference(o, r, sc, cam, px)
@@ -738,8 +738,13 @@ static int render_and_write(const struct cs_cloudrender_opts *o, struct cs_cloud
 		measure_irradiance(o, sc, &r->settings, cam->pos, r);
 		r->t_irradiance_s = now_s() - t0;
 	}
-	t0 = now_s();
-	rc = write_outputs(o, r, px);
+	return CS_OK;
+}
+
+int cs_cr_write(const struct cs_cloudrender_opts *o, struct cs_cloudrender_result *r, float *px)
+{
+	double t0 = now_s();
+	int rc = write_outputs(o, r, px);
 	r->t_write_s = now_s() - t0;
 	return rc;
 }
@@ -816,8 +821,8 @@ int cs_cr_session_look(struct cs_cr_session *s, const struct cs_cloudrender_opts
 	return frame_scene(s, o, r, &cam);
 }
 
-int cs_cr_session_frame(struct cs_cr_session *s, const struct cs_cloudrender_opts *o,
-			struct cs_cloudrender_result *r)
+int cs_cr_session_render(struct cs_cr_session *s, const struct cs_cloudrender_opts *o,
+			 struct cs_cloudrender_result *r, float **px)
 {
 	double t0 = now_s();
 	struct cs_camera cam;
@@ -828,9 +833,18 @@ int cs_cr_session_frame(struct cs_cr_session *s, const struct cs_cloudrender_opt
 	if (rc == CS_OK) {
 		int fresh = s->gpu_hf_placed != s->g.hf_placed;
 		s->gpu_hf_placed = s->g.hf_placed;
-		rc = render_and_write(o, r, &s->gpu, fresh, s->sc, &cam, s->px);
+		rc = render_frame(o, r, &s->gpu, fresh, s->sc, &cam, s->px);
 	}
+	*px = s->px;
 	return rc;
+}
+
+int cs_cr_session_frame(struct cs_cr_session *s, const struct cs_cloudrender_opts *o,
+			struct cs_cloudrender_result *r)
+{
+	float *px;
+	int rc = cs_cr_session_render(s, o, r, &px);
+	return rc == CS_OK ? cs_cr_write(o, r, px) : rc;
 }
 
 void cs_cr_session_close(struct cs_cr_session *s, struct cs_cloudrender_result *r)

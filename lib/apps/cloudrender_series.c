@@ -7,7 +7,9 @@
 #include "core/err.h"
 #include "core/fileio.h"
 #include "core/framename.h"
+#include "core/pool.h"
 
+#include <pthread.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -188,6 +190,82 @@ static void tell(const struct cs_cloudrender_opts *o, struct cs_cloudrender_fram
 		o->frame(o->frame_user, f, r);
 }
 
+/* A rendered frame whose outputs are written on a thread of its own while
+ * the next frames render (a series on several threads): its own copy of
+ * the pixels, the options with its names, and what describes it. */
+struct write_slot {
+	pthread_t th;
+	int busy;
+	struct cs_cloudrender_opts o;
+	struct cs_cloudrender_result r;
+	struct cs_cloudrender_frame f;
+	const char *names[CS_RENDER_MAX_OUTPUTS];
+	float *px;
+	double t0;
+	int rc;
+	char msg[1024];
+};
+
+static void *write_slot_run(void *user)
+{
+	struct write_slot *w = user;
+	w->rc = cs_cr_write(&w->o, &w->r, w->px);
+	if (w->rc != CS_OK)
+		snprintf(w->msg, sizeof w->msg, "%s", cs_errmsg());
+	return NULL;
+}
+
+/* The frames written at once in a series: half the threads, at most 8,
+ * and at most 512 MB of frames held; 0 (one thread, or one frame): each
+ * frame is written before the next one renders. */
+static int write_slots(const struct cs_cloudrender_opts *o, int count)
+{
+	int threads = o->threads > 0 ? o->threads : cs_pool_cpus();
+	double bytes = 5.0 * sizeof(float) * (double)o->width * (double)o->height;
+	int k = threads / 2 < 8 ? threads / 2 : 8;
+	while (k > 1 && k * bytes > 512e6)
+		k--;
+	return count > 1 ? k : 0;
+}
+
+/* Hands frame f, rendered into px as r describes it, to slot w's thread
+ * (its names those of f); written here, now, where no thread can start. */
+static int write_begin(struct write_slot *w, const struct cs_cloudrender_opts *fo,
+		       const struct cs_cloudrender_result *r, const struct cs_cloudrender_frame *f,
+		       const float *px, double t0)
+{
+	size_t n = (size_t)fo->width * fo->height * 5;
+	if (w->px == NULL && (w->px = malloc(n * sizeof *w->px)) == NULL)
+		return cs_error(CS_ENOMEM, "out of memory for a frame being written");
+	memcpy(w->px, px, n * sizeof *px);
+	w->o = *fo, w->r = *r, w->f = *f, w->t0 = t0, w->rc = CS_OK, w->msg[0] = '\0';
+	for (int k = 0; k < w->f.noutputs; k++)
+		w->names[k] = w->f.outputs[k];
+	memcpy(w->o.outputs, w->names, sizeof w->names);
+	w->o.progress = NULL; /* the run's bar belongs to the frames rendering */
+	if (pthread_create(&w->th, NULL, write_slot_run, w) != 0)
+		write_slot_run(w);
+	else
+		w->busy = 1;
+	return CS_OK;
+}
+
+/* Waits for slot w's frame to be written and reports it (CS_FRAME_DONE
+ * with its own result), or says which frame failed. */
+static int write_end(struct write_slot *w, const struct cs_cloudrender_opts *o, int states)
+{
+	if (w->busy)
+		pthread_join(w->th, NULL);
+	w->busy = 0;
+	w->f.wall_s = now_s() - w->t0;
+	if (w->rc != CS_OK)
+		return states > 1 ? cs_error(w->rc, "frame %lld (state %d): %s", w->f.number,
+					     w->f.index + 1, w->msg)
+				  : cs_error(w->rc, "%s", w->msg);
+	tell(o, &w->f, CS_FRAME_DONE, &w->r);
+	return CS_OK;
+}
+
 /* Every frame of [first, last) in turn. */
 static int run_frames(struct cs_cr_session *s, const struct cs_cloudrender_opts *o,
 		      const struct states *st, int first, int last, int count,
@@ -209,6 +287,12 @@ static int run_frames(struct cs_cr_session *s, const struct cs_cloudrender_opts 
 	struct cs_cloudrender_frame *f = malloc(sizeof *f);
 	if (f == NULL)
 		return cs_error(CS_ENOMEM, "out of memory");
+	/* with several threads, each frame is written while the next ones
+	 * render, nslots at once, reported in order */
+	int nslots = write_slots(o, count), next = 0, pending = 0;
+	struct write_slot *slots = nslots > 0 ? calloc((size_t)nslots, sizeof *slots) : NULL;
+	if (nslots > 0 && slots == NULL)
+		nslots = 0;
 	const char *names[CS_RENDER_MAX_OUTPUTS];
 	int rc = CS_OK;
 	for (int i = first; i < last && rc == CS_OK; i++) {
@@ -240,9 +324,21 @@ static int run_frames(struct cs_cr_session *s, const struct cs_cloudrender_opts 
 			r->t_noise_s = 0.0; /* made once: the first frame's cost */
 		tell(o, f, CS_FRAME_START, r);
 		double t0 = now_s();
-		rc = cs_cr_session_frame(s, &fo, r);
+		float *px = NULL;
+		rc = nslots > 0 ? cs_cr_session_render(s, &fo, r, &px) : cs_cr_session_frame(s, &fo, r);
 		if (rc == CS_OK && held[0])
 			snprintf(r->look_why, sizeof r->look_why, "%s", held);
+		if (rc == CS_OK && nslots > 0) {
+			struct write_slot *w = &slots[next];
+			if (pending == nslots) /* the oldest frame first */
+				rc = write_end(w, o, st->n), pending--;
+			if (rc == CS_OK)
+				rc = write_begin(w, &fo, r, f, px, t0);
+			if (rc == CS_OK)
+				next = (next + 1) % nslots, pending++;
+			prog.done += 1.0;
+			continue;
+		}
 		f->wall_s = now_s() - t0;
 		if (rc == CS_OK)
 			tell(o, f, CS_FRAME_DONE, r);
@@ -250,6 +346,25 @@ static int run_frames(struct cs_cr_session *s, const struct cs_cloudrender_opts 
 			rc = cs_error(rc, "frame %lld (state %d): %s", f->number, i + 1, cs_errmsg());
 		prog.done += 1.0;
 	}
+	/* the frames still being written, in order; the first failure is the
+	 * run's (its message kept), the last frame's write time its result's */
+	char *why = rc != CS_OK ? strdup(cs_errmsg()) : NULL;
+	for (int k = 0; k < pending; k++) {
+		struct write_slot *w = &slots[(next - pending + k + nslots) % nslots];
+		int wrc = write_end(w, o, st->n);
+		if (rc == CS_OK && wrc != CS_OK)
+			rc = wrc, why = strdup(cs_errmsg());
+		if (k == pending - 1 && rc == CS_OK) {
+			r->t_write_s = w->r.t_write_s;
+			r->exposure_ev = w->r.exposure_ev;
+		}
+	}
+	if (rc != CS_OK && why != NULL)
+		cs_error(rc, "%s", why);
+	free(why);
+	for (int k = 0; k < nslots; k++)
+		free(slots[k].px);
+	free(slots);
 	free(f);
 	return rc;
 }

@@ -19,6 +19,13 @@ int cs_cr_session_load(struct cs_cr_session *s, const struct cs_cloudrender_opts
  * view chooses (r->look_az_deg, r->look_el_deg, r->look_why). */
 int cs_cr_session_look(struct cs_cr_session *s, const struct cs_cloudrender_opts *o,
 		       struct cs_cloudrender_result *r);
+/* Renders r->wx with o into the session's frame buffer, *px (5 floats a
+ * pixel, as cs_cr_write takes them), and measures it; writes nothing. */
+int cs_cr_session_render(struct cs_cr_session *s, const struct cs_cloudrender_opts *o,
+			 struct cs_cloudrender_result *r, float **px);
+/* Writes the outputs of o (every one or none) of the frame px that r
+ * describes (r->t_write_s, r->exposure_ev); px gets the caption. */
+int cs_cr_write(const struct cs_cloudrender_opts *o, struct cs_cloudrender_result *r, float *px);
 /* Renders r->wx with o (its outputs the frame's names) and writes them. */
 int cs_cr_session_frame(struct cs_cr_session *s, const struct cs_cloudrender_opts *o,
 			struct cs_cloudrender_result *r);

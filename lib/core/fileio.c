@@ -3,6 +3,7 @@
 #include "core/err.h"
 
 #include <errno.h>
+#include <pthread.h>
 #include <fcntl.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -27,6 +28,17 @@ int cs_write_all(int fd, const void *buf, size_t n)
 }
 
 /* The message of an existing destination under CS_OUT_NO_CLOBBER. */
+/* The process's umask, read once: reading it sets it, so two threads
+ * reading it at once (a series writes frames on several) could leave it 0. */
+static pthread_once_t umask_once = PTHREAD_ONCE_INIT;
+static mode_t process_umask;
+
+static void read_umask(void)
+{
+	process_umask = umask(0);
+	umask(process_umask);
+}
+
 static int exists_error(const char *dst)
 {
 	return cs_error(CS_EIO, "%s exists: not overwritten (--no-clobber)", dst);
@@ -123,10 +135,9 @@ int cs_outfile_open_flags(struct cs_outfile *of, const char *dst, int flags)
 				strerror(e));
 	}
 	/* mkstemp makes the file 0600; give it the mode a plain open() would */
-	mode_t mask = umask(0);
-	umask(mask);
+	pthread_once(&umask_once, read_umask);
 	if (!of->to_stdout && !of->to_stream)
-		fchmod(of->fd, 0666 & ~mask);
+		fchmod(of->fd, 0666 & ~process_umask);
 	return CS_OK;
 }
 

@@ -2,7 +2,7 @@
 # a state, names numbered as ffmpeg numbers them, slices, resuming after a
 # kill, and the caption.
 . "$TOP/tests/tools/lib.sh"
-plan 8
+plan 9
 CR="$BIN/cloudrender"
 FAST="--size 48x27 --quality low --noise-size 16 -q"
 state() { # hour coverage
@@ -36,6 +36,26 @@ expect_rc 0
 for i in 0 1 2; do
 	cmp -s "$T/g/$i.png" "$T/f/0000$i.png" || bad "--wx - frame $i differs"
 done
+end
+
+begin series_on_threads_writes_frames_while_the_next_ones_render
+# six states: on 8 threads four frames are written at once while the next
+# ones render; the files are those of one thread byte for byte, and -v
+# reports the frames in their order
+for h in 09 10 11 12 13 14; do state "$h" 0.5; done >"$T/six.jsonl"
+mkdir "$T/t1" "$T/t8"
+run "$CR" --wx "$T/six.jsonl" --look 200,10 $FAST -t 1 -o "$T/t1/%d.png" -o "$T/t1/%d.exr"
+expect_rc 0
+run "$CR" --wx "$T/six.jsonl" --look 200,10 $FAST -t 8 -v -o "$T/t8/%d.png" -o "$T/t8/%d.exr"
+expect_rc 0
+for i in 0 1 2 3 4 5; do
+	cmp -s "$T/t1/$i.png" "$T/t8/$i.png" || bad "frame $i's PNG differs on 8 threads"
+	cmp -s "$T/t1/$i.exr" "$T/t8/$i.exr" || bad "frame $i's EXR differs on 8 threads"
+done
+order=$(sed -n 's/^cloudrender: frame \([0-9]*\) (.*/\1/p' "$T/err" | tr '\n' ' ')
+[ "$order" = "0 1 2 3 4 5 " ] || bad "frames reported as '$order'"
+expect_err "6 frames rendered in"
+[ "$(ls "$T/t8" | wc -l)" -eq 12 ] || bad "$(ls -A "$T/t8" | tr '\n' ' ')"
 end
 
 begin series_keeps_the_default_view_of_its_first_state
