@@ -57,7 +57,7 @@ static void usage(void)
 static int info(const char *path, int json)
 {
 	struct cs_volume v;
-	if (cs_volume_read_exr(path, &v) != CS_OK) {
+	if (cs_volume_read_exr(path, &v, 0) != CS_OK) {
 		cli_err("%s", cs_errmsg());
 		return EXIT_DATA;
 	}

@@ -469,7 +469,7 @@ static int load_inputs(const struct cs_cloudrender_opts *o, struct cs_cloudrende
 	int rc = CS_OK;
 	double t0 = now_s();
 	if (o->noise_path) {
-		rc = cs_volume_read_exr(o->noise_path, noise);
+		rc = cs_volume_read_exr(o->noise_path, noise, o->threads);
 	} else {
 		int hit;
 		rc = cs_volume_new(noise, o->noise_size, o->noise_size);

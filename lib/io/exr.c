@@ -287,9 +287,6 @@ fail:
 
 /* Reads the temporary back and compares every channel with what was meant
  * to be written (half channels: with the rounding to half). */
-static int read_channels(const void *data, size_t len, const char *name,
-			 const char *const *channels, int nch, int nthreads, int *width,
-			 int *height, float **pixels);
 
 static int verify(const struct cs_outfile *of, const char *name, int width,
 		  int height, const struct cs_exr_channel *ch, int nch, int nthreads)
@@ -310,7 +307,8 @@ static int verify(const struct cs_outfile *of, const char *name, int width,
 	int w = 0, h = 0;
 	float *px = NULL;
 	if (rc == CS_OK)
-		rc = read_channels(data, len, name, names, nch, nthreads, &w, &h, &px);
+		rc = cs_exr_read_channels_threads(data, len, name, names, nch, nthreads, &w, &h,
+						  &px);
 	if (rc == CS_OK && (w != width || h != height))
 		rc = CS_EDATA;
 	for (size_t i = 0; rc == CS_OK && i < (size_t)width * height; i++)
@@ -636,10 +634,9 @@ static void decode_task(void *user, int task, int worker)
 	}
 }
 
-/* cs_exr_read_channels on nthreads threads (<= 0: one per processor). */
-static int read_channels(const void *data, size_t len, const char *name,
-			 const char *const *channels, int nch, int nthreads, int *width,
-			 int *height, float **pixels)
+int cs_exr_read_channels_threads(const void *data, size_t len, const char *name,
+				 const char *const *channels, int nch, int nthreads,
+				 int *width, int *height, float **pixels)
 {
 	struct chunk_reader r = {
 		.name = name, .channels = channels, .nch = nch, .len = len,
@@ -685,7 +682,8 @@ int cs_exr_read_channels(const void *data, size_t len, const char *name,
 			 const char *const *channels, int nch, int *width,
 			 int *height, float **pixels)
 {
-	return read_channels(data, len, name, channels, nch, 1, width, height, pixels);
+	return cs_exr_read_channels_threads(data, len, name, channels, nch, 1, width, height,
+					    pixels);
 }
 
 int cs_exr_read_float_channel(const void *data, size_t len, const char *name,

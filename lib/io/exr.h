@@ -63,6 +63,12 @@ int cs_exr_read_channels(const void *data, size_t len, const char *name,
 			 const char *const *channels, int nch, int *width,
 			 int *height, float **pixels);
 
+/* cs_exr_read_channels with the chunks decoded on nthreads threads (<= 0:
+ * one per processor); the same pixels for any number. */
+int cs_exr_read_channels_threads(const void *data, size_t len, const char *name,
+				 const char *const *channels, int nch, int nthreads,
+				 int *width, int *height, float **pixels);
+
 /* Reads one channel (half or 32-bit float) of a single-part scanline image
  * held in memory as floats: *pixels (malloc'ed for the caller) holds
  * *width * *height values, row 0 first.  Other channels are ignored.  name

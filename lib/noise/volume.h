@@ -90,10 +90,11 @@ int cs_volume_write_exr_to(const struct cs_volume *v, struct cs_outfile *of,
 			   const char *name, int use_float, int nthreads);
 
 /* Reads and validates a volume written by cs_volume_write_exr() ("-" =
- * stdin).  On error v is left empty and the message says what is wrong. */
-int cs_volume_read_exr(const char *path, struct cs_volume *v);
+ * stdin), decoded on nthreads threads (<= 0: one per processor).  On
+ * error v is left empty and the message says what is wrong. */
+int cs_volume_read_exr(const char *path, struct cs_volume *v, int nthreads);
 
-/* Same, from a memory buffer; name is used in messages. */
+/* Same, from a memory buffer, on one thread; name is used in messages. */
 int cs_volume_read_exr_mem(const void *data, size_t len, const char *name,
 			   struct cs_volume *v);
 

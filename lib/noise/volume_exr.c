@@ -245,12 +245,12 @@ done:
 /* Reads the pixels, all four channels in one pass, as floats, into v's
  * data; count floats, every one finite. */
 static int read_volume_pixels(const void *data, size_t len, const char *name,
-			      size_t count, struct cs_volume *v)
+			      size_t count, int nthreads, struct cs_volume *v)
 {
 	static const char *const rgba[4] = {"R", "G", "B", "A"};
 	float *px = NULL;
 	int w = 0, h = 0;
-	int rc = cs_exr_read_channels(data, len, name, rgba, 4, &w, &h, &px);
+	int rc = cs_exr_read_channels_threads(data, len, name, rgba, 4, nthreads, &w, &h, &px);
 	if (rc != CS_OK)
 		return rc;
 	v->data = px;
@@ -263,8 +263,9 @@ done:
 	return rc;
 }
 
-int cs_volume_read_exr_mem(const void *data, size_t len, const char *name,
-			   struct cs_volume *v)
+/* cs_volume_read_exr_mem, its pixels decoded on nthreads threads. */
+static int read_exr_mem(const void *data, size_t len, const char *name, int nthreads,
+			struct cs_volume *v)
 {
 	exr_context_t f = NULL;
 	struct cs_exr_mem src = {data, len};
@@ -282,7 +283,7 @@ int cs_volume_read_exr_mem(const void *data, size_t len, const char *name,
 		rc = apply_volume_header(&hd, name, v);
 	if (rc == CS_OK)
 		rc = read_volume_pixels(data, len, name,
-					(size_t)hd.width * hd.height * 4, v);
+					(size_t)hd.width * hd.height * 4, nthreads, v);
 	if (f)
 		exr_finish(&f);
 	if (rc != CS_OK)
@@ -290,7 +291,13 @@ int cs_volume_read_exr_mem(const void *data, size_t len, const char *name,
 	return rc;
 }
 
-int cs_volume_read_exr(const char *path, struct cs_volume *v)
+int cs_volume_read_exr_mem(const void *data, size_t len, const char *name,
+			   struct cs_volume *v)
+{
+	return read_exr_mem(data, len, name, 1, v);
+}
+
+int cs_volume_read_exr(const char *path, struct cs_volume *v, int nthreads)
 {
 	unsigned char *data = NULL;
 	size_t len = 0;
@@ -298,8 +305,8 @@ int cs_volume_read_exr(const char *path, struct cs_volume *v)
 	int rc = cs_read_all(path, MAX_FILE_BYTES, &data, &len);
 	if (rc != CS_OK)
 		return rc;
-	rc = cs_volume_read_exr_mem(data, len,
-				    strcmp(path, "-") == 0 ? "standard input" : path, v);
+	rc = read_exr_mem(data, len, strcmp(path, "-") == 0 ? "standard input" : path,
+			  nthreads, v);
 	free(data);
 	return rc;
 }
