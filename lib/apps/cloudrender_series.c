@@ -8,8 +8,10 @@
 #include "core/fileio.h"
 #include "core/framename.h"
 #include "core/pool.h"
+#include "render/scene.h"
 
 #include <pthread.h>
+#include <stdatomic.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -192,16 +194,19 @@ static void tell(const struct cs_cloudrender_opts *o, struct cs_cloudrender_fram
 
 /* A rendered frame whose outputs are written on a thread of its own while
  * the next frames render (a series on several threads): its own copy of
- * the pixels, the options with its names, and what describes it. */
+ * the pixels, the options with its names, and what describes it (its
+ * scene too, for its report: the session's is the next frame's by then). */
 struct write_slot {
 	pthread_t th;
-	int busy;
+	int busy;              /* a thread was started (join it) */
+	atomic_int done;       /* the frame's outputs are written, or failed */
 	struct cs_cloudrender_opts o;
 	struct cs_cloudrender_result r;
+	struct cs_scene *scene;
 	struct cs_cloudrender_frame f;
 	const char *names[CS_RENDER_MAX_OUTPUTS];
 	float *px;
-	double t0;
+	double t0, t1;         /* the frame's start, its outputs' end */
 	int rc;
 	char msg[1024];
 };
@@ -212,12 +217,15 @@ static void *write_slot_run(void *user)
 	w->rc = cs_cr_write(&w->o, &w->r, w->px);
 	if (w->rc != CS_OK)
 		snprintf(w->msg, sizeof w->msg, "%s", cs_errmsg());
+	w->t1 = now_s();
+	atomic_store(&w->done, 1);
 	return NULL;
 }
 
 /* The frames written at once in a series: half the threads, at most 8,
- * and at most 512 MB of frames held; 0 (one thread, or one frame): each
- * frame is written before the next one renders. */
+ * and no more than 512 MB of frames held beyond the first; 0 (one
+ * thread, or one frame): each frame is written before the next one
+ * renders. */
 static int write_slots(const struct cs_cloudrender_opts *o, int count)
 {
 	int threads = o->threads > 0 ? o->threads : cs_pool_cpus();
@@ -228,42 +236,80 @@ static int write_slots(const struct cs_cloudrender_opts *o, int count)
 	return count > 1 ? k : 0;
 }
 
-/* Hands frame f, rendered into px as r describes it, to slot w's thread
- * (its names those of f); written here, now, where no thread can start. */
-static int write_begin(struct write_slot *w, const struct cs_cloudrender_opts *fo,
+/* The ring of nslots frames being written: pending of them, the oldest
+ * pending before next. */
+struct writers {
+	struct write_slot *slot;
+	int nslots, next, pending;
+	int threads; /* each writer's (an EXR's compression), the run's shared */
+};
+
+/* Hands frame f, rendered into px as r describes it, to the next slot's
+ * thread (its names those of f); written here, now, where no thread can
+ * start.  The slot must be free. */
+static int write_begin(struct writers *wr, const struct cs_cloudrender_opts *fo,
 		       const struct cs_cloudrender_result *r, const struct cs_cloudrender_frame *f,
 		       const float *px, double t0)
 {
+	struct write_slot *w = &wr->slot[wr->next];
 	size_t n = (size_t)fo->width * fo->height * 5;
 	if (w->px == NULL && (w->px = malloc(n * sizeof *w->px)) == NULL)
-		return cs_error(CS_ENOMEM, "out of memory for a frame being written");
+		return cs_error(CS_ENOMEM, "frame %lld: out of memory for its outputs", f->number);
 	memcpy(w->px, px, n * sizeof *px);
 	w->o = *fo, w->r = *r, w->f = *f, w->t0 = t0, w->rc = CS_OK, w->msg[0] = '\0';
+	if (r->scene != NULL && (w->scene != NULL || (w->scene = malloc(sizeof *w->scene)) != NULL))
+		memcpy(w->scene, r->scene, sizeof *w->scene);
+	w->r.scene = r->scene != NULL ? w->scene : NULL; /* (out of memory: no layers in --stats) */
 	for (int k = 0; k < w->f.noutputs; k++)
 		w->names[k] = w->f.outputs[k];
 	memcpy(w->o.outputs, w->names, sizeof w->names);
 	w->o.progress = NULL; /* the run's bar belongs to the frames rendering */
-	if (pthread_create(&w->th, NULL, write_slot_run, w) != 0)
+	w->o.threads = wr->threads;
+	atomic_store(&w->done, 0);
+	w->busy = pthread_create(&w->th, NULL, write_slot_run, w) == 0;
+	if (!w->busy)
 		write_slot_run(w);
-	else
-		w->busy = 1;
+	wr->next = (wr->next + 1) % wr->nslots;
+	wr->pending++;
 	return CS_OK;
 }
 
-/* Waits for slot w's frame to be written and reports it (CS_FRAME_DONE
- * with its own result), or says which frame failed. */
-static int write_end(struct write_slot *w, const struct cs_cloudrender_opts *o, int states)
+/* Reports the oldest frame being written, once written (CS_FRAME_DONE
+ * with its own result), or says that it failed; with wait 0 only if it
+ * already is (1: reported, 0: not yet, or an error). */
+static int write_end(struct writers *wr, const struct cs_cloudrender_opts *o, int states,
+		     int wait, int *rc)
 {
+	*rc = CS_OK;
+	if (wr->pending == 0)
+		return 0;
+	struct write_slot *w = &wr->slot[(wr->next - wr->pending + wr->nslots) % wr->nslots];
+	if (!wait && !atomic_load(&w->done))
+		return 0;
 	if (w->busy)
 		pthread_join(w->th, NULL);
 	w->busy = 0;
-	w->f.wall_s = now_s() - w->t0;
-	if (w->rc != CS_OK)
-		return states > 1 ? cs_error(w->rc, "frame %lld (state %d): %s", w->f.number,
-					     w->f.index + 1, w->msg)
-				  : cs_error(w->rc, "%s", w->msg);
+	wr->pending--;
+	w->f.wall_s = w->t1 - w->t0;
+	if (w->rc != CS_OK) {
+		*rc = states > 1 ? cs_error(w->rc, "frame %lld (state %d): %s", w->f.number,
+					    w->f.index + 1, w->msg)
+				 : cs_error(w->rc, "%s", w->msg);
+		return 0;
+	}
 	tell(o, &w->f, CS_FRAME_DONE, &w->r);
-	return CS_OK;
+	return 1;
+}
+
+/* Reports the frames written so far, in order (wait: every one, waiting
+ * for them); the first failure stops it. */
+static int write_report(struct writers *wr, const struct cs_cloudrender_opts *o, int states,
+			int wait)
+{
+	int rc = CS_OK;
+	while (write_end(wr, o, states, wait, &rc))
+		;
+	return rc;
 }
 
 /* Every frame of [first, last) in turn. */
@@ -289,10 +335,14 @@ static int run_frames(struct cs_cr_session *s, const struct cs_cloudrender_opts 
 		return cs_error(CS_ENOMEM, "out of memory");
 	/* with several threads, each frame is written while the next ones
 	 * render, nslots at once, reported in order */
-	int nslots = write_slots(o, count), next = 0, pending = 0;
-	struct write_slot *slots = nslots > 0 ? calloc((size_t)nslots, sizeof *slots) : NULL;
-	if (nslots > 0 && slots == NULL)
-		nslots = 0;
+	struct writers wr = {NULL, write_slots(o, count), 0, 0, 0};
+	wr.slot = wr.nslots > 0 ? calloc((size_t)wr.nslots, sizeof *wr.slot) : NULL;
+	if (wr.slot == NULL)
+		wr.nslots = 0;
+	if (wr.nslots > 0) {
+		int threads = o->threads > 0 ? o->threads : cs_pool_cpus();
+		wr.threads = threads / wr.nslots > 1 ? threads / wr.nslots : 1;
+	}
 	const char *names[CS_RENDER_MAX_OUTPUTS];
 	int rc = CS_OK;
 	for (int i = first; i < last && rc == CS_OK; i++) {
@@ -307,10 +357,15 @@ static int run_frames(struct cs_cr_session *s, const struct cs_cloudrender_opts 
 		rc = frame_names(o, f->number, f, fo.formats);
 		if (rc != CS_OK)
 			break;
-		if (f->noutputs == 0) {
+		if (f->noutputs == 0) { /* after the frames before it */
+			if ((rc = write_report(&wr, o, st->n, 1)) != CS_OK)
+				break;
 			tell(o, f, CS_FRAME_SKIPPED, r);
 			continue;
 		}
+		/* the frames written meanwhile, and a failure, as soon as seen */
+		if ((rc = write_report(&wr, o, st->n, 0)) != CS_OK)
+			break;
 		for (int k = 0; k < f->noutputs; k++)
 			names[k] = f->outputs[k];
 		memcpy(fo.outputs, names, sizeof names);
@@ -325,17 +380,15 @@ static int run_frames(struct cs_cr_session *s, const struct cs_cloudrender_opts 
 		tell(o, f, CS_FRAME_START, r);
 		double t0 = now_s();
 		float *px = NULL;
-		rc = nslots > 0 ? cs_cr_session_render(s, &fo, r, &px) : cs_cr_session_frame(s, &fo, r);
+		rc = wr.nslots > 0 ? cs_cr_session_render(s, &fo, r, &px)
+				   : cs_cr_session_frame(s, &fo, r);
 		if (rc == CS_OK && held[0])
 			snprintf(r->look_why, sizeof r->look_why, "%s", held);
-		if (rc == CS_OK && nslots > 0) {
-			struct write_slot *w = &slots[next];
-			if (pending == nslots) /* the oldest frame first */
-				rc = write_end(w, o, st->n), pending--;
+		if (rc == CS_OK && wr.nslots > 0) {
+			if (wr.pending == wr.nslots) /* a slot for it: the oldest frame done */
+				write_end(&wr, o, st->n, 1, &rc);
 			if (rc == CS_OK)
-				rc = write_begin(w, &fo, r, f, px, t0);
-			if (rc == CS_OK)
-				next = (next + 1) % nslots, pending++;
+				rc = write_begin(&wr, &fo, r, f, px, t0);
 			prog.done += 1.0;
 			continue;
 		}
@@ -347,24 +400,29 @@ static int run_frames(struct cs_cr_session *s, const struct cs_cloudrender_opts 
 		prog.done += 1.0;
 	}
 	/* the frames still being written, in order; the first failure is the
-	 * run's (its message kept), the last frame's write time its result's */
+	 * run's (its message kept), the last frame's write its result's */
 	char *why = rc != CS_OK ? strdup(cs_errmsg()) : NULL;
-	for (int k = 0; k < pending; k++) {
-		struct write_slot *w = &slots[(next - pending + k + nslots) % nslots];
-		int wrc = write_end(w, o, st->n);
+	const struct write_slot *newest = wr.pending > 0
+						? &wr.slot[(wr.next - 1 + wr.nslots) % wr.nslots]
+						: NULL;
+	while (wr.pending > 0) {
+		int wrc;
+		write_end(&wr, o, st->n, 1, &wrc);
 		if (rc == CS_OK && wrc != CS_OK)
 			rc = wrc, why = strdup(cs_errmsg());
-		if (k == pending - 1 && rc == CS_OK) {
-			r->t_write_s = w->r.t_write_s;
-			r->exposure_ev = w->r.exposure_ev;
-		}
+	}
+	if (rc == CS_OK && newest != NULL) {
+		r->t_write_s = newest->r.t_write_s;
+		r->exposure_ev = newest->r.exposure_ev;
 	}
 	if (rc != CS_OK && why != NULL)
 		cs_error(rc, "%s", why);
 	free(why);
-	for (int k = 0; k < nslots; k++)
-		free(slots[k].px);
-	free(slots);
+	for (int k = 0; k < wr.nslots; k++) {
+		free(wr.slot[k].px);
+		free(wr.slot[k].scene);
+	}
+	free(wr.slot);
 	free(f);
 	return rc;
 }

@@ -27,7 +27,6 @@ int cs_write_all(int fd, const void *buf, size_t n)
 	return 0;
 }
 
-/* The message of an existing destination under CS_OUT_NO_CLOBBER. */
 /* The process's umask, read once: reading it sets it, so two threads
  * reading it at once (a series writes frames on several) could leave it 0. */
 static pthread_once_t umask_once = PTHREAD_ONCE_INIT;
@@ -39,6 +38,7 @@ static void read_umask(void)
 	umask(process_umask);
 }
 
+/* The message of an existing destination under CS_OUT_NO_CLOBBER. */
 static int exists_error(const char *dst)
 {
 	return cs_error(CS_EIO, "%s exists: not overwritten (--no-clobber)", dst);

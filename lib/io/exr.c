@@ -115,7 +115,7 @@ struct enc_chunk {
 /* A worker's encoder and the planar block it converts a chunk into. */
 struct enc_worker {
 	exr_encode_pipeline_t enc;
-	int live;
+	int live, routines;
 	void *scratch;
 };
 
@@ -147,10 +147,12 @@ static void encode_task(void *user, int task, int worker)
 	exr_msg[0] = '\0';
 	exr_chunk_info_t ci;
 	TRY(exr_write_scanline_chunk_info(f, 0, task * j->spc, &ci), "chunk");
-	if (!w->live)
+	if (!w->live) {
 		TRY(exr_encoding_initialize(f, 0, &ci, &w->enc), "encoder");
-	else
+		w->live = 1; /* (destroyed with the context, whatever follows) */
+	} else {
 		TRY(exr_encoding_update(f, 0, &ci, &w->enc), "encoder");
+	}
 	size_t n = (size_t)ci.height * (size_t)width;
 	for (int k = 0; k < w->enc.channel_count; k++) {
 		exr_coding_channel_info_t *e = &w->enc.channels[k];
@@ -177,9 +179,9 @@ static void encode_task(void *user, int task, int worker)
 		e->user_pixel_stride = e->user_bytes_per_element;
 		e->user_line_stride = width * e->user_bytes_per_element;
 	}
-	if (!w->live) {
+	if (!w->routines) {
 		TRY(exr_encoding_choose_default_routines(f, 0, &w->enc), "encoder");
-		w->live = 1;
+		w->routines = 1;
 	}
 	w->enc.yield_until_ready_fn = NULL;
 	w->enc.write_fn = NULL;
@@ -407,7 +409,7 @@ size_t cs_exr_max_pixel_bytes(size_t len, int compression)
 /* A worker's decoder and the blocks it decodes a chunk into. */
 struct dec_worker {
 	exr_decode_pipeline_t dec;
-	int live;
+	int live, routines;
 	uint8_t *skip;      /* scratch for the channels not asked for */
 	uint8_t *stage;     /* nch planar blocks, one per channel asked for */
 };
@@ -608,14 +610,16 @@ static int decode_chunk(const struct chunk_reader *r, struct dec_worker *wk, lon
 	    "truncated or corrupt pixel data");
 	if (ci.start_y != y || ci.height < 1 || y + ci.height > r->h || ci.width != r->w)
 		return cs_error(CS_EDATA, "%s: inconsistent chunk at scanline %ld", name, y);
-	if (!wk->live)
-		TRY(exr_decoding_initialize(r->f, 0, &ci, &wk->dec), "decoder");
-	else
-		TRY(exr_decoding_update(r->f, 0, &ci, &wk->dec), "decoder");
-	route_channels(r, wk);
 	if (!wk->live) {
+		TRY(exr_decoding_initialize(r->f, 0, &ci, &wk->dec), "decoder");
+		wk->live = 1; /* (destroyed with the context, whatever follows) */
+	} else {
+		TRY(exr_decoding_update(r->f, 0, &ci, &wk->dec), "decoder");
+	}
+	route_channels(r, wk);
+	if (!wk->routines) {
 		TRY(exr_decoding_choose_default_routines(r->f, 0, &wk->dec), "decoder");
-		wk->live = 1;
+		wk->routines = 1;
 	}
 	TRY(exr_decoding_run(r->f, 0, &wk->dec), "truncated or corrupt pixel data");
 	convert_chunk(r, wk, y, ci.height);

@@ -13,6 +13,7 @@
 #include <string.h>
 
 static pthread_once_t once = PTHREAD_ONCE_INIT;
+static pthread_mutex_t encode_lock = PTHREAD_MUTEX_INITIALIZER;
 
 static void register_drivers(void)
 {
@@ -83,8 +84,13 @@ int cs_raster_write_to(struct cs_outfile *of, const char *name, const char *driv
 	CPLSetThreadLocalConfigOption("GDAL_PAM_ENABLED", "NO"); /* no .aux.xml */
 	char mem[96];
 	snprintf(mem, sizeof mem, "/vsimem/cloudscape-raster-%p", (void *)of);
+	/* one encode at a time: GDAL's drivers fill in shared state (the JPEG
+	 * driver its creation options) the first time they are asked, unlocked,
+	 * and a series writes frames on several threads (ThreadSanitizer) */
+	pthread_mutex_lock(&encode_lock);
 	int rc = encode(name, driver, mem, width, height, nbands, type, pixels, options,
 			band_names, &l);
+	pthread_mutex_unlock(&encode_lock);
 	vsi_l_offset n = 0;
 	GByte *data = rc == CS_OK ? VSIGetMemFileBuffer(mem, &n, FALSE) : NULL;
 	if (rc == CS_OK && data == NULL)

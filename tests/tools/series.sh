@@ -40,14 +40,20 @@ end
 
 begin series_on_threads_writes_frames_while_the_next_ones_render
 # six states: on 8 threads four frames are written at once while the next
-# ones render; the files are those of one thread byte for byte, and -v
-# reports the frames in their order
-for h in 09 10 11 12 13 14; do state "$h" 0.5; done >"$T/six.jsonl"
+# ones render; the files are those of one thread byte for byte, and -v and
+# --stats report the frames in their order, each with its own layers
+i=3
+for h in 09 10 11 12 13 14; do state "$h" "0.$i"; i=$((i + 1)); done >"$T/six.jsonl"
 mkdir "$T/t1" "$T/t8"
 run "$CR" --wx "$T/six.jsonl" --look 200,10 $FAST -t 1 -o "$T/t1/%d.png" -o "$T/t1/%d.exr"
 expect_rc 0
-run "$CR" --wx "$T/six.jsonl" --look 200,10 $FAST -t 8 -v -o "$T/t8/%d.png" -o "$T/t8/%d.exr"
+run "$CR" --wx "$T/six.jsonl" --look 200,10 $FAST -t 8 -v --stats -o "$T/t8/%d.png" \
+	-o "$T/t8/%d.exr"
 expect_rc 0
+covers=$(sed -n 's/.*"layers":\[{"genus":"cumulus","coverage":\([0-9.]*\),.*/\1/p' "$T/err" |
+	tr '\n' ' ')
+[ "$covers" = "0.300 0.400 0.500 0.600 0.700 0.800 " ] ||
+	bad "--stats gave the frames' layers covers '$covers'"
 for i in 0 1 2 3 4 5; do
 	cmp -s "$T/t1/$i.png" "$T/t8/$i.png" || bad "frame $i's PNG differs on 8 threads"
 	cmp -s "$T/t1/$i.exr" "$T/t8/$i.exr" || bad "frame $i's EXR differs on 8 threads"
@@ -56,6 +62,15 @@ order=$(sed -n 's/^cloudrender: frame \([0-9]*\) (.*/\1/p' "$T/err" | tr '\n' ' 
 [ "$order" = "0 1 2 3 4 5 " ] || bad "frames reported as '$order'"
 expect_err "6 frames rendered in"
 [ "$(ls "$T/t8" | wc -l)" -eq 12 ] || bad "$(ls -A "$T/t8" | tr '\n' ' ')"
+# resumed: the frames skipped are reported in order with those rendered
+rm "$T/t8/1.png" "$T/t8/4.exr"
+run "$CR" --wx "$T/six.jsonl" --look 200,10 $FAST -t 8 -v --skip-existing \
+	-o "$T/t8/%d.png" -o "$T/t8/%d.exr"
+expect_rc 0
+order=$(sed -n 's/^cloudrender: frame \([0-9]*\)[ :].*/\1/p' "$T/err" | tr '\n' ' ')
+[ "$order" = "0 1 2 3 4 5 " ] || bad "frames reported as '$order' on resuming"
+cmp -s "$T/t1/1.png" "$T/t8/1.png" && cmp -s "$T/t1/4.exr" "$T/t8/4.exr" ||
+	bad "the resumed frames differ"
 end
 
 begin series_keeps_the_default_view_of_its_first_state
