@@ -130,6 +130,7 @@ struct enc_job {
 	size_t block; /* floats: one channel, one chunk */
 	struct enc_worker *wk;
 	struct enc_chunk *out;
+	int first; /* the batch's first chunk: task 0 is chunk first */
 };
 
 /* Converts and compresses chunk task (scanlines task * spc on) with the
@@ -140,6 +141,7 @@ static void encode_task(void *user, int task, int worker)
 {
 	struct enc_job *j = user;
 	struct enc_worker *w = &j->wk[worker];
+	task += j->first;
 	struct enc_chunk *o = &j->out[task];
 	exr_context_t f = j->f;
 	const char *name = j->name;
@@ -251,7 +253,7 @@ static int write_once(struct cs_outfile *of, const char *name, int width,
 	nworkers = nworkers < CS_POOL_MAX_THREADS ? nworkers : CS_POOL_MAX_THREADS;
 	job = (struct enc_job){f, name, width, height, spc, nch, ch, (size_t)spc * (size_t)width,
 			       calloc((size_t)nworkers, sizeof *job.wk),
-			       calloc((size_t)nchunks, sizeof *job.out)};
+			       calloc((size_t)nchunks, sizeof *job.out), 0};
 	if (job.wk == NULL || job.out == NULL) {
 		rc = cs_error(CS_ENOMEM, "out of memory");
 		goto fail;
@@ -263,15 +265,24 @@ static int write_once(struct cs_outfile *of, const char *name, int width,
 			goto fail;
 		}
 	}
-	rc = cs_pool_run(nchunks, nworkers, encode_task, &job, NULL, NULL, NULL);
-	/* in order: the first chunk that failed says why */
-	for (int t = 0; rc == CS_OK && t < nchunks; t++) {
-		if (job.out[t].rc != CS_OK) {
-			rc = cs_error(job.out[t].rc, "%s", job.out[t].msg);
-			break;
+	/* in batches of 8 chunks a worker, so that a large image is not held
+	 * whole compressed; each written in order, the first chunk that failed
+	 * saying why */
+	for (int b = 0; rc == CS_OK && b < nchunks; b += 8 * nworkers) {
+		int end = nchunks - b < 8 * nworkers ? nchunks : b + 8 * nworkers;
+		job.first = b;
+		rc = cs_pool_run(end - b, nworkers, encode_task, &job, NULL, NULL, NULL);
+		for (int t = b; rc == CS_OK && t < end; t++) {
+			if (job.out[t].rc != CS_OK) {
+				rc = cs_error(job.out[t].rc, "%s", job.out[t].msg);
+				break;
+			}
+			TRY(exr_write_scanline_chunk(f, part, t * spc, job.out[t].data,
+						     job.out[t].size),
+			    "cannot write pixels");
+			free(job.out[t].data);
+			job.out[t].data = NULL;
 		}
-		TRY(exr_write_scanline_chunk(f, part, t * spc, job.out[t].data, job.out[t].size),
-		    "cannot write pixels");
 	}
 	if (rc != CS_OK)
 		goto fail;
