@@ -150,7 +150,7 @@ void cli_double_list(const char *opt, const char *s, double lo, double hi,
 
 static double bar_start_s = -1.0;
 
-static double mono_s(void)
+double cli_mono_s(void)
 {
 	struct timespec ts;
 	clock_gettime(CLOCK_MONOTONIC, &ts);
@@ -173,7 +173,7 @@ int cli_progress(void *label, double fraction)
 {
 	if (cli_quiet || !isatty(STDERR_FILENO))
 		return 0;
-	double now = mono_s();
+	double now = cli_mono_s();
 	if (bar_start_s < 0.0)
 		bar_start_s = now;
 	int pct = (int)(fraction * 100.0 + 0.5);

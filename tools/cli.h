@@ -68,6 +68,8 @@ void cli_progress_break(void);
 /* The time of an option: ISO 8601 with a zone (core/time.h), or "now" (the
  * clock's); exits with a usage error otherwise. */
 double cli_time(const char *opt, const char *s);
+/* Seconds on the monotonic clock (differences only). */
+double cli_mono_s(void);
 
 /* Finishes an --info text (core/info.h) and writes it to standard output;
  * EXIT_OK, or EXIT_DATA with a message when that fails. */

@@ -13,7 +13,6 @@
 #include <stdlib.h>
 #include <string.h>
 #include <strings.h>
-#include <time.h>
 #include <unistd.h>
 
 #ifndef CS_VERSION
@@ -91,13 +90,6 @@ struct series_report {
 	double first_s, last_s; /* the first frame's start, the last one's end */
 };
 
-static double mono_s(void)
-{
-	struct timespec ts;
-	clock_gettime(CLOCK_MONOTONIC, &ts);
-	return (double)ts.tv_sec + ts.tv_nsec * 1e-9;
-}
-
 static void print_stats(const struct cs_cloudrender_opts *o,
 			const struct cs_cloudrender_result *r);
 
@@ -109,7 +101,7 @@ static void frame_report(void *user, const struct cs_cloudrender_frame *f,
 	switch (f->stage) {
 	case CS_FRAME_START:
 		if (rep->first_s < 0.0)
-			rep->first_s = mono_s();
+			rep->first_s = cli_mono_s();
 		if (series)
 			snprintf(rep->label, sizeof rep->label, "frame %d/%d", f->nth, f->count);
 		break;
@@ -122,7 +114,7 @@ static void frame_report(void *user, const struct cs_cloudrender_frame *f,
 		break;
 	case CS_FRAME_DONE:
 		rep->rendered++;
-		rep->last_s = mono_s(); /* (frames written while others render: not a sum) */
+		rep->last_s = cli_mono_s(); /* (frames written while others render: not a sum) */
 		if (cli_verbose && series) {
 			cli_progress_break();
 			cli_err("frame %lld (%d/%d, state %d of %d): %s%s in %.2f s", f->number,

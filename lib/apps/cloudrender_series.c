@@ -222,20 +222,6 @@ static void *write_slot_run(void *user)
 	return NULL;
 }
 
-/* The frames written at once in a series: half the threads, at most 8,
- * and no more than 512 MB of frames held beyond the first; 0 (one
- * thread, or one frame): each frame is written before the next one
- * renders. */
-static int write_slots(const struct cs_cloudrender_opts *o, int count)
-{
-	int threads = o->threads > 0 ? o->threads : cs_pool_cpus();
-	double bytes = 5.0 * sizeof(float) * (double)o->width * (double)o->height;
-	int k = threads / 2 < 8 ? threads / 2 : 8;
-	while (k > 1 && k * bytes > 512e6)
-		k--;
-	return count > 1 ? k : 0;
-}
-
 /* The ring of nslots frames being written: pending of them, the oldest
  * pending before next. */
 struct writers {
@@ -243,6 +229,32 @@ struct writers {
 	int nslots, next, pending;
 	int threads; /* each writer's (an EXR's compression), the run's shared */
 };
+
+/* The writers of a series of count frames: half the threads' frames at
+ * once, at most 8, and no more than 512 MB of frames held beyond the
+ * first; none (one thread, one frame, or no memory for the ring): each
+ * frame is written before the next one renders. */
+static void writers_init(struct writers *wr, const struct cs_cloudrender_opts *o, int count)
+{
+	*wr = (struct writers){0};
+	int threads = o->threads > 0 ? o->threads : cs_pool_cpus();
+	double bytes = 5.0 * sizeof(float) * (double)o->width * (double)o->height;
+	int k = threads / 2 < 8 ? threads / 2 : 8;
+	while (k > 1 && k * bytes > 512e6)
+		k--;
+	if (count < 2 || k < 1 || (wr->slot = calloc((size_t)k, sizeof *wr->slot)) == NULL)
+		return;
+	wr->nslots = k;
+	wr->threads = threads / k > 1 ? threads / k : 1;
+}
+
+/* The run's error for frame f that failed with rc and message why: the
+ * frame named when the series has several states. */
+static int frame_error(int rc, const struct cs_cloudrender_frame *f, const char *why)
+{
+	return f->states > 1 ? cs_error(rc, "frame %lld (state %d): %s", f->number, f->index + 1, why)
+			     : cs_error(rc, "%s", why);
+}
 
 /* Hands frame f, rendered into px as r describes it, to the next slot's
  * thread (its names those of f); written here, now, where no thread can
@@ -277,8 +289,8 @@ static int write_begin(struct writers *wr, const struct cs_cloudrender_opts *fo,
 /* Reports the oldest frame being written, once written (CS_FRAME_DONE
  * with its own result), or says that it failed; with wait 0 only if it
  * already is (1: reported, 0: not yet, or an error). */
-static int write_end(struct writers *wr, const struct cs_cloudrender_opts *o, int states,
-		     int wait, int *rc)
+static int write_end(struct writers *wr, const struct cs_cloudrender_opts *o, int wait,
+		     int *rc)
 {
 	*rc = CS_OK;
 	if (wr->pending == 0)
@@ -292,9 +304,7 @@ static int write_end(struct writers *wr, const struct cs_cloudrender_opts *o, in
 	wr->pending--;
 	w->f.wall_s = w->t1 - w->t0;
 	if (w->rc != CS_OK) {
-		*rc = states > 1 ? cs_error(w->rc, "frame %lld (state %d): %s", w->f.number,
-					    w->f.index + 1, w->msg)
-				 : cs_error(w->rc, "%s", w->msg);
+		*rc = frame_error(w->rc, &w->f, w->msg);
 		return 0;
 	}
 	tell(o, &w->f, CS_FRAME_DONE, &w->r);
@@ -303,11 +313,10 @@ static int write_end(struct writers *wr, const struct cs_cloudrender_opts *o, in
 
 /* Reports the frames written so far, in order (wait: every one, waiting
  * for them); the first failure stops it. */
-static int write_report(struct writers *wr, const struct cs_cloudrender_opts *o, int states,
-			int wait)
+static int write_report(struct writers *wr, const struct cs_cloudrender_opts *o, int wait)
 {
 	int rc = CS_OK;
-	while (write_end(wr, o, states, wait, &rc))
+	while (write_end(wr, o, wait, &rc))
 		;
 	return rc;
 }
@@ -335,14 +344,8 @@ static int run_frames(struct cs_cr_session *s, const struct cs_cloudrender_opts 
 		return cs_error(CS_ENOMEM, "out of memory");
 	/* with several threads, each frame is written while the next ones
 	 * render, nslots at once, reported in order */
-	struct writers wr = {NULL, write_slots(o, count), 0, 0, 0};
-	wr.slot = wr.nslots > 0 ? calloc((size_t)wr.nslots, sizeof *wr.slot) : NULL;
-	if (wr.slot == NULL)
-		wr.nslots = 0;
-	if (wr.nslots > 0) {
-		int threads = o->threads > 0 ? o->threads : cs_pool_cpus();
-		wr.threads = threads / wr.nslots > 1 ? threads / wr.nslots : 1;
-	}
+	struct writers wr;
+	writers_init(&wr, o, count);
 	const char *names[CS_RENDER_MAX_OUTPUTS];
 	int rc = CS_OK;
 	for (int i = first; i < last && rc == CS_OK; i++) {
@@ -358,13 +361,13 @@ static int run_frames(struct cs_cr_session *s, const struct cs_cloudrender_opts 
 		if (rc != CS_OK)
 			break;
 		if (f->noutputs == 0) { /* after the frames before it */
-			if ((rc = write_report(&wr, o, st->n, 1)) != CS_OK)
+			if ((rc = write_report(&wr, o, 1)) != CS_OK)
 				break;
 			tell(o, f, CS_FRAME_SKIPPED, r);
 			continue;
 		}
 		/* the frames written meanwhile, and a failure, as soon as seen */
-		if ((rc = write_report(&wr, o, st->n, 0)) != CS_OK)
+		if ((rc = write_report(&wr, o, 0)) != CS_OK)
 			break;
 		for (int k = 0; k < f->noutputs; k++)
 			names[k] = f->outputs[k];
@@ -386,7 +389,7 @@ static int run_frames(struct cs_cr_session *s, const struct cs_cloudrender_opts 
 			snprintf(r->look_why, sizeof r->look_why, "%s", held);
 		if (rc == CS_OK && wr.nslots > 0) {
 			if (wr.pending == wr.nslots) /* a slot for it: the oldest frame done */
-				write_end(&wr, o, st->n, 1, &rc);
+				write_end(&wr, o, 1, &rc);
 			if (rc == CS_OK)
 				rc = write_begin(&wr, &fo, r, f, px, t0);
 			prog.done += 1.0;
@@ -396,7 +399,7 @@ static int run_frames(struct cs_cr_session *s, const struct cs_cloudrender_opts 
 		if (rc == CS_OK)
 			tell(o, f, CS_FRAME_DONE, r);
 		else if (st->n > 1)
-			rc = cs_error(rc, "frame %lld (state %d): %s", f->number, i + 1, cs_errmsg());
+			rc = frame_error(rc, f, cs_errmsg());
 		prog.done += 1.0;
 	}
 	/* the frames still being written, in order; the first failure is the
@@ -407,7 +410,7 @@ static int run_frames(struct cs_cr_session *s, const struct cs_cloudrender_opts 
 						: NULL;
 	while (wr.pending > 0) {
 		int wrc;
-		write_end(&wr, o, st->n, 1, &wrc);
+		write_end(&wr, o, 1, &wrc);
 		if (rc == CS_OK && wrc != CS_OK)
 			rc = wrc, why = strdup(cs_errmsg());
 	}

@@ -103,13 +103,33 @@ static int set_attr(exr_context_t f, const struct cs_exr_attr *a)
 	return EXR_ERR_INVALID_ARGUMENT;
 }
 
-/* One chunk of an image being written: its bytes once compressed, or
- * why it could not be (the message of the worker that tried). */
+/* Why a chunk could not be coded, kept by the worker that tried (its
+ * messages are its thread's own) for the calling thread to report. */
+struct chunk_error {
+	int rc;
+	char msg[512];
+};
+
+static void chunk_failed(struct chunk_error *e, int rc)
+{
+	e->rc = rc;
+	snprintf(e->msg, sizeof e->msg, "%s", cs_errmsg());
+}
+
+/* The workers for nchunks chunks on nthreads threads (<= 0: one per
+ * processor). */
+static int chunk_workers(int nthreads, long nchunks)
+{
+	long n = nthreads > 0 ? nthreads : cs_pool_cpus();
+	n = n < nchunks ? n : nchunks;
+	return (int)(n < CS_POOL_MAX_THREADS ? n : CS_POOL_MAX_THREADS);
+}
+
+/* One chunk of an image being written: its bytes once compressed. */
 struct enc_chunk {
 	void *data;
 	size_t size;
-	int rc;
-	char msg[512];
+	struct chunk_error err;
 };
 
 /* A worker's encoder and the planar block it converts a chunk into. */
@@ -197,8 +217,7 @@ static void encode_task(void *user, int task, int worker)
 	memcpy(o->data, w->enc.compressed_buffer, o->size);
 	return;
 fail:
-	o->rc = rc;
-	snprintf(o->msg, sizeof o->msg, "%s", cs_errmsg());
+	chunk_failed(&o->err, rc);
 }
 
 /* Frees the workers' encoders and blocks and the compressed chunks (the
@@ -248,9 +267,7 @@ static int write_once(struct cs_outfile *of, const char *name, int width,
 	int32_t spc = 0;
 	TRY(exr_get_scanlines_per_chunk(f, part, &spc), "chunk size");
 	nchunks = (height + spc - 1) / spc;
-	nworkers = nthreads > 0 ? nthreads : cs_pool_cpus();
-	nworkers = nworkers < nchunks ? nworkers : nchunks;
-	nworkers = nworkers < CS_POOL_MAX_THREADS ? nworkers : CS_POOL_MAX_THREADS;
+	nworkers = chunk_workers(nthreads, nchunks);
 	job = (struct enc_job){f, name, width, height, spc, nch, ch, (size_t)spc * (size_t)width,
 			       calloc((size_t)nworkers, sizeof *job.wk),
 			       calloc((size_t)nchunks, sizeof *job.out), 0};
@@ -273,8 +290,8 @@ static int write_once(struct cs_outfile *of, const char *name, int width,
 		job.first = b;
 		rc = cs_pool_run(end - b, nworkers, encode_task, &job, NULL, NULL, NULL);
 		for (int t = b; rc == CS_OK && t < end; t++) {
-			if (job.out[t].rc != CS_OK) {
-				rc = cs_error(job.out[t].rc, "%s", job.out[t].msg);
+			if (job.out[t].err.rc != CS_OK) {
+				rc = cs_error(job.out[t].err.rc, "%s", job.out[t].err.msg);
 				break;
 			}
 			TRY(exr_write_scanline_chunk(f, part, t * spc, job.out[t].data,
@@ -300,7 +317,6 @@ fail:
 
 /* Reads the temporary back and compares every channel with what was meant
  * to be written (half channels: with the rounding to half). */
-
 static int verify(const struct cs_outfile *of, const char *name, int width,
 		  int height, const struct cs_exr_channel *ch, int nch, int nthreads)
 {
@@ -438,9 +454,10 @@ struct chunk_reader {
 	int32_t spc;        /* scanlines per chunk */
 	float *px;          /* w * h * nch floats, the result */
 	size_t block;       /* bytes: one channel, one chunk */
+	int nthreads;       /* asked for; nworkers: used */
 	int nworkers;
 	struct dec_worker *wk;
-	struct enc_chunk *out; /* per chunk: why it failed (data unused) */
+	struct chunk_error *err; /* per chunk */
 };
 
 /* Opens the file in src as r->f; it must be a single-part scanline image. */
@@ -546,10 +563,10 @@ static int alloc_buffers(struct chunk_reader *r)
 	/* a chunk never holds more rows than the image */
 	r->block = (size_t)w * (size_t)(r->spc < h ? r->spc : h) * 4;
 	long nchunks = (h + r->spc - 1) / r->spc;
-	r->nworkers = r->nworkers < nchunks ? r->nworkers : (int)nchunks;
+	r->nworkers = chunk_workers(r->nthreads, nchunks);
 	r->wk = calloc((size_t)r->nworkers, sizeof *r->wk);
-	r->out = calloc((size_t)nchunks, sizeof *r->out);
-	if (r->wk == NULL || r->out == NULL)
+	r->err = calloc((size_t)nchunks, sizeof *r->err);
+	if (r->wk == NULL || r->err == NULL)
 		return cs_error(CS_ENOMEM, "%s: out of memory for %ldx%ld pixels", name, w, h);
 	for (int k = 0; k < r->nworkers; k++) {
 		r->wk[k].skip = malloc(r->block);
@@ -643,10 +660,8 @@ static void decode_task(void *user, int task, int worker)
 	struct chunk_reader *r = user;
 	exr_msg[0] = '\0';
 	int rc = decode_chunk(r, &r->wk[worker], (long)task * r->spc);
-	if (rc != CS_OK) {
-		r->out[task].rc = rc;
-		snprintf(r->out[task].msg, sizeof r->out[task].msg, "%s", cs_errmsg());
-	}
+	if (rc != CS_OK)
+		chunk_failed(&r->err[task], rc);
 }
 
 int cs_exr_read_channels_threads(const void *data, size_t len, const char *name,
@@ -655,9 +670,8 @@ int cs_exr_read_channels_threads(const void *data, size_t len, const char *name,
 {
 	struct chunk_reader r = {
 		.name = name, .channels = channels, .nch = nch, .len = len,
-		.nworkers = nthreads > 0 ? nthreads : cs_pool_cpus(),
+		.nthreads = nthreads,
 	};
-	r.nworkers = r.nworkers < CS_POOL_MAX_THREADS ? r.nworkers : CS_POOL_MAX_THREADS;
 	struct cs_exr_mem src = {data, len};
 
 	*pixels = NULL;
@@ -671,8 +685,8 @@ int cs_exr_read_channels_threads(const void *data, size_t len, const char *name,
 		rc = cs_pool_run(nchunks, r.nworkers, decode_task, &r, NULL, NULL, NULL);
 	/* in order: the first chunk that failed says why */
 	for (int t = 0; rc == CS_OK && t < nchunks; t++)
-		if (r.out[t].rc != CS_OK)
-			rc = cs_error(r.out[t].rc, "%s", r.out[t].msg);
+		if (r.err[t].rc != CS_OK)
+			rc = cs_error(r.err[t].rc, "%s", r.err[t].msg);
 	if (rc == CS_OK) {
 		*width = (int)r.w;
 		*height = (int)r.h;
@@ -688,7 +702,7 @@ int cs_exr_read_channels_threads(const void *data, size_t len, const char *name,
 	if (r.f)
 		exr_finish(&r.f);
 	free(r.wk);
-	free(r.out);
+	free(r.err);
 	free(r.px);
 	return rc;
 }
