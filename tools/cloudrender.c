@@ -196,7 +196,9 @@ static void usage(void)
 	       "                         sum, the baseline; skip: empty space probed every\n"
 	       "                         4 steps and skipped; adaptive: a step deeper than\n"
 	       "                         0.5 in optical depth marched again in up to 4 parts\n"
-	       "      --light-march M    cache (low, medium): the depth toward the sun\n"
+	       "      --light-march M    auto (low, medium): cache where the frame has a\n"
+	       "                         pixel for every 32 of a layer's cells, else\n"
+	       "                         geometric; cache: the depth toward the sun\n"
 	       "                         looked up in a volume built once a frame, geometric\n"
 	       "                         where a layer has none; geometric (high, reference):\n"
 	       "                         steps toward the sun growing from the point;\n"
@@ -370,8 +372,14 @@ static void describe(void *user, const struct cs_cloudrender_result *r)
 		r->settings.ambient ? "" : ", no ambient", r->settings.jitter > 0 ? "" : ", no jitter");
 }
 
-static void report_times(const struct cs_cloudrender_result *r)
+static void report_times(const struct cs_cloudrender_opts *o, const struct cs_cloudrender_result *r)
 {
+	if (!o->reference && CS_LIGHT_CACHED(r->settings.light_march))
+		cli_err("light cache: %d volume%s, %.2f million cells (%s)", r->stats.cache_volumes,
+			r->stats.cache_volumes == 1 ? "" : "s", r->stats.cache_cells / 1e6,
+			r->settings.light_march == CS_LIGHT_AUTO
+				? "auto: the layers of more than 32 cells a pixel marched"
+				: "cache");
 	double total = r->t_noise_s + r->t_scene_s + r->t_render_s + r->t_irradiance_s +
 		       r->t_write_s;
 	cli_err("time: noise %.2f s, scene %.2f s, render %.2f s, irradiance %.2f s, "
@@ -726,9 +734,11 @@ int main(int argc, char **argv)
 				o.light_march = CS_LIGHT_CONE;
 			else if (strcasecmp(optarg, "cache") == 0)
 				o.light_march = CS_LIGHT_CACHE;
+			else if (strcasecmp(optarg, "auto") == 0)
+				o.light_march = CS_LIGHT_AUTO;
 			else
 				cli_usage_error("--light-march: '%s' is not uniform, quadratic, geometric, "
-						"cone or cache", optarg);
+						"cone, cache or auto", optarg);
 			break;
 		case OPT_SOURCE_EVERY:
 			o.source_every = (int)cli_long("--source-every", optarg, 1, 2);
@@ -838,7 +848,7 @@ int main(int argc, char **argv)
 	if (!cli_quiet && r.camera_terrain_km > 300.0)
 		cli_err("warning: the camera is %.0f km from the terrain's centre", r.camera_terrain_km);
 	if (cli_verbose && rep.rendered > 0)
-		report_times(&r);
+		report_times(&o, &r);
 	report_device(&o, &r);
 	cs_cloudrender_result_free(&r);
 	return EXIT_OK;

@@ -36,7 +36,7 @@ static void put_quality(FILE *f, const struct cs_cloudrender_opts *o,
 			const struct cs_cloudrender_result *r)
 {
 	static const char *const march[] = {"standard", "naive", "skip", "adaptive"};
-	static const char *const light[] = {"uniform", "quadratic", "geometric", "cone", "cache"};
+	static const char *const light[] = {"uniform", "quadratic", "geometric", "cone", "cache", "auto"};
 	const struct cs_render_settings *s = &r->settings;
 	fputs(",\"quality\":{\"preset\":", f);
 	put_string(f, o->quality ? o->quality : "");

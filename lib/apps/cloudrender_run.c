@@ -674,23 +674,28 @@ static int render_device(const struct cs_cloudrender_opts *o, struct cs_cloudren
 	struct cs_scene *cached = NULL;
 	uint64_t cache_evaluations = 0;
 	int rc = CS_OK;
-	if (r->settings.light_march == CS_LIGHT_CACHE) {
+	if (CS_LIGHT_CACHED(r->settings.light_march)) {
 		if ((cached = malloc(sizeof *cached)) == NULL)
 			return cs_error(CS_ENOMEM, "out of memory");
 		*cached = *sc;
-		rc = cs_light_cache_build(cached, &r->settings, o->threads, &cache_evaluations);
+		rc = cs_light_cache_build(cached, &r->settings, (double)cam->width * cam->height,
+					  o->threads, &cache_evaluations);
 		sc = cached;
 	}
 	if (rc == CS_OK)
 		rc = *gpu ? cs_cuda_scene_update(*gpu, sc) : cs_cuda_scene_new(sc, gpu);
+	int volumes = cached != NULL ? cs_light_cache_volumes(cached) : 0;
 	if (cached != NULL) {
 		cs_light_cache_free(cached);
 		free(cached);
 	}
 	if (rc == CS_OK)
 		rc = cs_cuda_render(*gpu, cam, &r->settings, px, &r->stats, &r->device_kernel_ms);
-	if (rc == CS_OK)
+	if (rc == CS_OK) {
 		r->stats.light_samples += cache_evaluations;
+		r->stats.cache_cells = cache_evaluations;
+		r->stats.cache_volumes = volumes;
+	}
 	if (rc == CS_OK && o->device_bench > 0)
 		rc = cs_cuda_bench(*gpu, cam, &r->settings, o->device_bench, &r->device_frame_ms);
 	return rc;

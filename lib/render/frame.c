@@ -125,14 +125,15 @@ int cs_render_image(const struct cs_scene *sc, const struct cs_camera *cam,
 	/* the light caches: built on a copy of the scene, for this frame */
 	struct cs_scene *cached = NULL;
 	uint64_t cache_evaluations = 0;
-	if (s->light_march == CS_LIGHT_CACHE) {
+	if (CS_LIGHT_CACHED(s->light_march)) {
 		cached = malloc(sizeof *cached);
 		if (cached == NULL) {
 			free(job);
 			return cs_error(CS_ENOMEM, "out of memory");
 		}
 		*cached = *sc;
-		rc = cs_light_cache_build(cached, s, nthreads, &cache_evaluations);
+		rc = cs_light_cache_build(cached, s, (double)cam->width * cam->height, nthreads,
+					  &cache_evaluations);
 		if (rc != CS_OK) {
 			free(cached);
 			free(job);
@@ -148,6 +149,8 @@ int cs_render_image(const struct cs_scene *sc, const struct cs_camera *cam,
 		stats_add(stats, &job->stats[i].s);
 	stats->light_samples += cache_evaluations;
 	if (cached != NULL) {
+		stats->cache_cells = cache_evaluations;
+		stats->cache_volumes = cs_light_cache_volumes(cached);
 		cs_light_cache_free(cached);
 		free(cached);
 	}

@@ -553,7 +553,7 @@ CS_HD static void sample_source(const struct ray_ctx *c, cs_v3 p, double alt,
 		double tau_above = 0.0;
 		int n = c->s->light_steps / 2 > 2 ? c->s->light_steps / 2 : 2;
 		/* the column's volume (--light-march cache), or n samples */
-		const struct cs_light_cache *vc = c->s->light_march == CS_LIGHT_CACHE &&
+		const struct cs_light_cache *vc = CS_LIGHT_CACHED(c->s->light_march) &&
 								  sc->column_cache[li].depth != NULL
 							  ? &sc->column_cache[li]
 							  : NULL;

@@ -73,9 +73,10 @@ static void build_row(void *user, int j, int worker)
  * far weather, no periods, no cover); levels about dh_want apart (at
  * most 128 of them), columns within budget cells, stretched along the
  * wind as the field is, and no more than MAX_SPACING_M apart across it
- * while that fits in MAX_CELLS.  CS_OK, CS_ENOMEM, or the pool's error. */
+ * while that fits in MAX_CELLS; none of more than most cells.  CS_OK,
+ * CS_ENOMEM, or the pool's error. */
 static int build_volume(const struct cs_scene *sc, const struct cs_cloud_layer *l, int nthreads,
-			double dh_want, double budget, double shear_u, double shear_v,
+			double dh_want, double budget, double most, double shear_u, double shear_v,
 			double path_per_m, struct cs_light_cache *out, uint64_t *evaluations)
 {
 	*out = (struct cs_light_cache){0};
@@ -96,6 +97,8 @@ static int build_volume(const struct cs_scene *sc, const struct cs_cloud_layer *
 	/* (the columns rounded up to whole numbers: a little over MAX_CELLS) */
 	if (nu * nv * (nh + 1) > 1.1 * MAX_CELLS)
 		return CS_OK; /* a period too long for the cells (never for the genera) */
+	if (nu * nv * (nh + 1) > most)
+		return CS_OK; /* more than the frame pays for (CS_LIGHT_AUTO) */
 	struct cs_light_cache c = {
 		.nu = (int)nu, .nv = (int)nv, .nh = nh,
 		.du_m = pa / nu, .dv_m = pc / nv, .dh_m = th / nh,
@@ -117,8 +120,8 @@ static int build_volume(const struct cs_scene *sc, const struct cs_cloud_layer *
 	return CS_OK;
 }
 
-int cs_light_cache_build(struct cs_scene *sc, const struct cs_render_settings *s, int nthreads,
-			 uint64_t *evaluations)
+int cs_light_cache_build(struct cs_scene *sc, const struct cs_render_settings *s, double pixels,
+			 int nthreads, uint64_t *evaluations)
 {
 	*evaluations = 0;
 	for (int n = 0; n < CS_SCENE_MAX_LAYERS; n++) { /* a copy's: not its to free */
@@ -139,16 +142,17 @@ int cs_light_cache_build(struct cs_scene *sc, const struct cs_render_settings *s
 	 * many 0.01211, levels twice as far apart 0.0125 */
 	int ls = s->light_steps > 1 ? s->light_steps : 1;
 	double dh_want = 600.0 / ls, budget = 83333.0 * ls;
+	double most = s->light_march == CS_LIGHT_AUTO ? CS_AUTO_CELLS_PER_PIXEL * pixels : HUGE_VAL;
 	int rc = CS_OK;
 	for (int n = 0; n < sc->nlayers && rc == CS_OK; n++) {
 		const struct cs_cloud_layer *l = &sc->layers[n];
 		if (toward_sun)
-			rc = build_volume(sc, l, nthreads, dh_want, budget,
+			rc = build_volume(sc, l, nthreads, dh_want, budget, most,
 					  (sun.x * l->wind_x + sun.y * l->wind_y) / sun.z,
 					  (-sun.x * l->wind_y + sun.y * l->wind_x) / sun.z, 1.0 / sun.z,
 					  &sc->light_cache[n], evaluations);
 		if (rc == CS_OK && columns)
-			rc = build_volume(sc, l, nthreads, dh_want, budget, 0.0, 0.0, 1.0,
+			rc = build_volume(sc, l, nthreads, dh_want, budget, most, 0.0, 0.0, 1.0,
 					  &sc->column_cache[n], evaluations);
 	}
 	if (rc != CS_OK) {
@@ -156,6 +160,14 @@ int cs_light_cache_build(struct cs_scene *sc, const struct cs_render_settings *s
 		*evaluations = 0;
 	}
 	return rc;
+}
+
+int cs_light_cache_volumes(const struct cs_scene *sc)
+{
+	int n = 0;
+	for (int i = 0; i < CS_SCENE_MAX_LAYERS; i++)
+		n += (sc->light_cache[i].depth != NULL) + (sc->column_cache[i].depth != NULL);
+	return n;
 }
 
 void cs_light_cache_free(struct cs_scene *sc)

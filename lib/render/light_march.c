@@ -216,11 +216,11 @@ CS_HD CS_SHARED double cs_light_depth(const struct cs_scene *sc,
 			    const struct cs_render_settings *s, cs_v3 p,
 			    unsigned mask, struct cs_render_stats *st)
 {
-	double tau = 0.0, alt = s->light_march == CS_LIGHT_CACHE ? cs_altitude(p, sc->earth_radius_m)
+	double tau = 0.0, alt = CS_LIGHT_CACHED(s->light_march) ? cs_altitude(p, sc->earth_radius_m)
 								  : 0.0;
 	int others = s->light_steps / 3 > 2 ? s->light_steps / 3 : 2;
 	for (int i = 0; i < sc->nlayers; i++) {
-		if (s->light_march == CS_LIGHT_CACHE && sc->light_cache[i].depth != NULL) {
+		if (CS_LIGHT_CACHED(s->light_march) && sc->light_cache[i].depth != NULL) {
 			tau += cs_cached_depth(&sc->layers[i], &sc->light_cache[i], p.x, p.y, alt);
 			continue;
 		}

@@ -26,8 +26,10 @@
  * 17 % less; the default 1280x720 scene renders 20 % faster on the CPU
  * and 6 % on an H200 at medium (cloudrender(1), QUALITY).  The reference
  * keeps the light at every sample.  Low and medium look the depths
- * toward the sun and up the column in the light cache (CS_LIGHT_CACHE)
- * where it has them: on the study's scenes their relative MSE is less
+ * toward the sun and up the column in the light cache where it has them
+ * and where the frame is large enough to pay for them (CS_LIGHT_AUTO):
+ * with the cache (CS_LIGHT_CACHE), on the study's scenes, their relative
+ * MSE is less
  * (0.01639 and 0.01228 -> 0.01537 and 0.01195), and the default 1280x720
  * scene renders in 0.63 of the time on the CPU, 0.60 on an H200 at
  * medium (cloudrender(1), QUALITY).  High and the reference march
@@ -46,8 +48,8 @@ static const struct {
 	const char *name;
 	struct cs_render_settings s;
 } presets[] = {
-	{"low", {24, 96, 8, 2, 1, 1.0, 0, 0.02, 8, CS_MARCH_STANDARD, CS_LIGHT_CACHE, 2}},
-	{"medium", {24, 192, 12, 3, 1, 1.0, 0, 0.01, 16, CS_MARCH_STANDARD, CS_LIGHT_CACHE, 2}},
+	{"low", {24, 96, 8, 2, 1, 1.0, 0, 0.02, 8, CS_MARCH_STANDARD, CS_LIGHT_AUTO, 2}},
+	{"medium", {24, 192, 12, 3, 1, 1.0, 0, 0.01, 16, CS_MARCH_STANDARD, CS_LIGHT_AUTO, 2}},
 	{"high", {48, 384, 16, 3, 1, 1.0, 0, 0.005, 32, CS_MARCH_STANDARD, CS_LIGHT_GEOMETRIC, 2}},
 	{"reference", {384, 1536, 24, 4, 1, 1.0, 0, 0.0005, 128, CS_MARCH_STANDARD, CS_LIGHT_GEOMETRIC, 1}},
 };
@@ -79,7 +81,7 @@ int cs_render_settings_check(const struct cs_render_settings *s)
 		return cs_error(CS_EINVAL, "jitter must be 0..1");
 	if (s->march < CS_MARCH_STANDARD || s->march > CS_MARCH_ADAPTIVE)
 		return cs_error(CS_EINVAL, "unknown march %d", s->march);
-	if (s->light_march < CS_LIGHT_UNIFORM || s->light_march > CS_LIGHT_CACHE)
+	if (s->light_march < CS_LIGHT_UNIFORM || s->light_march > CS_LIGHT_AUTO)
 		return cs_error(CS_EINVAL, "unknown light march %d", s->light_march);
 	if (s->source_every < 0 || s->source_every > 2)
 		return cs_error(CS_EINVAL, "the source's stride must be 1 or 2, not %d",

@@ -1,7 +1,7 @@
 # cloudrender -v (what it renders, the time of each phase), the progress
 # bar's elapsed time and ETA on a terminal, and the default view.
 . "$TOP/tests/tools/lib.sh"
-plan 4
+plan 5
 CR="$BIN/cloudrender"
 WX="$BIN/wxinterp"
 FAST="--quality low --noise-size 32 --size 64x36"
@@ -26,6 +26,23 @@ grep -q "sun azimuth $(printf '%.1f' "$az") deg" "$T/err" || bad "-v sun azimuth
 tail -n 2 "$T/err" | grep -q "time: noise" || bad "the phase times are not at the end"
 run "$CR" $FAST -o "$T/a.png"; expect_rc 0
 [ -s "$T/err" ] && bad "without -v stderr is not empty: $(head -c 200 "$T/err")"
+end
+
+# --light-march auto (low's): a layer's volume only for a frame of a pixel
+# for every 32 of its cells (low's volumes: 8 x 83333 cells at most, a
+# tenth more for whole columns), the layer marched in a smaller one
+begin cloudrender_light_cache_auto_builds_only_what_the_frame_pays_for
+volumes() { sed -n 's/^cloudrender: light cache: \([0-9]*\) volumes*, \([0-9.]*\) million.*/\1 \2/p' "$T/err"; }
+run "$CR" -v $FAST --light-march cache -o "$T/c.png"; expect_rc 0
+set -- $(volumes)
+[ "${1:-0}" -ge 2 ] && [ "$(echo "${2:-0} > 0.5" | bc)" -eq 1 ] ||
+	bad "--light-march cache at 64x36 built '$(volumes)' (volumes, million cells)"
+all=${1:-0}
+run "$CR" -v $FAST -o "$T/a.png"; expect_rc 0
+[ "$(volumes)" = "0 0.00" ] || bad "auto at 64x36 (2304 pixels) built '$(volumes)'"
+run "$CR" -v $FAST --size 320x180 -o "$T/a.png"; expect_rc 0
+set -- $(volumes)
+[ "${1:-0}" -eq "$all" ] || bad "auto at 320x180 built '$(volumes)', expected all $all volumes"
 end
 
 begin cloudrender_progress_shows_elapsed_and_eta_on_a_terminal

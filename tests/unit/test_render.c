@@ -564,7 +564,7 @@ static void light_cache_agrees_with_a_fine_march(void)
 	struct cs_render_settings fine = plain(32, 512), cached = plain(32, 12);
 	cached.light_march = CS_LIGHT_CACHE;
 	uint64_t evals = 0;
-	CHECK(cs_light_cache_build(&sc, &cached, 2, &evals) == CS_OK);
+	CHECK(cs_light_cache_build(&sc, &cached, 0.0, 2, &evals) == CS_OK);
 	CHECK(sc.light_cache[0].depth != NULL);
 	CHECK(evals == (uint64_t)sc.light_cache[0].nu * sc.light_cache[0].nv *
 			       (sc.light_cache[0].nh + 1));
@@ -599,10 +599,28 @@ static void light_cache_agrees_with_a_fine_march(void)
 	CHECK_NEAR(sum_c / sum_f, 1.0, 0.03);
 	CHECK(dT / n < 0.03);
 	cs_light_cache_free(&sc);
+	/* auto (the presets'): the volume only for a frame of a pixel for
+	 * every 32 of its cells, the same volume then */
+	double cells = (double)evals;
+	struct cs_render_settings autom = cached;
+	autom.light_march = CS_LIGHT_AUTO;
+	CHECK(cs_light_cache_build(&sc, &autom, ceil(cells / 32.0), 2, &evals) == CS_OK);
+	CHECK(sc.light_cache[0].depth != NULL && evals == (uint64_t)cells);
+	cs_light_cache_free(&sc);
+	CHECK(cs_light_cache_build(&sc, &autom, floor(cells / 32.0) - 1.0, 2, &evals) == CS_OK);
+	CHECK(sc.light_cache[0].depth == NULL && evals == 0);
+	/* (then the geometric march: the same depth as without a cache) */
+	autom.light_march = CS_LIGHT_GEOMETRIC;
+	{
+		cs_v3 p = v3(1000.0, 2000.0, 1700.0);
+		struct cs_render_settings a2 = autom;
+		a2.light_march = CS_LIGHT_AUTO;
+		CHECK(cs_light_depth(&sc, &a2, p, 1u, &st) == cs_light_depth(&sc, &autom, p, 1u, &st));
+	}
 	CHECK(sc.light_cache[0].depth == NULL);
 	CHECK(sc.column_cache[0].depth == NULL); /* no light fields: no columns */
 	sc.sun_dir = v3(cos(0.2), 0, sin(0.2)); /* 11.5 deg */
-	CHECK(cs_light_cache_build(&sc, &cached, 2, &evals) == CS_OK);
+	CHECK(cs_light_cache_build(&sc, &cached, 0.0, 2, &evals) == CS_OK);
 	CHECK(sc.light_cache[0].depth == NULL && evals == 0);
 
 	/* the vertical columns (the diffuse light's, with the light fields
@@ -610,7 +628,7 @@ static void light_cache_agrees_with_a_fine_march(void)
 	 * samples of cs_cloud_column, the same bounds */
 	sc.deck.on = 1;
 	cached.ambient = 1;
-	CHECK(cs_light_cache_build(&sc, &cached, 2, &evals) == CS_OK);
+	CHECK(cs_light_cache_build(&sc, &cached, 0.0, 2, &evals) == CS_OK);
 	const struct cs_light_cache *vc = &sc.column_cache[0];
 	CHECK(vc->depth != NULL && vc->shear_u == 0.0 && vc->shear_v == 0.0);
 	const struct cs_cloud_layer *l = &sc.layers[0];
@@ -847,7 +865,7 @@ static void light_march_toward_any_sun_is_beer_lambert(void)
 	sunlit_slab(&sc, &s);
 	/* medium's: the light cache, which a homogeneous layer does not
 	 * have; the geometric march it takes there, as such */
-	CHECK(s.light_march == CS_LIGHT_CACHE);
+	CHECK(s.light_march == CS_LIGHT_AUTO);
 	s.light_march = CS_LIGHT_GEOMETRIC;
 	double tilts[12] = {0.0, 1e-3, 1e-2, 0.3, 0.8, 1.2};
 	static const double hair[6] = {1e-12, 1e-10, 1e-9, 3e-8, 1e-7, 1e-6};
