@@ -171,7 +171,7 @@ $(B)/lib/render/cuda/device_none.o: ALL_CFLAGS += -DCS_CUDA_WHY='"$(CUDA_WHY)"'
 # the baker's row loops vectorized (-O3; no contraction: the same bits)
 $(B)/lib/noise/noise.o $(B)/lib/noise/volume.o: ALL_CFLAGS += -O3 -ffp-contract=off
 # the fog's orders of scattering (lib/render/fog.c): dot products, vectorized
-$(B)/lib/render/fog.o: ALL_CFLAGS += -O3
+$(B)/lib/render/fog.o: ALL_CFLAGS += -O3 -ffp-contract=off
 # ... and, under ThreadSanitizer, not instrumented: the solver runs on one
 # thread while a scene is built, and its instrumented loops took most of
 # test_render's time there (the light fields of broken layers)

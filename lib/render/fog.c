@@ -138,9 +138,10 @@ static void phase_modes(const struct cs_fog_problem *p, const double (*cpsi)[NMO
 
 struct solver {
 	double mu[NO], wt[NO];   /* cosine of the direction of travel, weight */
-	/* of mode n: 2 pi w_j p_n(mu_i, mu_j), mode 0's columns summing to 1
-	 * (setup) */
-	double P[NMODE][NO][NO];
+	/* of mode n: 2 pi w_j p_n(mu_i, mu_j) at PT[n][j][i] (transposed, so
+	 * that scatter sums over j for every i at once), mode 0's columns
+	 * summing to 1 (setup) */
+	double PT[NMODE][NO][NO];
 	double Pout[NMODE][NDIR][NO]; /* the same from ordinate j into table direction m */
 	double psun[NMODE][NO];  /* p_n from the sun's beam, 1/sr */
 	double sky[NMODE][NSKY][3]; /* the sky's radiance at the top, by mode */
@@ -189,17 +190,17 @@ static void setup(struct solver *S, const struct cs_fog_problem *p)
 		for (int i = 0; i <= j; i++) {
 			phase_modes(p, cpsi, S->mu[i], S->mu[j], pm);
 			for (int n = 0; n < NMODE; n++) {
-				S->P[n][i][j] = 2.0 * CS_PI * S->wt[j] * pm[n];
-				S->P[n][j][i] = 2.0 * CS_PI * S->wt[i] * pm[n];
+				S->PT[n][j][i] = 2.0 * CS_PI * S->wt[j] * pm[n];
+				S->PT[n][i][j] = 2.0 * CS_PI * S->wt[i] * pm[n];
 			}
 		}
 	}
 	for (int j = 0; j < NO; j++) {
 		double sum = 0.0;
 		for (int i = 0; i < NO; i++)
-			sum += S->P[0][i][j] * S->wt[i] / S->wt[j];
+			sum += S->PT[0][j][i] * S->wt[i] / S->wt[j];
 		for (int n = 0; n < NMODE; n++)
-			S->P[n][j][j] += 1.0 - sum;
+			S->PT[n][j][j] += 1.0 - sum;
 	}
 	int lo, hi;
 	double f;
@@ -242,33 +243,35 @@ static double beam_at(const struct cs_fog_problem *p, int k, int n, int c)
 
 /* The radiance of mode n, channel c, along every ordinate from the
  * sources J: down from the top, the ground's reflection (mode 0 only:
- * Lambertian), up from the ground. */
+ * Lambertian), up from the ground.  Level by level, every ordinate of a
+ * direction at once (each ordinate's sum in the same order as alone). */
 static void sweep(struct solver *S, const struct cs_fog_problem *p, int n, int c)
 {
-	double dt = p->tau / (S->nlev - 1);
+	double dt = p->tau / (S->nlev - 1), E[NO], a[NO], b[NO];
 	for (int i = 0; i < NO; i++) {
-		double x = dt / fabs(S->mu[i]), E = exp(-x);
+		double x = dt / fabs(S->mu[i]);
+		E[i] = exp(-x);
 		/* the linear source's weights: of the near level and the far */
-		double a = x > 1e-6 ? (1.0 - E) / x - E : 0.5 * x;
-		double b = x > 1e-6 ? 1.0 - (1.0 - E) / x : 0.5 * x;
-		if (i < NG) {
-			double u = -S->mu[i] * (NSKY - 1);
-			int q = (int)u < NSKY - 1 ? (int)u : NSKY - 2;
-			S->L[0][i] = S->sky[n][q][c] + (u - q) * (S->sky[n][q + 1][c] - S->sky[n][q][c]);
-			for (int k = 0; k + 1 < S->nlev; k++)
-				S->L[k + 1][i] = S->L[k][i] * E + S->J[k][i] * a + S->J[k + 1][i] * b;
-		} else {
-			if (i == NG) { /* the ground: all that arrives, diffused */
-				double e = n == 0 ? beam_at(p, S->nlev - 1, S->nlev, c) * p->mu0 : 0.0;
-				for (int j = 0; j < NG && n == 0; j++)
-					e += 2.0 * CS_PI * S->wt[j] * -S->mu[j] * S->L[S->nlev - 1][j];
-				for (int j = NG; j < NO; j++)
-					S->L[S->nlev - 1][j] = p->albedo_ground[c] * e / CS_PI;
-			}
-			for (int k = S->nlev - 1; k > 0; k--)
-				S->L[k - 1][i] = S->L[k][i] * E + S->J[k][i] * a + S->J[k - 1][i] * b;
-		}
+		a[i] = x > 1e-6 ? (1.0 - E[i]) / x - E[i] : 0.5 * x;
+		b[i] = x > 1e-6 ? 1.0 - (1.0 - E[i]) / x : 0.5 * x;
 	}
+	for (int i = 0; i < NG; i++) {
+		double u = -S->mu[i] * (NSKY - 1);
+		int q = (int)u < NSKY - 1 ? (int)u : NSKY - 2;
+		S->L[0][i] = S->sky[n][q][c] + (u - q) * (S->sky[n][q + 1][c] - S->sky[n][q][c]);
+	}
+	for (int k = 0; k + 1 < S->nlev; k++)
+		for (int i = 0; i < NG; i++)
+			S->L[k + 1][i] = S->L[k][i] * E[i] + S->J[k][i] * a[i] + S->J[k + 1][i] * b[i];
+	/* the ground: all that arrives, diffused */
+	double e = n == 0 ? beam_at(p, S->nlev - 1, S->nlev, c) * p->mu0 : 0.0;
+	for (int j = 0; j < NG && n == 0; j++)
+		e += 2.0 * CS_PI * S->wt[j] * -S->mu[j] * S->L[S->nlev - 1][j];
+	for (int j = NG; j < NO; j++)
+		S->L[S->nlev - 1][j] = p->albedo_ground[c] * e / CS_PI;
+	for (int k = S->nlev - 1; k > 0; k--)
+		for (int i = NG; i < NO; i++)
+			S->L[k - 1][i] = S->L[k][i] * E[i] + S->J[k][i] * a[i] + S->J[k - 1][i] * b[i];
 }
 
 /* The sources of mode n, channel c, from the radiance: the scattered
@@ -278,24 +281,33 @@ static double scatter(struct solver *S, const struct cs_fog_problem *p, int n, i
 		      double *norm)
 {
 	double change = 0.0, peak = 1e-300;
-	*norm = 0.0;
 	for (int k = 0; k < S->nlev; k++) {
-		double sun = beam_at(p, k, S->nlev, c);
+		double sun = beam_at(p, k, S->nlev, c), sum[NO];
+		for (int i = 0; i < NO; i++)
+			sum[i] = sun * S->psun[n][i];
+		/* (every ordinate's sum at once, each in the order j) */
+		for (int j = 0; j < NO; j++) {
+			const double *P = S->PT[n][j], L = S->L[k][j];
+			for (int i = 0; i < NO; i++)
+				sum[i] += P[i] * L;
+		}
 		for (int i = 0; i < NO; i++) {
-			double s = sun * S->psun[n][i];
-			const double *P = S->P[n][i], *L = S->L[k];
-			for (int j = 0; j < NO; j++)
-				s += P[j] * L[j];
-			s *= p->albedo;
-			double d = s - S->J[k][i];
-			S->dJ[k][i] = d;
-			d = fabs(d);
-			*norm += d;
-			change = d > change ? d : change;
-			peak = fabs(s) > peak ? fabs(s) : peak;
+			double s = sum[i] * p->albedo;
+			S->dJ[k][i] = s - S->J[k][i];
 			S->J[k][i] = s;
 		}
 	}
+	/* (apart from the sums: their registers left peak on the stack, a
+	 * chain of stores and loads that took most of the time) */
+	double sum_d = 0.0;
+	for (int k = 0; k < S->nlev; k++)
+		for (int i = 0; i < NO; i++) {
+			double d = fabs(S->dJ[k][i]), s = fabs(S->J[k][i]);
+			sum_d += d;
+			change = d > change ? d : change;
+			peak = s > peak ? s : peak;
+		}
+	*norm = sum_d;
 	return change / peak;
 }
 
@@ -332,15 +344,10 @@ static int solve_mode(struct solver *S, const struct cs_fog_problem *p, int n, i
 	return orders;
 }
 
-int cs_fog_solve(const struct cs_fog_problem *p, struct cs_fog_field *out)
+/* Solves p into *out with S, whose phase matrices (setup) are p's. */
+static void solve(struct solver *S, const struct cs_fog_problem *p, struct cs_fog_field *out)
 {
 	memset(out, 0, sizeof *out);
-	if (!(p->tau >= 0.0) || !(p->tau <= 1e4) || !(p->albedo >= 0.0 && p->albedo <= 1.0))
-		return cs_error(CS_EINVAL, "fog: optical depth %g or albedo %g out of range", p->tau,
-				p->albedo);
-	struct solver *S = calloc(1, sizeof *S);
-	if (S == NULL)
-		return cs_error(CS_ENOMEM, "out of memory");
 	/* levels at most FOG_DTAU apart in optical depth (the linear source
 	 * between them loses 1 % of the light at 0.125 in a conservative
 	 * slab of optical depth 16), up to MAX_LEV: beyond optical depth
@@ -348,7 +355,6 @@ int cs_fog_solve(const struct cs_fog_problem *p, struct cs_fog_field *out)
 	S->sub = (int)ceil(p->tau / (FOG_DTAU * (CS_FOG_LEVELS - 1)));
 	S->sub = S->sub < 2 ? 2 : S->sub > MAX_SUB ? MAX_SUB : S->sub;
 	S->nlev = S->sub * (CS_FOG_LEVELS - 1) + 1;
-	setup(S, p);
 	for (int q = 0; q < NSKY; q++)
 		for (int c = 0; c < 3; c++)
 			for (int n = 0; n < NMODE; n++)
@@ -387,8 +393,39 @@ int cs_fog_solve(const struct cs_fog_problem *p, struct cs_fog_field *out)
 			}
 		}
 	out->on = 1;
+}
+
+/* Whether a and b have the same phase matrices (setup's inputs). */
+static int same_setup(const struct cs_fog_problem *a, const struct cs_fog_problem *b)
+{
+	return a->g_forward == b->g_forward && a->g_back == b->g_back &&
+	       a->w_forward == b->w_forward && a->mu0 == b->mu0;
+}
+
+int cs_fog_solve_n(const struct cs_fog_problem *p, int n, struct cs_fog_field *out)
+{
+	for (int i = 0; i < n; i++) {
+		memset(&out[i], 0, sizeof out[i]);
+		if (!(p[i].tau >= 0.0) || !(p[i].tau <= 1e4) ||
+		    !(p[i].albedo >= 0.0 && p[i].albedo <= 1.0))
+			return cs_error(CS_EINVAL, "fog: optical depth %g or albedo %g out of range",
+					p[i].tau, p[i].albedo);
+	}
+	struct solver *S = calloc(1, sizeof *S);
+	if (S == NULL)
+		return cs_error(CS_ENOMEM, "out of memory");
+	for (int i = 0; i < n; i++) {
+		if (i == 0 || !same_setup(&p[i], &p[i - 1]))
+			setup(S, &p[i]);
+		solve(S, &p[i], &out[i]);
+	}
 	free(S);
 	return CS_OK;
+}
+
+int cs_fog_solve(const struct cs_fog_problem *p, struct cs_fog_field *out)
+{
+	return cs_fog_solve_n(p, 1, out);
 }
 
 /* A droplet layer of optical depth tau of scene sc, lit from above by
@@ -473,16 +510,19 @@ static void tilt_fields(struct cs_scene *sc)
 		any |= d->tilt_weight[i] > 0.0;
 	}
 	int ok = any && d->on && (sc->effects & CS_FX_KEY) && sc->sun_dir.z > 0.0;
-	for (int k = 0; k < CS_DECK_DEPTHS && ok; k++) {
-		struct cs_fog_problem p;
-		memset(&p, 0, sizeof p);
-		p.tau = d->tilt_tau[k] = CS_DECK_TILT_TAU0 * (double)(1 << (2 * k));
-		p.albedo = sc->albedo;
-		p.g_forward = sc->g_forward, p.g_back = sc->g_back, p.w_forward = sc->w_forward;
-		p.mu0 = 1.0;
-		for (int c = 0; c < 3; c++)
-			p.sun[c] = sc->sun_illuminance[c];
-		ok = cs_fog_solve(&p, &d->tilt[k]) == CS_OK;
+	if (ok) {
+		struct cs_fog_problem p[CS_DECK_DEPTHS];
+		memset(p, 0, sizeof p);
+		for (int k = 0; k < CS_DECK_DEPTHS; k++) {
+			p[k].tau = d->tilt_tau[k] = CS_DECK_TILT_TAU0 * (double)(1 << (2 * k));
+			p[k].albedo = sc->albedo;
+			p[k].g_forward = sc->g_forward, p[k].g_back = sc->g_back;
+			p[k].w_forward = sc->w_forward;
+			p[k].mu0 = 1.0;
+			for (int c = 0; c < 3; c++)
+				p[k].sun[c] = sc->sun_illuminance[c];
+		}
+		ok = cs_fog_solve_n(p, CS_DECK_DEPTHS, d->tilt) == CS_OK;
 	}
 	for (int i = 0; i < CS_SCENE_MAX_LAYERS && !ok; i++)
 		d->tilt_weight[i] = 0.0; /* (none, or out of memory: the towers keep the octaves) */
@@ -536,11 +576,10 @@ void cs_scene_deck_fields(struct cs_scene *sc)
 			first++;
 		while (!need[last])
 			last--;
-		for (int k = first; k <= last && ok; k++) {
-			struct cs_fog_problem p;
-			problem_of(sc, tau[k], sun, under ? dome : NULL, sc->ground_albedo, &p);
-			ok = cs_fog_solve(&p, &d->field[used][k]) == CS_OK;
-		}
+		struct cs_fog_problem p[CS_DECK_DEPTHS];
+		for (int k = first; k <= last; k++)
+			problem_of(sc, tau[k], sun, under ? dome : NULL, sc->ground_albedo, &p[k]);
+		ok = cs_fog_solve_n(p + first, last - first + 1, d->field[used] + first) == CS_OK;
 		for (int k = 0; k < CS_DECK_DEPTHS && ok; k++)
 			if (k < first || k > last)
 				d->field[used][k] = d->field[used][k < first ? first : last];

@@ -211,6 +211,11 @@ struct cs_fog_problem {
 /* Solves p into *out; CS_EINVAL for an optical depth outside [0, 1e4] or
  * an albedo outside [0, 1]. */
 int cs_fog_solve(const struct cs_fog_problem *p, struct cs_fog_field *out);
+/* Solves p[0..n) into out[0..n), the same as n calls of cs_fog_solve,
+ * but the quadrature's phase matrices are set up once for the problems
+ * that share a phase function and mu0 with the one before (the deck's
+ * depths); the first error stops it. */
+int cs_fog_solve_n(const struct cs_fog_problem *p, int n, struct cs_fog_field *out);
 
 /* The azimuthal mean of the two-lobe phase function (1/sr) between
  * directions of cosines mu and nu (exact: elliptic integrals). */
