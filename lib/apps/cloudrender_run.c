@@ -803,7 +803,7 @@ static int frame_scene(struct cs_cr_session *s, const struct cs_cloudrender_opts
 {
 	struct cs_scene *sc = s->sc;
 	r->scene = NULL;
-	int rc = cs_scene_build(sc, &r->wx, r->wx.time_utc, &s->noise);
+	int rc = cs_scene_build_threads(sc, &r->wx, r->wx.time_utc, &s->noise, o->threads);
 	if (rc != CS_OK)
 		return rc;
 	r->scene = sc;

@@ -26,6 +26,7 @@
 #include "render/render.h"
 
 #include "core/err.h"
+#include "core/pool.h"
 #include "render/phase.h"
 
 #include <math.h>
@@ -148,6 +149,7 @@ struct solver {
 	int nlev, sub;           /* levels of the solution, of them between the table's */
 	double L[MAX_LEV][NO], J[MAX_LEV][NO];
 	double dJ[MAX_LEV][NO];  /* the last order's change of J */
+	const struct solver *setup_of; /* whose phase matrices these are (cs_fog_solve_n) */
 };
 
 /* The ordinates nearest below and above cosine mu (*lo, *hi) and where
@@ -344,10 +346,11 @@ static int solve_mode(struct solver *S, const struct cs_fog_problem *p, int n, i
 	return orders;
 }
 
-/* Solves p into *out with S, whose phase matrices (setup) are p's. */
-static void solve(struct solver *S, const struct cs_fog_problem *p, struct cs_fog_field *out)
+/* Mode n, channel c of p into out's tables with S, whose phase
+ * matrices (setup) are p's; the orders it took. */
+static int solve(struct solver *S, const struct cs_fog_problem *p, int n, int c,
+		 struct cs_fog_field *out)
 {
-	memset(out, 0, sizeof *out);
 	/* levels at most FOG_DTAU apart in optical depth (the linear source
 	 * between them loses 1 % of the light at 0.125 in a conservative
 	 * slab of optical depth 16), up to MAX_LEV: beyond optical depth
@@ -356,43 +359,36 @@ static void solve(struct solver *S, const struct cs_fog_problem *p, struct cs_fo
 	S->sub = S->sub < 2 ? 2 : S->sub > MAX_SUB ? MAX_SUB : S->sub;
 	S->nlev = S->sub * (CS_FOG_LEVELS - 1) + 1;
 	for (int q = 0; q < NSKY; q++)
-		for (int c = 0; c < 3; c++)
-			for (int n = 0; n < NMODE; n++)
-				S->sky[n][q][c] = p->sky_down[q][n][c];
-	for (int n = 0; n < NMODE; n++)
-		for (int c = 0; c < 3; c++) {
-			int orders = solve_mode(S, p, n, c);
-			out->orders = orders > out->orders ? orders : out->orders;
-			for (int t = 0; t < CS_FOG_LEVELS; t++) {
-				/* the table's level t, at the solution's x (linear
-				 * between its levels) */
-				double h = 1.0 - (double)t / (CS_FOG_LEVELS - 1);
-				double x = (1.0 - h * h) * (S->nlev - 1);
-				int k = (int)x < S->nlev - 1 ? (int)x : S->nlev - 2;
-				double a = x - k, L[NO];
-				for (int j = 0; j < NO; j++)
-					L[j] = (1.0 - a) * S->L[k][j] + a * S->L[k + 1][j];
-				/* the scattered field only: the sun's beam scattered
-				 * once is the march's own term, with the full phase
-				 * function */
-				for (int m = 0; m < NDIR; m++) {
-					double s = 0.0;
-					for (int j = 0; j < NO; j++)
-						s += S->Pout[n][m][j] * L[j];
-					out->src[t][m][n][c] = (float)(p->albedo * s);
-				}
-				if (n > 0)
-					continue;
-				double dn = 0.0, upf = 0.0;
-				for (int j = 0; j < NG; j++)
-					dn += 2.0 * CS_PI * S->wt[j] * -S->mu[j] * L[j];
-				for (int j = NG; j < NO; j++)
-					upf += 2.0 * CS_PI * S->wt[j] * S->mu[j] * L[j];
-				out->down[t][c] = dn;
-				out->up[t][c] = upf;
-			}
+		S->sky[n][q][c] = p->sky_down[q][n][c];
+	int orders = solve_mode(S, p, n, c);
+	for (int t = 0; t < CS_FOG_LEVELS; t++) {
+		/* the table's level t, at the solution's x (linear between its
+		 * levels) */
+		double h = 1.0 - (double)t / (CS_FOG_LEVELS - 1);
+		double x = (1.0 - h * h) * (S->nlev - 1);
+		int k = (int)x < S->nlev - 1 ? (int)x : S->nlev - 2;
+		double a = x - k, L[NO];
+		for (int j = 0; j < NO; j++)
+			L[j] = (1.0 - a) * S->L[k][j] + a * S->L[k + 1][j];
+		/* the scattered field only: the sun's beam scattered once is
+		 * the march's own term, with the full phase function */
+		for (int m = 0; m < NDIR; m++) {
+			double s = 0.0;
+			for (int j = 0; j < NO; j++)
+				s += S->Pout[n][m][j] * L[j];
+			out->src[t][m][n][c] = (float)(p->albedo * s);
 		}
-	out->on = 1;
+		if (n > 0)
+			continue;
+		double dn = 0.0, upf = 0.0;
+		for (int j = 0; j < NG; j++)
+			dn += 2.0 * CS_PI * S->wt[j] * -S->mu[j] * L[j];
+		for (int j = NG; j < NO; j++)
+			upf += 2.0 * CS_PI * S->wt[j] * S->mu[j] * L[j];
+		out->down[t][c] = dn;
+		out->up[t][c] = upf;
+	}
+	return orders;
 }
 
 /* Whether a and b have the same phase matrices (setup's inputs). */
@@ -402,7 +398,52 @@ static int same_setup(const struct cs_fog_problem *a, const struct cs_fog_proble
 	       a->w_forward == b->w_forward && a->mu0 == b->mu0;
 }
 
-int cs_fog_solve_n(const struct cs_fog_problem *p, int n, struct cs_fog_field *out)
+/* cs_fog_solve_n's tasks: problem i's mode n, channel c, each on its
+ * worker's own solver, given the phase matrices of its problem's
+ * (setups[i]) */
+struct solve_job {
+	const struct cs_fog_problem *p;
+	struct cs_fog_field *out;
+	struct solver **setups;  /* per problem (shared by those of one setup) */
+	struct solver **work;    /* per worker */
+	int *orders;             /* per task */
+	int count;               /* problems */
+};
+
+/* Task t of count problems: its problem *i, mode *n and channel *c.
+ * Mode 0 first, from the last problem (the deepest of a deck's): in deep
+ * layers its orders of scattering are most of the work (hundreds against
+ * tens for the other modes), and begun first they end together. */
+static void task_of(int t, int count, int *i, int *n, int *c)
+{
+	*c = t % 3;
+	if (t < 3 * count) {
+		*i = count - 1 - t / 3, *n = 0;
+		return;
+	}
+	t -= 3 * count;
+	*i = count - 1 - t / (3 * (NMODE - 1)), *n = 1 + t / 3 % (NMODE - 1);
+}
+
+static void solve_task(void *user, int task, int worker)
+{
+	struct solve_job *job = user;
+	int i, n, c;
+	task_of(task, job->count, &i, &n, &c);
+	struct solver *S = job->work[worker];
+	const struct solver *from = job->setups[i];
+	if (S->setup_of != from) {
+		memcpy(S->mu, from->mu, sizeof S->mu);
+		memcpy(S->wt, from->wt, sizeof S->wt);
+		memcpy(S->PT, from->PT, sizeof S->PT);
+		memcpy(S->Pout, from->Pout, sizeof S->Pout);
+		memcpy(S->psun, from->psun, sizeof S->psun);
+		S->setup_of = from;
+	}
+	job->orders[task] = solve(S, &job->p[i], n, c, &job->out[i]);
+}
+
+int cs_fog_solve_n(const struct cs_fog_problem *p, int n, struct cs_fog_field *out, int nthreads)
 {
 	for (int i = 0; i < n; i++) {
 		memset(&out[i], 0, sizeof out[i]);
@@ -411,21 +452,67 @@ int cs_fog_solve_n(const struct cs_fog_problem *p, int n, struct cs_fog_field *o
 			return cs_error(CS_EINVAL, "fog: optical depth %g or albedo %g out of range",
 					p[i].tau, p[i].albedo);
 	}
-	struct solver *S = calloc(1, sizeof *S);
-	if (S == NULL)
-		return cs_error(CS_ENOMEM, "out of memory");
-	for (int i = 0; i < n; i++) {
-		if (i == 0 || !same_setup(&p[i], &p[i - 1]))
-			setup(S, &p[i]);
-		solve(S, &p[i], &out[i]);
+	if (n <= 0)
+		return CS_OK;
+	int tasks = n * NMODE * 3, rc = CS_OK;
+	nthreads = nthreads > 0 ? nthreads : cs_pool_cpus();
+	nthreads = nthreads < tasks ? nthreads : tasks;
+	struct solver **setups = calloc((size_t)n, sizeof *setups);
+	struct solver **work = calloc((size_t)nthreads, sizeof *work);
+	int *orders = calloc((size_t)tasks, sizeof *orders);
+	struct solver *made[CS_FOG_MAX_PROBLEMS] = {0};
+	int nmade = 0;
+	if (setups == NULL || work == NULL || orders == NULL || n > CS_FOG_MAX_PROBLEMS)
+		rc = n > CS_FOG_MAX_PROBLEMS ? cs_error(CS_EINVAL, "fog: %d problems, at most %d", n,
+							 CS_FOG_MAX_PROBLEMS)
+					     : cs_error(CS_ENOMEM, "out of memory");
+	/* the phase matrices, once for the problems that share them */
+	for (int i = 0; i < n && rc == CS_OK; i++) {
+		if (i > 0 && same_setup(&p[i], &p[i - 1])) {
+			setups[i] = setups[i - 1];
+			continue;
+		}
+		if ((setups[i] = made[nmade] = malloc(sizeof **setups)) == NULL) {
+			rc = cs_error(CS_ENOMEM, "out of memory");
+			break;
+		}
+		nmade++;
+		setup(setups[i], &p[i]);
 	}
-	free(S);
-	return CS_OK;
+	/* each worker's own (setup_of NULL: not a freed one's that a new
+	 * one took the place of) */
+	for (int w = 0; w < nthreads && rc == CS_OK; w++) {
+		if ((work[w] = malloc(sizeof **work)) == NULL)
+			rc = cs_error(CS_ENOMEM, "out of memory");
+		else
+			work[w]->setup_of = NULL;
+	}
+	if (rc == CS_OK) {
+		struct solve_job job = {p, out, setups, work, orders, n};
+		rc = cs_pool_run(tasks, nthreads, solve_task, &job, NULL, NULL, NULL);
+	}
+	for (int t = 0; t < tasks && rc == CS_OK; t++) {
+		int i, mode, c;
+		task_of(t, n, &i, &mode, &c);
+		out[i].orders = orders[t] > out[i].orders ? orders[t] : out[i].orders;
+		out[i].on = 1;
+	}
+	for (int k = 0; k < nmade; k++)
+		free(made[k]);
+	for (int w = 0; w < nthreads && work != NULL; w++)
+		free(work[w]);
+	free(setups);
+	free(work);
+	free(orders);
+	if (rc != CS_OK)
+		for (int i = 0; i < n; i++)
+			memset(&out[i], 0, sizeof out[i]);
+	return rc;
 }
 
 int cs_fog_solve(const struct cs_fog_problem *p, struct cs_fog_field *out)
 {
-	return cs_fog_solve_n(p, 1, out);
+	return cs_fog_solve_n(p, 1, out, 1);
 }
 
 /* A droplet layer of optical depth tau of scene sc, lit from above by
@@ -480,7 +567,7 @@ int cs_scene_fog_light(struct cs_scene *sc)
 	struct cs_fog_problem p;
 	problem_of(sc, sc->fog_beta_per_m * (sc->fog_top_m - sc->ground_alt_m), sun,
 		   sc->deck.on ? sc->deck.sky_below : NULL, ground, &p);
-	return cs_fog_solve(&p, &sc->fog);
+	return cs_fog_solve_n(&p, 1, &sc->fog, sc->threads);
 }
 
 /* The tilted columns' fields (struct cs_deck's tilt) and the layers'
@@ -522,7 +609,7 @@ static void tilt_fields(struct cs_scene *sc)
 			for (int c = 0; c < 3; c++)
 				p[k].sun[c] = sc->sun_illuminance[c];
 		}
-		ok = cs_fog_solve_n(p, CS_DECK_DEPTHS, d->tilt) == CS_OK;
+		ok = cs_fog_solve_n(p, CS_DECK_DEPTHS, d->tilt, sc->threads) == CS_OK;
 	}
 	for (int i = 0; i < CS_SCENE_MAX_LAYERS && !ok; i++)
 		d->tilt_weight[i] = 0.0; /* (none, or out of memory: the towers keep the octaves) */
@@ -579,7 +666,8 @@ void cs_scene_deck_fields(struct cs_scene *sc)
 		struct cs_fog_problem p[CS_DECK_DEPTHS];
 		for (int k = first; k <= last; k++)
 			problem_of(sc, tau[k], sun, under ? dome : NULL, sc->ground_albedo, &p[k]);
-		ok = cs_fog_solve_n(p + first, last - first + 1, d->field[used] + first) == CS_OK;
+		ok = cs_fog_solve_n(p + first, last - first + 1, d->field[used] + first, sc->threads) ==
+		     CS_OK;
 		for (int k = 0; k < CS_DECK_DEPTHS && ok; k++)
 			if (k < first || k > last)
 				d->field[used][k] = d->field[used][k < first ? first : last];

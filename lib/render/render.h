@@ -211,11 +211,15 @@ struct cs_fog_problem {
 /* Solves p into *out; CS_EINVAL for an optical depth outside [0, 1e4] or
  * an albedo outside [0, 1]. */
 int cs_fog_solve(const struct cs_fog_problem *p, struct cs_fog_field *out);
-/* Solves p[0..n) into out[0..n), the same as n calls of cs_fog_solve,
- * but the quadrature's phase matrices are set up once for the problems
- * that share a phase function and mu0 with the one before (the deck's
- * depths); the first error stops it. */
-int cs_fog_solve_n(const struct cs_fog_problem *p, int n, struct cs_fog_field *out);
+/* Solves p[0..n) into out[0..n) (n at most CS_FOG_MAX_PROBLEMS), the same
+ * bits as n calls of cs_fog_solve, on nthreads of the CPU pool (<= 0: one
+ * per processor): each problem's Fourier modes and colours are solved
+ * apart, and the quadrature's phase matrices are set up once for the
+ * problems that share a phase function and mu0 with the one before (the
+ * deck's depths).  CS_OK, CS_EINVAL (as cs_fog_solve; then no field is
+ * on) or CS_ENOMEM. */
+#define CS_FOG_MAX_PROBLEMS 16
+int cs_fog_solve_n(const struct cs_fog_problem *p, int n, struct cs_fog_field *out, int nthreads);
 
 /* The azimuthal mean of the two-lobe phase function (1/sr) between
  * directions of cosines mu and nu (exact: elliptic integrals). */
@@ -362,6 +366,9 @@ struct cs_scene {
 	double moon_scale;            /* its light relative to the sun's */
 	cs_v3 star_frame[3];          /* local east, north, up in equatorial axes */
 	unsigned effects;
+	int threads;                  /* the CPU pool's threads that solve the
+					 light fields (cs_scene_build_threads;
+					 cs_scene_build's: 1) */
 	/* CS_LIGHT_CACHE's volumes, per layer; cs_render_image builds them
 	 * for its frame (a scene handed to it has none): the depth toward
 	 * the sun, and the vertical column's (shear 0, a metre of path a

@@ -213,10 +213,17 @@ static void build_precipitation(struct cs_scene *sc, const struct cs_wx *wx)
 int cs_scene_build(struct cs_scene *sc, const struct cs_wx *wx, double time_utc,
 		   const struct cs_volume *noise)
 {
+	return cs_scene_build_threads(sc, wx, time_utc, noise, 1);
+}
+
+int cs_scene_build_threads(struct cs_scene *sc, const struct cs_wx *wx, double time_utc,
+			   const struct cs_volume *noise, int nthreads)
+{
 	int rc = cs_wx_validate(wx);
 	if (rc != CS_OK)
 		return rc;
 	memset(sc, 0, sizeof *sc);
+	sc->threads = nthreads;
 	sc->earth_radius_m = CS_EARTH_RADIUS_M;
 	sc->ground_alt_m = wx->site.alt_m;
 	sc->ground_albedo[0] = 0.10, sc->ground_albedo[1] = 0.14, sc->ground_albedo[2] = 0.07;

@@ -21,5 +21,10 @@ cs_v3 cs_geo_to_world(double origin_lat_deg, double origin_lon_deg,
  * haze from the visibility.  The noise must outlive the scene. */
 int cs_scene_build(struct cs_scene *sc, const struct cs_wx *wx, double time_utc,
 		   const struct cs_volume *noise);
+/* The same, the light fields of fog and of broken or overcast layers
+ * solved on nthreads of the CPU pool (<= 0: one per processor): the same
+ * scene for any number. */
+int cs_scene_build_threads(struct cs_scene *sc, const struct cs_wx *wx, double time_utc,
+			   const struct cs_volume *noise, int nthreads);
 
 #endif

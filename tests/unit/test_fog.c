@@ -185,6 +185,61 @@ static void sky_modes_come_back_through_the_lookup(void)
 	}
 }
 
+/* Several problems at once (a deck's depths: one phase function, one
+ * sun) on 1 and 3 threads: every field the same bits as each problem
+ * solved on its own, whatever the threads; a fourth problem of another
+ * sun among them too. */
+static void problems_at_once_are_each_alone_on_any_threads(void)
+{
+	enum { N = 4 };
+	static struct cs_fog_problem p[N];
+	static struct cs_fog_field alone[N], one[N], three[N];
+	static const double taus[N] = {0.5, 2.0, 8.0, 3.0};
+	for (int i = 0; i < N; i++) {
+		problem(&p[i], taus[i], 0.9, -0.3, 0.96, 0.99999);
+		p[i].mu0 = i < 3 ? 0.6 : 0.3;
+		for (int c = 0; c < 3; c++) {
+			p[i].sun[c] = 100.0 + 10.0 * c;
+			p[i].albedo_ground[c] = 0.1 + 0.05 * c;
+			for (int j = 0; j < CS_FOG_SKY; j++)
+				for (int n = 0; n < CS_FOG_MODES; n++)
+					p[i].sky_down[j][n][c] = (5.0 + j + c) / (1.0 + n);
+		}
+		CHECK(cs_fog_solve(&p[i], &alone[i]) == CS_OK);
+	}
+	CHECK(cs_fog_solve_n(p, N, one, 1) == CS_OK);
+	CHECK(cs_fog_solve_n(p, N, three, 3) == CS_OK);
+	for (int i = 0; i < N; i++) {
+		CHECK(alone[i].on && one[i].on && three[i].on);
+		CHECK(memcmp(&alone[i], &one[i], sizeof alone[i]) == 0);
+		CHECK(memcmp(&alone[i], &three[i], sizeof alone[i]) == 0);
+	}
+	/* (and they differ: a mix-up of problems would show) */
+	CHECK(memcmp(&alone[0], &alone[1], sizeof alone[0]) != 0);
+	CHECK(memcmp(&alone[2], &alone[3], sizeof alone[0]) != 0);
+	/* the azimuth's Fourier modes do not mix (the equation leaves each
+	 * on its own): a sky of mode m alone, no sun, lights mode m and no
+	 * other; every mode is solved */
+	for (int m = 0; m < CS_FOG_MODES; m++) {
+		problem(&p[m], 2.0, 0.9, -0.3, 0.96, 0.99999);
+		for (int j = 0; j < CS_FOG_SKY; j++)
+			for (int c = 0; c < 3; c++)
+				p[m].sky_down[j][m][c] = 1.0 + j;
+	}
+	CHECK(cs_fog_solve_n(p, CS_FOG_MODES, three, 3) == CS_OK);
+	for (int m = 0; m < CS_FOG_MODES; m++) {
+		double own = 0.0, other = 0.0;
+		for (int t = 0; t < CS_FOG_LEVELS; t++)
+			for (int d = 0; d < CS_FOG_DIRS; d++)
+				for (int n = 0; n < CS_FOG_MODES; n++)
+					for (int c = 0; c < 3; c++)
+						*(n == m ? &own : &other) += fabs(three[m].src[t][d][n][c]);
+		printf("  a sky of mode %d alone: |source| %.3g in it, %.3g in the others\n", m, own,
+		       other);
+		CHECK(own > 1.0 && other == 0.0);
+	}
+}
+
 /* Nonsense in is an error out, not a field. */
 static void bad_problems_are_refused(void)
 {
@@ -205,6 +260,7 @@ static const struct t_case t_cases[] = {
 	CASE(slab_matches_adding_doubling),
 	CASE(isotropic_light_stays_isotropic),
 	CASE(sky_modes_come_back_through_the_lookup),
+	CASE(problems_at_once_are_each_alone_on_any_threads),
 	CASE(bad_problems_are_refused),
 };
 
