@@ -378,7 +378,7 @@ static void report_times(const struct cs_cloudrender_opts *o, const struct cs_cl
 		cli_err("light cache: %d volume%s, %.2f million cells (%s)", r->stats.cache_volumes,
 			r->stats.cache_volumes == 1 ? "" : "s", r->stats.cache_cells / 1e6,
 			r->settings.light_march == CS_LIGHT_AUTO
-				? "auto: the layers of more than 32 cells a pixel marched"
+				? "auto: built where the frame has a pixel for 32 cells"
 				: "cache");
 	double total = r->t_noise_s + r->t_scene_s + r->t_render_s + r->t_irradiance_s +
 		       r->t_write_s;

@@ -445,15 +445,17 @@ static void solve_task(void *user, int task, int worker)
 
 int cs_fog_solve_n(const struct cs_fog_problem *p, int n, struct cs_fog_field *out, int nthreads)
 {
-	for (int i = 0; i < n; i++) {
+	if (n <= 0)
+		return CS_OK;
+	if (n > CS_FOG_MAX_PROBLEMS)
+		return cs_error(CS_EINVAL, "fog: %d problems, at most %d", n, CS_FOG_MAX_PROBLEMS);
+	for (int i = 0; i < n; i++)
 		memset(&out[i], 0, sizeof out[i]);
+	for (int i = 0; i < n; i++)
 		if (!(p[i].tau >= 0.0) || !(p[i].tau <= 1e4) ||
 		    !(p[i].albedo >= 0.0 && p[i].albedo <= 1.0))
 			return cs_error(CS_EINVAL, "fog: optical depth %g or albedo %g out of range",
 					p[i].tau, p[i].albedo);
-	}
-	if (n <= 0)
-		return CS_OK;
 	int tasks = n * NMODE * 3, rc = CS_OK;
 	nthreads = nthreads > 0 ? nthreads : cs_pool_cpus();
 	nthreads = nthreads < tasks ? nthreads : tasks;
@@ -462,10 +464,8 @@ int cs_fog_solve_n(const struct cs_fog_problem *p, int n, struct cs_fog_field *o
 	int *orders = calloc((size_t)tasks, sizeof *orders);
 	struct solver *made[CS_FOG_MAX_PROBLEMS] = {0};
 	int nmade = 0;
-	if (setups == NULL || work == NULL || orders == NULL || n > CS_FOG_MAX_PROBLEMS)
-		rc = n > CS_FOG_MAX_PROBLEMS ? cs_error(CS_EINVAL, "fog: %d problems, at most %d", n,
-							 CS_FOG_MAX_PROBLEMS)
-					     : cs_error(CS_ENOMEM, "out of memory");
+	if (setups == NULL || work == NULL || orders == NULL)
+		rc = cs_error(CS_ENOMEM, "out of memory");
 	/* the phase matrices, once for the problems that share them */
 	for (int i = 0; i < n && rc == CS_OK; i++) {
 		if (i > 0 && same_setup(&p[i], &p[i - 1])) {

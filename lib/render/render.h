@@ -216,8 +216,9 @@ int cs_fog_solve(const struct cs_fog_problem *p, struct cs_fog_field *out);
  * per processor): each problem's Fourier modes and colours are solved
  * apart, and the quadrature's phase matrices are set up once for the
  * problems that share a phase function and mu0 with the one before (the
- * deck's depths).  CS_OK, CS_EINVAL (as cs_fog_solve; then no field is
- * on) or CS_ENOMEM. */
+ * deck's depths).  CS_OK, CS_EINVAL (as cs_fog_solve, or n above
+ * CS_FOG_MAX_PROBLEMS; then no field is on) or CS_ENOMEM.  n <= 0: CS_OK,
+ * nothing done. */
 #define CS_FOG_MAX_PROBLEMS 16
 int cs_fog_solve_n(const struct cs_fog_problem *p, int n, struct cs_fog_field *out, int nthreads);
 

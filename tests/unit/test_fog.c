@@ -217,6 +217,16 @@ static void problems_at_once_are_each_alone_on_any_threads(void)
 	/* (and they differ: a mix-up of problems would show) */
 	CHECK(memcmp(&alone[0], &alone[1], sizeof alone[0]) != 0);
 	CHECK(memcmp(&alone[2], &alone[3], sizeof alone[0]) != 0);
+	/* a bad problem among them: none is on; too many: refused */
+	p[1].tau = -1.0;
+	CHECK(cs_fog_solve_n(p, N, three, 3) == CS_EINVAL);
+	for (int i = 0; i < N; i++)
+		CHECK(!three[i].on);
+	p[1].tau = taus[1];
+	static struct cs_fog_field many[CS_FOG_MAX_PROBLEMS + 1];
+	static struct cs_fog_problem pm[CS_FOG_MAX_PROBLEMS + 1];
+	CHECK(cs_fog_solve_n(pm, CS_FOG_MAX_PROBLEMS + 1, many, 2) == CS_EINVAL);
+	CHECK(cs_fog_solve_n(p, 0, three, 2) == CS_OK);
 	/* the azimuth's Fourier modes do not mix (the equation leaves each
 	 * on its own): a sky of mode m alone, no sun, lights mode m and no
 	 * other; every mode is solved */

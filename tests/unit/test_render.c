@@ -607,8 +607,11 @@ static void light_cache_agrees_with_a_fine_march(void)
 	CHECK(cs_light_cache_build(&sc, &autom, ceil(cells / 32.0), 2, &evals) == CS_OK);
 	CHECK(sc.light_cache[0].depth != NULL && evals == (uint64_t)cells);
 	cs_light_cache_free(&sc);
-	CHECK(cs_light_cache_build(&sc, &autom, floor(cells / 32.0) - 1.0, 2, &evals) == CS_OK);
+	CHECK(cs_light_cache_build(&sc, &autom, ceil(cells / 32.0) - 1.0, 2, &evals) == CS_OK);
 	CHECK(sc.light_cache[0].depth == NULL && evals == 0);
+	CHECK(cs_light_cache_build(&sc, &autom, cells / 32.0, 2, &evals) == CS_OK);
+	CHECK(sc.light_cache[0].depth != NULL); /* (exactly 32 cells a pixel: built) */
+	cs_light_cache_free(&sc);
 	/* (then the geometric march: the same depth as without a cache) */
 	autom.light_march = CS_LIGHT_GEOMETRIC;
 	{
