@@ -224,9 +224,10 @@ static void usage(void)
 	       "      --seed N           seed of the per-pixel jitter, 0..4294967295 (default 0)\n"
 	       "      --exposure EV|auto PNG exposure in stops, -20..20 (default 0), or auto:\n"
 	       "                         from the image's mean luminance (twilight, night)\n"
-	       "  -t, --threads N        worker threads, 1..256, also compressing an EXR\n"
-	       "                         output and, in a series, writing frames while\n"
-	       "                         the next render (default: all processors)\n"
+	       "  -t, --threads N        worker threads, 1..256, also solving the light in\n"
+	       "                         fog and cloud decks, compressing an EXR output\n"
+	       "                         and, in a series, writing frames while the next\n"
+	       "                         ones render (default: all processors)\n"
 	       "      --device D         cpu (default): the CPU's threads; cuda: the same\n"
 	       "                         integrator on the first CUDA GPU (a build made with\n"
 	       "                         make CUDA=1; the march only, not the reference\n"
@@ -374,12 +375,14 @@ static void describe(void *user, const struct cs_cloudrender_result *r)
 
 static void report_times(const struct cs_cloudrender_opts *o, const struct cs_cloudrender_result *r)
 {
-	if (!o->reference && CS_LIGHT_CACHED(r->settings.light_march))
+	if (!o->reference && CS_LIGHT_CACHED(r->settings.light_march)) {
+		char rule[80] = "cache";
+		if (r->settings.light_march == CS_LIGHT_AUTO)
+			snprintf(rule, sizeof rule, "auto: built where the frame has a pixel for %.0f cells",
+				 CS_AUTO_CELLS_PER_PIXEL);
 		cli_err("light cache: %d volume%s, %.2f million cells (%s)", r->stats.cache_volumes,
-			r->stats.cache_volumes == 1 ? "" : "s", r->stats.cache_cells / 1e6,
-			r->settings.light_march == CS_LIGHT_AUTO
-				? "auto: built where the frame has a pixel for 32 cells"
-				: "cache");
+			r->stats.cache_volumes == 1 ? "" : "s", r->stats.cache_cells / 1e6, rule);
+	}
 	double total = r->t_noise_s + r->t_scene_s + r->t_render_s + r->t_irradiance_s +
 		       r->t_write_s;
 	cli_err("time: noise %.2f s, scene %.2f s, render %.2f s, irradiance %.2f s, "

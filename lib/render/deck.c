@@ -158,12 +158,12 @@ static void phase_shares(const struct cs_scene *sc, double share[CS_DECK_SHARES]
 	}
 }
 
-void cs_scene_deck_light(struct cs_scene *sc)
+void cs_scene_deck_light(struct cs_scene *sc, int nthreads)
 {
 	struct cs_deck *d = &sc->deck;
 	memset(d, 0, sizeof *d);
 	if (sc->nlayers == 0) {
-		cs_scene_deck_fields(sc);
+		cs_scene_deck_fields(sc, nthreads);
 		return;
 	}
 	d->on = 1;
@@ -242,5 +242,5 @@ void cs_scene_deck_light(struct cs_scene *sc)
 		}
 	}
 	sc->effects |= CS_FX_DECK;
-	cs_scene_deck_fields(sc);
+	cs_scene_deck_fields(sc, nthreads);
 }

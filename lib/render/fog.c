@@ -137,36 +137,42 @@ static void phase_modes(const struct cs_fog_problem *p, const double (*cpsi)[NMO
 		out[n] *= 1.0 / NPSI; /* (1 / 2 pi) 2 int_0^pi = (1 / pi) pi / NPSI sum */
 }
 
-struct solver {
+/* The quadrature and the phase matrices of a phase function and a sun
+ * (setup): read only once set up, shared by the solvers of every problem
+ * that has them. */
+struct quadrature {
 	double mu[NO], wt[NO];   /* cosine of the direction of travel, weight */
 	/* of mode n: 2 pi w_j p_n(mu_i, mu_j) at PT[n][j][i] (transposed, so
 	 * that scatter sums over j for every i at once), mode 0's columns
-	 * summing to 1 (setup) */
+	 * summing to 1 */
 	double PT[NMODE][NO][NO];
 	double Pout[NMODE][NDIR][NO]; /* the same from ordinate j into table direction m */
 	double psun[NMODE][NO];  /* p_n from the sun's beam, 1/sr */
-	double sky[NMODE][NSKY][3]; /* the sky's radiance at the top, by mode */
+};
+
+/* One mode and colour of a problem being solved (a worker's). */
+struct solver {
+	const struct quadrature *q; /* the problem's */
 	int nlev, sub;           /* levels of the solution, of them between the table's */
 	double L[MAX_LEV][NO], J[MAX_LEV][NO];
 	double dJ[MAX_LEV][NO];  /* the last order's change of J */
-	const struct solver *setup_of; /* whose phase matrices these are (cs_fog_solve_n) */
 };
 
 /* The ordinates nearest below and above cosine mu (*lo, *hi) and where
  * mu lies between them (*f, 0 at lo); beyond the outermost, that one. */
-static void bracket(const struct solver *S, double mu, int *lo, int *hi, double *f)
+static void bracket(const struct quadrature *Q, double mu, int *lo, int *hi, double *f)
 {
 	*lo = *hi = -1;
 	for (int j = 0; j < NO; j++) {
-		if (S->mu[j] <= mu && (*lo < 0 || S->mu[j] > S->mu[*lo]))
+		if (Q->mu[j] <= mu && (*lo < 0 || Q->mu[j] > Q->mu[*lo]))
 			*lo = j;
-		if (S->mu[j] >= mu && (*hi < 0 || S->mu[j] < S->mu[*hi]))
+		if (Q->mu[j] >= mu && (*hi < 0 || Q->mu[j] < Q->mu[*hi]))
 			*hi = j;
 	}
 	*lo = *lo < 0 ? *hi : *lo;
 	*hi = *hi < 0 ? *lo : *hi;
-	double span = S->mu[*hi] - S->mu[*lo];
-	*f = span > 0.0 ? (mu - S->mu[*lo]) / span : 0.0;
+	double span = Q->mu[*hi] - Q->mu[*lo];
+	*f = span > 0.0 ? (mu - Q->mu[*lo]) / span : 0.0;
 }
 
 /* The quadrature's phase matrices.  Near the poles the forward peak is
@@ -177,7 +183,7 @@ static void bracket(const struct solver *S, double mu, int *lo, int *hi, double 
  * the peak is, and nowhere else.  (Scaling the whole row instead, the
  * light sent back up from the sky at the fog's top came out 14 % too
  * bright.) */
-static void setup(struct solver *S, const struct cs_fog_problem *p)
+static void setup(struct quadrature *Q, const struct cs_fog_problem *p)
 {
 	double x[NG], w[NG], pm[NMODE], cpsi[NPSI][NMODE];
 	gauss01(NG, x, w);
@@ -185,52 +191,52 @@ static void setup(struct solver *S, const struct cs_fog_problem *p)
 		for (int n = 0; n < NMODE; n++)
 			cpsi[q][n] = cos(n * CS_PI * (q + 0.5) / NPSI);
 	for (int i = 0; i < NG; i++) {
-		S->mu[i] = -x[i], S->wt[i] = w[i];
-		S->mu[NG + i] = x[i], S->wt[NG + i] = w[i];
+		Q->mu[i] = -x[i], Q->wt[i] = w[i];
+		Q->mu[NG + i] = x[i], Q->wt[NG + i] = w[i];
 	}
 	for (int j = 0; j < NO; j++) {
 		for (int i = 0; i <= j; i++) {
-			phase_modes(p, cpsi, S->mu[i], S->mu[j], pm);
+			phase_modes(p, cpsi, Q->mu[i], Q->mu[j], pm);
 			for (int n = 0; n < NMODE; n++) {
-				S->PT[n][j][i] = 2.0 * CS_PI * S->wt[j] * pm[n];
-				S->PT[n][i][j] = 2.0 * CS_PI * S->wt[i] * pm[n];
+				Q->PT[n][j][i] = 2.0 * CS_PI * Q->wt[j] * pm[n];
+				Q->PT[n][i][j] = 2.0 * CS_PI * Q->wt[i] * pm[n];
 			}
 		}
 	}
 	for (int j = 0; j < NO; j++) {
 		double sum = 0.0;
 		for (int i = 0; i < NO; i++)
-			sum += S->PT[0][j][i] * S->wt[i] / S->wt[j];
+			sum += Q->PT[0][j][i] * Q->wt[i] / Q->wt[j];
 		for (int n = 0; n < NMODE; n++)
-			S->PT[n][j][j] += 1.0 - sum;
+			Q->PT[n][j][j] += 1.0 - sum;
 	}
 	int lo, hi;
 	double f;
 	for (int m = 0; m < NDIR; m++) {
 		double mu = -1.0 + 2.0 * m / (NDIR - 1), sum = 0.0;
 		for (int j = 0; j < NO; j++) {
-			phase_modes(p, cpsi, mu, S->mu[j], pm);
+			phase_modes(p, cpsi, mu, Q->mu[j], pm);
 			for (int n = 0; n < NMODE; n++)
-				S->Pout[n][m][j] = 2.0 * CS_PI * S->wt[j] * pm[n];
-			sum += S->Pout[0][m][j];
+				Q->Pout[n][m][j] = 2.0 * CS_PI * Q->wt[j] * pm[n];
+			sum += Q->Pout[0][m][j];
 		}
-		bracket(S, mu, &lo, &hi, &f);
+		bracket(Q, mu, &lo, &hi, &f);
 		for (int n = 0; n < NMODE; n++) {
-			S->Pout[n][m][lo] += (1.0 - sum) * (1.0 - f);
-			S->Pout[n][m][hi] += (1.0 - sum) * f;
+			Q->Pout[n][m][lo] += (1.0 - sum) * (1.0 - f);
+			Q->Pout[n][m][hi] += (1.0 - sum) * f;
 		}
 	}
 	double sum = 0.0;
 	for (int i = 0; i < NO; i++) {
-		phase_modes(p, cpsi, S->mu[i], -p->mu0, pm);
+		phase_modes(p, cpsi, Q->mu[i], -p->mu0, pm);
 		for (int n = 0; n < NMODE; n++)
-			S->psun[n][i] = pm[n];
-		sum += 2.0 * CS_PI * S->wt[i] * pm[0];
+			Q->psun[n][i] = pm[n];
+		sum += 2.0 * CS_PI * Q->wt[i] * pm[0];
 	}
-	bracket(S, -p->mu0, &lo, &hi, &f);
+	bracket(Q, -p->mu0, &lo, &hi, &f);
 	for (int n = 0; n < NMODE && p->mu0 > 0.0; n++) {
-		S->psun[n][lo] += (1.0 - sum) * (1.0 - f) / (2.0 * CS_PI * S->wt[lo]);
-		S->psun[n][hi] += (1.0 - sum) * f / (2.0 * CS_PI * S->wt[hi]);
+		Q->psun[n][lo] += (1.0 - sum) * (1.0 - f) / (2.0 * CS_PI * Q->wt[lo]);
+		Q->psun[n][hi] += (1.0 - sum) * f / (2.0 * CS_PI * Q->wt[hi]);
 	}
 }
 
@@ -249,18 +255,20 @@ static double beam_at(const struct cs_fog_problem *p, int k, int n, int c)
  * direction at once (each ordinate's sum in the same order as alone). */
 static void sweep(struct solver *S, const struct cs_fog_problem *p, int n, int c)
 {
+	const struct quadrature *Q = S->q;
 	double dt = p->tau / (S->nlev - 1), E[NO], a[NO], b[NO];
 	for (int i = 0; i < NO; i++) {
-		double x = dt / fabs(S->mu[i]);
+		double x = dt / fabs(Q->mu[i]);
 		E[i] = exp(-x);
 		/* the linear source's weights: of the near level and the far */
 		a[i] = x > 1e-6 ? (1.0 - E[i]) / x - E[i] : 0.5 * x;
 		b[i] = x > 1e-6 ? 1.0 - (1.0 - E[i]) / x : 0.5 * x;
 	}
 	for (int i = 0; i < NG; i++) {
-		double u = -S->mu[i] * (NSKY - 1);
+		double u = -Q->mu[i] * (NSKY - 1);
 		int q = (int)u < NSKY - 1 ? (int)u : NSKY - 2;
-		S->L[0][i] = S->sky[n][q][c] + (u - q) * (S->sky[n][q + 1][c] - S->sky[n][q][c]);
+		S->L[0][i] = p->sky_down[q][n][c] +
+			     (u - q) * (p->sky_down[q + 1][n][c] - p->sky_down[q][n][c]);
 	}
 	for (int k = 0; k + 1 < S->nlev; k++)
 		for (int i = 0; i < NG; i++)
@@ -268,7 +276,7 @@ static void sweep(struct solver *S, const struct cs_fog_problem *p, int n, int c
 	/* the ground: all that arrives, diffused */
 	double e = n == 0 ? beam_at(p, S->nlev - 1, S->nlev, c) * p->mu0 : 0.0;
 	for (int j = 0; j < NG && n == 0; j++)
-		e += 2.0 * CS_PI * S->wt[j] * -S->mu[j] * S->L[S->nlev - 1][j];
+		e += 2.0 * CS_PI * Q->wt[j] * -Q->mu[j] * S->L[S->nlev - 1][j];
 	for (int j = NG; j < NO; j++)
 		S->L[S->nlev - 1][j] = p->albedo_ground[c] * e / CS_PI;
 	for (int k = S->nlev - 1; k > 0; k--)
@@ -282,14 +290,15 @@ static void sweep(struct solver *S, const struct cs_fog_problem *p, int n, int c
 static double scatter(struct solver *S, const struct cs_fog_problem *p, int n, int c,
 		      double *norm)
 {
+	const struct quadrature *Q = S->q;
 	double change = 0.0, peak = 1e-300;
 	for (int k = 0; k < S->nlev; k++) {
 		double sun = beam_at(p, k, S->nlev, c), sum[NO];
 		for (int i = 0; i < NO; i++)
-			sum[i] = sun * S->psun[n][i];
+			sum[i] = sun * Q->psun[n][i];
 		/* (every ordinate's sum at once, each in the order j) */
 		for (int j = 0; j < NO; j++) {
-			const double *P = S->PT[n][j], L = S->L[k][j];
+			const double *P = Q->PT[n][j], L = S->L[k][j];
 			for (int i = 0; i < NO; i++)
 				sum[i] += P[i] * L;
 		}
@@ -351,6 +360,7 @@ static int solve_mode(struct solver *S, const struct cs_fog_problem *p, int n, i
 static int solve(struct solver *S, const struct cs_fog_problem *p, int n, int c,
 		 struct cs_fog_field *out)
 {
+	const struct quadrature *Q = S->q;
 	/* levels at most FOG_DTAU apart in optical depth (the linear source
 	 * between them loses 1 % of the light at 0.125 in a conservative
 	 * slab of optical depth 16), up to MAX_LEV: beyond optical depth
@@ -358,8 +368,6 @@ static int solve(struct solver *S, const struct cs_fog_problem *p, int n, int c,
 	S->sub = (int)ceil(p->tau / (FOG_DTAU * (CS_FOG_LEVELS - 1)));
 	S->sub = S->sub < 2 ? 2 : S->sub > MAX_SUB ? MAX_SUB : S->sub;
 	S->nlev = S->sub * (CS_FOG_LEVELS - 1) + 1;
-	for (int q = 0; q < NSKY; q++)
-		S->sky[n][q][c] = p->sky_down[q][n][c];
 	int orders = solve_mode(S, p, n, c);
 	for (int t = 0; t < CS_FOG_LEVELS; t++) {
 		/* the table's level t, at the solution's x (linear between its
@@ -375,23 +383,23 @@ static int solve(struct solver *S, const struct cs_fog_problem *p, int n, int c,
 		for (int m = 0; m < NDIR; m++) {
 			double s = 0.0;
 			for (int j = 0; j < NO; j++)
-				s += S->Pout[n][m][j] * L[j];
+				s += Q->Pout[n][m][j] * L[j];
 			out->src[t][m][n][c] = (float)(p->albedo * s);
 		}
 		if (n > 0)
 			continue;
 		double dn = 0.0, upf = 0.0;
 		for (int j = 0; j < NG; j++)
-			dn += 2.0 * CS_PI * S->wt[j] * -S->mu[j] * L[j];
+			dn += 2.0 * CS_PI * Q->wt[j] * -Q->mu[j] * L[j];
 		for (int j = NG; j < NO; j++)
-			upf += 2.0 * CS_PI * S->wt[j] * S->mu[j] * L[j];
+			upf += 2.0 * CS_PI * Q->wt[j] * Q->mu[j] * L[j];
 		out->down[t][c] = dn;
 		out->up[t][c] = upf;
 	}
 	return orders;
 }
 
-/* Whether a and b have the same phase matrices (setup's inputs). */
+/* Whether a and b have the same quadrature (setup's inputs). */
 static int same_setup(const struct cs_fog_problem *a, const struct cs_fog_problem *b)
 {
 	return a->g_forward == b->g_forward && a->g_back == b->g_back &&
@@ -399,13 +407,12 @@ static int same_setup(const struct cs_fog_problem *a, const struct cs_fog_proble
 }
 
 /* cs_fog_solve_n's tasks: problem i's mode n, channel c, each on its
- * worker's own solver, given the phase matrices of its problem's
- * (setups[i]) */
+ * worker's own solver with its problem's quadrature (quad[i]) */
 struct solve_job {
 	const struct cs_fog_problem *p;
 	struct cs_fog_field *out;
-	struct solver **setups;  /* per problem (shared by those of one setup) */
-	struct solver **work;    /* per worker */
+	const struct quadrature *const *quad; /* per problem */
+	struct solver *work;     /* per worker */
 	int *orders;             /* per task */
 	int count;               /* problems */
 };
@@ -430,16 +437,8 @@ static void solve_task(void *user, int task, int worker)
 	struct solve_job *job = user;
 	int i, n, c;
 	task_of(task, job->count, &i, &n, &c);
-	struct solver *S = job->work[worker];
-	const struct solver *from = job->setups[i];
-	if (S->setup_of != from) {
-		memcpy(S->mu, from->mu, sizeof S->mu);
-		memcpy(S->wt, from->wt, sizeof S->wt);
-		memcpy(S->PT, from->PT, sizeof S->PT);
-		memcpy(S->Pout, from->Pout, sizeof S->Pout);
-		memcpy(S->psun, from->psun, sizeof S->psun);
-		S->setup_of = from;
-	}
+	struct solver *S = &job->work[worker];
+	S->q = job->quad[i];
 	job->orders[task] = solve(S, &job->p[i], n, c, &job->out[i]);
 }
 
@@ -456,54 +455,36 @@ int cs_fog_solve_n(const struct cs_fog_problem *p, int n, struct cs_fog_field *o
 		    !(p[i].albedo >= 0.0 && p[i].albedo <= 1.0))
 			return cs_error(CS_EINVAL, "fog: optical depth %g or albedo %g out of range",
 					p[i].tau, p[i].albedo);
-	int tasks = n * NMODE * 3, rc = CS_OK;
+	int tasks = n * NMODE * 3, orders[CS_FOG_MAX_PROBLEMS * NMODE * 3];
 	nthreads = nthreads > 0 ? nthreads : cs_pool_cpus();
 	nthreads = nthreads < tasks ? nthreads : tasks;
-	struct solver **setups = calloc((size_t)n, sizeof *setups);
-	struct solver **work = calloc((size_t)nthreads, sizeof *work);
-	int *orders = calloc((size_t)tasks, sizeof *orders);
-	struct solver *made[CS_FOG_MAX_PROBLEMS] = {0};
-	int nmade = 0;
-	if (setups == NULL || work == NULL || orders == NULL)
-		rc = cs_error(CS_ENOMEM, "out of memory");
-	/* the phase matrices, once for the problems that share them */
-	for (int i = 0; i < n && rc == CS_OK; i++) {
+	struct quadrature *made = malloc((size_t)n * sizeof *made);
+	struct solver *work = malloc((size_t)nthreads * sizeof *work);
+	if (made == NULL || work == NULL) {
+		free(made);
+		free(work);
+		return cs_error(CS_ENOMEM, "out of memory");
+	}
+	/* the quadratures, once for the problems that share one */
+	const struct quadrature *quad[CS_FOG_MAX_PROBLEMS];
+	for (int i = 0, nmade = 0; i < n; i++) {
 		if (i > 0 && same_setup(&p[i], &p[i - 1])) {
-			setups[i] = setups[i - 1];
+			quad[i] = quad[i - 1];
 			continue;
 		}
-		if ((setups[i] = made[nmade] = malloc(sizeof **setups)) == NULL) {
-			rc = cs_error(CS_ENOMEM, "out of memory");
-			break;
-		}
-		nmade++;
-		setup(setups[i], &p[i]);
+		setup(&made[nmade], &p[i]);
+		quad[i] = &made[nmade++];
 	}
-	/* each worker's own (setup_of NULL: not a freed one's that a new
-	 * one took the place of) */
-	for (int w = 0; w < nthreads && rc == CS_OK; w++) {
-		if ((work[w] = malloc(sizeof **work)) == NULL)
-			rc = cs_error(CS_ENOMEM, "out of memory");
-		else
-			work[w]->setup_of = NULL;
-	}
-	if (rc == CS_OK) {
-		struct solve_job job = {p, out, setups, work, orders, n};
-		rc = cs_pool_run(tasks, nthreads, solve_task, &job, NULL, NULL, NULL);
-	}
+	struct solve_job job = {p, out, quad, work, orders, n};
+	int rc = cs_pool_run(tasks, nthreads, solve_task, &job, NULL, NULL, NULL);
 	for (int t = 0; t < tasks && rc == CS_OK; t++) {
 		int i, mode, c;
 		task_of(t, n, &i, &mode, &c);
 		out[i].orders = orders[t] > out[i].orders ? orders[t] : out[i].orders;
 		out[i].on = 1;
 	}
-	for (int k = 0; k < nmade; k++)
-		free(made[k]);
-	for (int w = 0; w < nthreads && work != NULL; w++)
-		free(work[w]);
-	free(setups);
+	free(made);
 	free(work);
-	free(orders);
 	if (rc != CS_OK)
 		for (int i = 0; i < n; i++)
 			memset(&out[i], 0, sizeof out[i]);
@@ -554,7 +535,7 @@ static void problem_of(const struct cs_scene *sc, double tau, const double sun[3
 /* The fog of a scene is lit at its top by the sky, or under clouds by
  * what they let through (the deck's diffuse light, the sun's beam times
  * the area's mean transmittance), over the wet or dry flat ground. */
-int cs_scene_fog_light(struct cs_scene *sc)
+int cs_scene_fog_light(struct cs_scene *sc, int nthreads)
 {
 	memset(&sc->fog, 0, sizeof sc->fog);
 	if (!(sc->fog_beta_per_m > 0.0) || !(sc->fog_top_m > sc->ground_alt_m))
@@ -567,7 +548,7 @@ int cs_scene_fog_light(struct cs_scene *sc)
 	struct cs_fog_problem p;
 	problem_of(sc, sc->fog_beta_per_m * (sc->fog_top_m - sc->ground_alt_m), sun,
 		   sc->deck.on ? sc->deck.sky_below : NULL, ground, &p);
-	return cs_fog_solve_n(&p, 1, &sc->fog, sc->threads);
+	return cs_fog_solve_n(&p, 1, &sc->fog, nthreads);
 }
 
 /* The tilted columns' fields (struct cs_deck's tilt) and the layers'
@@ -583,7 +564,7 @@ int cs_scene_fog_light(struct cs_scene *sc)
  * the share from 0.2 to 0.5, +7, -10 and -11 % (relative MSE 0.32, 0.31
  * and 0.40 against 0.57, 0.51 and 0.40 with none); from 0.25 to 0.5, +12
  * and -2 % (0.34, 0.32). */
-static void tilt_fields(struct cs_scene *sc)
+static void tilt_fields(struct cs_scene *sc, int nthreads)
 {
 	struct cs_deck *d = &sc->deck;
 	int any = 0;
@@ -609,15 +590,15 @@ static void tilt_fields(struct cs_scene *sc)
 			for (int c = 0; c < 3; c++)
 				p[k].sun[c] = sc->sun_illuminance[c];
 		}
-		ok = cs_fog_solve_n(p, CS_DECK_DEPTHS, d->tilt, sc->threads) == CS_OK;
+		ok = cs_fog_solve_n(p, CS_DECK_DEPTHS, d->tilt, nthreads) == CS_OK;
 	}
 	for (int i = 0; i < CS_SCENE_MAX_LAYERS && !ok; i++)
 		d->tilt_weight[i] = 0.0; /* (none, or out of memory: the towers keep the octaves) */
 }
 
-void cs_scene_deck_fields(struct cs_scene *sc)
+void cs_scene_deck_fields(struct cs_scene *sc, int nthreads)
 {
-	tilt_fields(sc);
+	tilt_fields(sc, nthreads);
 	struct cs_deck *d = &sc->deck;
 	int used = 0;
 	for (int i = 0; i < CS_SCENE_MAX_LAYERS; i++)
@@ -666,7 +647,7 @@ void cs_scene_deck_fields(struct cs_scene *sc)
 		struct cs_fog_problem p[CS_DECK_DEPTHS];
 		for (int k = first; k <= last; k++)
 			problem_of(sc, tau[k], sun, under ? dome : NULL, sc->ground_albedo, &p[k]);
-		ok = cs_fog_solve_n(p + first, last - first + 1, d->field[used] + first, sc->threads) ==
+		ok = cs_fog_solve_n(p + first, last - first + 1, d->field[used] + first, nthreads) ==
 		     CS_OK;
 		for (int k = 0; k < CS_DECK_DEPTHS && ok; k++)
 			if (k < first || k > last)

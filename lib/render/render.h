@@ -367,9 +367,6 @@ struct cs_scene {
 	double moon_scale;            /* its light relative to the sun's */
 	cs_v3 star_frame[3];          /* local east, north, up in equatorial axes */
 	unsigned effects;
-	int threads;                  /* the CPU pool's threads that solve the
-					 light fields (cs_scene_build_threads;
-					 cs_scene_build's: 1) */
 	/* CS_LIGHT_CACHE's volumes, per layer; cs_render_image builds them
 	 * for its frame (a scene handed to it has none): the depth toward
 	 * the sun, and the vertical column's (shear 0, a metre of path a
@@ -425,19 +422,22 @@ CS_HD void cs_slab_transmittances(double tau, double mu0, double *beam, double *
 CS_HD double cs_slab_escape(double mu);
 
 /* Fills sc->deck from the scene's layers, sun and clear-sky ambient (call
- * after those are set); sets CS_FX_DECK when there are layers. */
-void cs_scene_deck_light(struct cs_scene *sc);
+ * after those are set); sets CS_FX_DECK when there are layers.  Its light
+ * fields are solved on nthreads of the CPU pool (<= 0: one per processor):
+ * the same fields for any number. */
+void cs_scene_deck_light(struct cs_scene *sc, int nthreads);
 
 /* The light fields of the scene's layers of at least half cover (fog.c:
  * sc->deck.field, field_of), from the deck's light at their tops, and,
  * with a cumulonimbus, the tilted columns' (sc->deck.tilt) (call at the
  * end of cs_scene_deck_light, which does); a layer whose field cannot be
  * made (out of memory) keeps the march's model of the diffuse light. */
-void cs_scene_deck_fields(struct cs_scene *sc);
+void cs_scene_deck_fields(struct cs_scene *sc, int nthreads);
 
 /* Fills sc->fog (fog.c) from the scene's fog, sky, sun, deck and ground
- * (call after those are set; cleared without fog); CS_ENOMEM. */
-int cs_scene_fog_light(struct cs_scene *sc);
+ * (call after those are set; cleared without fog), solved on nthreads as
+ * cs_scene_deck_light's fields; CS_ENOMEM. */
+int cs_scene_fog_light(struct cs_scene *sc, int nthreads);
 
 struct cs_render_stats {
 	uint64_t pixels, density_samples, light_samples, rays_terminated_early,

@@ -130,7 +130,8 @@ static void build_layers(struct cs_scene *sc, const struct cs_wx *wx, double tim
 /* The light: sun and sky for the date and place, the Moon and stars at
  * night, then what the clouds make of it (shadows, halo, the light under
  * them). */
-static int build_light(struct cs_scene *sc, const struct cs_wx *wx, double time_utc)
+static int build_light(struct cs_scene *sc, const struct cs_wx *wx, double time_utc,
+		       int nthreads)
 {
 	struct cs_sun sun;
 	int rc = cs_sun_position(time_utc, wx->site.lat_deg, wx->site.lon_deg, &sun);
@@ -154,7 +155,7 @@ static int build_light(struct cs_scene *sc, const struct cs_wx *wx, double time_
 	for (int i = 0; i < sc->nlayers && (sc->effects & CS_FX_KEY); i++)
 		if (sc->layers[i].genus == CS_CIRROSTRATUS)
 			sc->effects |= CS_FX_HALO;
-	cs_scene_deck_light(sc);
+	cs_scene_deck_light(sc, nthreads);
 	return CS_OK;
 }
 
@@ -223,7 +224,6 @@ int cs_scene_build_threads(struct cs_scene *sc, const struct cs_wx *wx, double t
 	if (rc != CS_OK)
 		return rc;
 	memset(sc, 0, sizeof *sc);
-	sc->threads = nthreads;
 	sc->earth_radius_m = CS_EARTH_RADIUS_M;
 	sc->ground_alt_m = wx->site.alt_m;
 	sc->ground_albedo[0] = 0.10, sc->ground_albedo[1] = 0.14, sc->ground_albedo[2] = 0.07;
@@ -240,10 +240,10 @@ int cs_scene_build_threads(struct cs_scene *sc, const struct cs_wx *wx, double t
 	sc->g_forward = 0.9, sc->g_back = -0.3, sc->w_forward = 0.96;
 	sc->effects = CS_FX_SKY | CS_FX_GROUND;
 	build_layers(sc, wx, time_utc, noise);
-	rc = build_light(sc, wx, time_utc);
+	rc = build_light(sc, wx, time_utc, nthreads);
 	if (rc != CS_OK)
 		return rc;
 	build_air(sc, wx);
 	build_precipitation(sc, wx);
-	return cs_scene_fog_light(sc);
+	return cs_scene_fog_light(sc, nthreads);
 }

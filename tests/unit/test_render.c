@@ -777,16 +777,16 @@ static void fog_under_a_deck_adds_no_sunlight(void)
 	double with[3], without[3], open[3];
 	sc.fog_top_m = 300.0;
 	sc.fog_beta_per_m = 3.912 / 300.0;
-	cs_scene_deck_light(&sc);
-	CHECK(cs_scene_fog_light(&sc) == CS_OK);
+	cs_scene_deck_light(&sc, 1);
+	CHECK(cs_scene_fog_light(&sc, 1) == CS_OK);
 	cs_ground_light(&sc, &s, v3(0, 0, 0), v3(0, 0, -1), 0, &st, with);
 	sc.fog_beta_per_m = 0.0;
-	CHECK(cs_scene_fog_light(&sc) == CS_OK);
+	CHECK(cs_scene_fog_light(&sc, 1) == CS_OK);
 	cs_ground_light(&sc, &s, v3(0, 0, 0), v3(0, 0, -1), 0, &st, without);
 	sc.nlayers = 0;
-	cs_scene_deck_light(&sc);
+	cs_scene_deck_light(&sc, 1);
 	sc.fog_beta_per_m = 3.912 / 300.0;
-	CHECK(cs_scene_fog_light(&sc) == CS_OK);
+	CHECK(cs_scene_fog_light(&sc, 1) == CS_OK);
 	cs_ground_light(&sc, &s, v3(0, 0, 0), v3(0, 0, -1), 0, &st, open);
 	printf("  ground under the deck: %.3g with fog, %.3g without; under fog alone %.3g\n",
 	       with[1], without[1], open[1]);
@@ -1041,7 +1041,7 @@ static void overcast_ground_sees_the_transmitted_light(void)
 	memcpy(sc.ambient_up, sky, sizeof sky);
 	sc.ground_albedo[0] = sc.ground_albedo[1] = sc.ground_albedo[2] = 0.2;
 	sc.effects |= CS_FX_SUN | CS_FX_SKY | CS_FX_GROUND | CS_FX_CLOUD_SHADOWS;
-	cs_scene_deck_light(&sc);
+	cs_scene_deck_light(&sc, 1);
 	CHECK(sc.effects & CS_FX_DECK);
 	CHECK(sc.deck.direct_below < 1e-6);
 	double below[3];
@@ -1063,7 +1063,7 @@ static void overcast_ground_sees_the_transmitted_light(void)
 	 * over the green case, R = 1 - 0.15 x 7/9: 2.8 times, within 5 % */
 	double green = sc.deck.sky_below[1], R = 1.0 - 0.15 * 7.0 / 9.0;
 	sc.ground_albedo[0] = sc.ground_albedo[1] = sc.ground_albedo[2] = 0.8;
-	cs_scene_deck_light(&sc);
+	cs_scene_deck_light(&sc, 1);
 	double want = (1.0 - 0.2 * R) / (1.0 - 0.8 * R);
 	printf("  under the deck over snow: %.3f times the light over albedo 0.2 (closed form %.3f)\n",
 	       sc.deck.sky_below[1] / green, want);
@@ -1097,7 +1097,7 @@ static void black_object_at_the_visibility_keeps_two_percent_contrast(void)
 	sc.haze_scale_height_m = 1200.0;
 	sc.albedo = 0.99999; /* the droplets' (cs_scene_build's) */
 	sc.g_forward = 0.9, sc.g_back = -0.3, sc.w_forward = 0.96;
-	CHECK(cs_scene_fog_light(&sc) == CS_OK);
+	CHECK(cs_scene_fog_light(&sc, 1) == CS_OK);
 	struct cs_render_settings s = plain(8, 4);
 	struct cs_ray_result obj, bg;
 	cs_v3 o = v3(0.0, 0.0, 2.0);
