@@ -27,19 +27,23 @@
 
 /* CS_COLD marks a function a ray calls once or a few times (the sky, the
  * ground, the crossings of the layers), CS_SHARED one a cloudy sample
- * calls (the density, the light march and its shells, the diffuse light):
- * on a GPU each is compiled once and called, not copied into every
- * caller, which keeps the kernel's code small enough for the instruction
- * cache (inlined, the kernel was 960 KB of code and its warps stalled on
- * instruction fetch 61 % of the time).  In C they are empty: the CPU's
- * objects are as before.  -DCS_CUDA_INLINE_COLD or -DCS_CUDA_INLINE_SHARED
- * inline them again, to measure the difference. */
-#if defined(__CUDACC__) && !defined(CS_CUDA_INLINE_COLD)
+ * calls (the density, the light march and its shells, the diffuse light).
+ * Both are empty, in C and on a GPU: nvcc inlines them into the kernel.
+ * -DCS_CUDA_NOINLINE_COLD or -DCS_CUDA_NOINLINE_SHARED compile each
+ * once on a GPU and call it instead, to measure the difference.  Once
+ * (inlined, the kernel was 960 KB of code and its warps stalled on
+ * instruction fetch 61 % of the time) called was faster; since the noise
+ * lookup lost its fmod and the presets took the light cache, inlined is:
+ * on an H200 at 1920x1080, 8.64 against 9.63 ms a frame at low in one
+ * session, 10.95 at medium against 11.92 in another (whose low took
+ * 9.49); the shared functions alone inlined 9.00 and 11.43 there
+ * (cloudrender(1), GPU). */
+#if defined(__CUDACC__) && defined(CS_CUDA_NOINLINE_COLD)
 #define CS_COLD __noinline__
 #else
 #define CS_COLD
 #endif
-#if defined(__CUDACC__) && !defined(CS_CUDA_INLINE_SHARED)
+#if defined(__CUDACC__) && defined(CS_CUDA_NOINLINE_SHARED)
 #define CS_SHARED __noinline__
 #else
 #define CS_SHARED

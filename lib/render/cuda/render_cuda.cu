@@ -238,7 +238,10 @@ struct dev_scene {
  * 75.7/51.8).  (Before
  * the functions a ray calls were compiled once, CS_COLD and CS_SHARED:
  * 63/31 with 8 blocks, 54/27 with 6, 48/23 with 4, 44/21 with 1, 65/32
- * and 65/33 with 10 and 12, 51/26 with 16.) */
+ * and 65/33 with 10 and 12, 51/26 with 16.)  With them inlined again
+ * (core/hd.h), 8 blocks still: 8.64/10.95 ms a frame, against 8.79/11.00
+ * with 4 blocks, 9.01/11.35 with 5, 8.87/11.12 with 6, and 9.23/11.46
+ * for blocks of 32 x 4 with 4. */
 #ifndef CS_CUDA_BLOCK_W
 #define CS_CUDA_BLOCK_W 16
 #endif
