@@ -218,6 +218,14 @@ static void usage(void)
 	       "      --spp N            reference: paths per pixel, 1..1000000 (default 64)\n"
 	       "      --max-bounces N    reference: scattering events per path, 0 (no\n"
 	       "                         limit, the default)..1000000; 1: single scattering\n"
+	       "      --cloud-depth D    forecast (default): where the weather state has the\n"
+	       "                         forecast's radiation (cloudwx \"observed\"), the sun\n"
+	       "                         10 deg up or more and no fog, the sheets' depth\n"
+	       "                         (cirrus, cirrocumulus, cirrostratus, altostratus,\n"
+	       "                         nimbostratus, stratus) scaled so that the clouds\n"
+	       "                         let through the forecast's DNI (delta-scaled, as a\n"
+	       "                         radiation scheme counts it); genus: the genera's\n"
+	       "                         typical optical depths\n"
 	       "      --no-haze          no aerosol haze between the eye and the clouds (fog\n"
 	       "                         stays): what the reference integrator compares with\n"	       "      --no-ambient       no sky light on the clouds\n"
 	       "      --no-jitter        sample at step midpoints (banding instead of noise)\n"
@@ -312,7 +320,8 @@ static void print_stats(const struct cs_cloudrender_opts *o,
 		fprintf(stderr, "%s{\"genus\":\"%s\",\"coverage\":%.3f,\"base_m\":%.0f,\"top_m\":%.0f}",
 			i ? "," : "", cs_genus_name(sc->layers[i].genus),
 			sc->layers[i].coverage, sc->layers[i].base_m, sc->layers[i].top_m);
-	fprintf(stderr, "],\"irradiance_w_m2\":{\"camera\":{\"ghi\":%.1f,\"dni\":%.1f,"
+	fprintf(stderr, "],\"cloud_depth_scale\":%.4f", sc ? sc->cloud_depth_scale : 1.0);
+	fprintf(stderr, ",\"irradiance_w_m2\":{\"camera\":{\"ghi\":%.1f,\"dni\":%.1f,"
 		"\"dhi\":%.1f},\"area\":{\"size_km\":%.0f,\"ghi\":%.1f,\"dni\":%.1f,\"dhi\":%.1f},"
 		"\"wall_s\":%.3f}",
 		r->irr_camera.ghi_w_m2, r->irr_camera.dni_w_m2, r->irr_camera.dhi_w_m2,
@@ -359,6 +368,17 @@ static void describe(void *user, const struct cs_cloudrender_result *r)
 			snprintf(from, sizeof from, " (far site %s)", wx->far[l->site].site.name);
 		cli_err("layer %d: %s, cover %.2f, base %.0f m, top %.0f m%s", i + 1,
 			cs_genus_name(l->genus), l->coverage, l->base_m, l->top_m, from);
+	}
+	if (sc->nlayers > 0) {
+		if (sc->cloud_depth_scale != 1.0)
+			cli_err("cloud depth: the sheets' %.3g times the genera's, to let through "
+				"the forecast's DNI of %.0f W/m2 (--cloud-depth forecast)",
+				sc->cloud_depth_scale, wx->observed.dni_w_m2);
+		else
+			cli_err("cloud depth: the genera's (%s)",
+				o->cloud_depth_genus ? "--cloud-depth genus"
+				: !wx->observed.has_radiation ? "the state has no forecast radiation"
+							      : "not fitted: see --cloud-depth");
 	}
 	char fx[256] = "";
 	size_t k = 0;
@@ -502,6 +522,7 @@ enum {
 	OPT_NO_HAZE, OPT_MARCH, OPT_LIGHT_MARCH, OPT_SOURCE_EVERY, OPT_MAX_STEPS, OPT_MIN_T, OPT_OUTPUT_FORMAT,
 	OPT_PNG16, OPT_FLOAT, OPT_JPEG_QUALITY, OPT_NO_CLOBBER,
 	OPT_DEVICE, OPT_DEVICE_BENCH, /* the GPU renderer */
+	OPT_CLOUD_DEPTH,
 };
 
 /* Where it rendered (with -v): the CPU's kernel, or the GPU and, with
@@ -551,6 +572,7 @@ int main(int argc, char **argv)
 		{"integrator", required_argument, NULL, OPT_INTEGRATOR},
 		{"spp", required_argument, NULL, OPT_SPP},
 		{"no-haze", no_argument, NULL, OPT_NO_HAZE},
+		{"cloud-depth", required_argument, NULL, OPT_CLOUD_DEPTH},
 		{"march", required_argument, NULL, OPT_MARCH},
 		{"light-march", required_argument, NULL, OPT_LIGHT_MARCH},
 		{"source-every", required_argument, NULL, OPT_SOURCE_EVERY},
@@ -713,6 +735,15 @@ int main(int argc, char **argv)
 			o.max_bounces = (int)cli_long("--max-bounces", optarg, 0, 1000000);
 			break;
 		case OPT_NO_HAZE: o.no_haze = 1; break;
+		case OPT_CLOUD_DEPTH:
+			if (strcasecmp(optarg, "forecast") == 0)
+				o.cloud_depth_genus = 0;
+			else if (strcasecmp(optarg, "genus") == 0)
+				o.cloud_depth_genus = 1;
+			else
+				cli_usage_error("--cloud-depth: expected forecast or genus, not '%s'",
+						optarg);
+			break;
 		case OPT_MARCH:
 			if (strcasecmp(optarg, "standard") == 0)
 				o.march = CS_MARCH_STANDARD;

@@ -376,7 +376,7 @@ static void measure_irradiance(const struct cs_cloudrender_opts *o, const struct
 			       struct cs_cloudrender_result *r)
 {
 	struct cs_render_stats st = {0};
-	r->area_size_m = 10000.0;
+	r->area_size_m = CS_IRRADIANCE_AREA_M;
 	if (o->reference) {
 		struct cs_reference_settings rs = {o->spp, s->seed, o->max_bounces};
 		int paths = o->spp < 65536 ? 16 * o->spp : 1048576;
@@ -803,7 +803,19 @@ static int frame_scene(struct cs_cr_session *s, const struct cs_cloudrender_opts
 {
 	struct cs_scene *sc = s->sc;
 	r->scene = NULL;
-	int rc = cs_scene_build_threads(sc, &r->wx, r->wx.time_utc, &s->noise, o->threads);
+	/* --cloud-depth genus: the scene built from a copy of the state
+	 * without the forecast's radiation, which the fit reads */
+	struct cs_wx *genus = NULL;
+	if (o->cloud_depth_genus && r->wx.observed.has_radiation) {
+		genus = malloc(sizeof *genus);
+		if (genus == NULL)
+			return cs_error(CS_ENOMEM, "out of memory");
+		*genus = r->wx;
+		genus->observed.has_radiation = 0;
+	}
+	int rc = cs_scene_build_threads(sc, genus ? genus : &r->wx, r->wx.time_utc, &s->noise,
+					o->threads);
+	free(genus);
 	if (rc != CS_OK)
 		return rc;
 	r->scene = sc;

@@ -64,6 +64,8 @@ struct cs_cloudrender_opts {
 	 * spp paths per pixel, max_bounces (0: unlimited) */
 	int reference, spp, max_bounces;
 	int no_haze;              /* no aerosol haze (fog stays) */
+	int cloud_depth_genus;    /* the genera's optical depths, not fitted
+				     to the forecast's beam (scene.c) */
 	const char *quality;      /* the preset name, for reports */
 	double exposure_ev;
 	int exposure_auto;        /* choose exposure_ev from the image */

@@ -230,6 +230,12 @@ CS_HD CS_SHARED double cs_light_depth(const struct cs_scene *sc,
 	return tau;
 }
 
+double cs_layer_depth(const struct cs_scene *sc, const struct cs_render_settings *s, int li,
+		      cs_v3 p, cs_v3 dir, struct cs_render_stats *st)
+{
+	return layer_depth(sc, s, &sc->layers[li], p, dir, s->light_steps, 0, 0.0, st);
+}
+
 CS_HD double cs_heap_depth(const struct cs_scene *sc, const struct cs_render_settings *s, int li,
 			   cs_v3 p, cs_v3 dir, struct cs_render_stats *st)
 {

@@ -46,6 +46,12 @@ CS_HD double cs_light_depth(const struct cs_scene *sc,
 CS_HD double cs_cached_depth(const struct cs_cloud_layer *l, const struct cs_light_cache *lc,
 			     double x, double y, double alt_m);
 
+/* Optical depth of layer li alone from p along the unit vector dir
+ * (light_steps samples over the path through it, spaced as
+ * cs_light_depth's). */
+double cs_layer_depth(const struct cs_scene *sc, const struct cs_render_settings *s, int li,
+		      cs_v3 p, cs_v3 dir, struct cs_render_stats *st);
+
 /* Optical depth of the cloud of layer li that p is in, from p along the
  * unit vector dir up to the first sample without cloud (light_steps
  * samples over the path through the layer, spaced as cs_light_depth's):

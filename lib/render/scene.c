@@ -1,6 +1,8 @@
 #include "render/scene.h"
 
+#include "core/color.h"
 #include "core/err.h"
+#include "render/march.h"
 #include "render/sky.h"
 #include "astro/sun.h"
 
@@ -127,6 +129,131 @@ static void build_layers(struct cs_scene *sc, const struct cs_wx *wx, double tim
 		sc->effects |= CS_FX_CLOUDS;
 }
 
+/* The clouds' optical depth from the forecast's own beam (cloudrender
+ * --cloud-depth and RADIATION; DESIGN.md had the state's observed
+ * radiation for comparing only).  A forecast that
+ * sends its radiation says how much of the sun's beam its clouds let
+ * through: f = its DNI over the clear sky's, here the scene's own beam
+ * through the clear atmosphere in W/m2 (cs_irradiance_at's conversion).
+ * The genera's depths (cloud.c) are climatological, and an hour's sheets
+ * may be far thinner or thicker: the shared capture's overcast afternoon
+ * lets 15 % of the beam through (DNI 122.6 of 798 W/m2 at 13 UTC), where
+ * the climatology's altostratus over cumulus let none, and the ground
+ * came out at 179 W/m2 against the forecast's 403.  A forecast's
+ * radiation scheme counts its beam as a delta-Eddington solver does
+ * (Joseph, Wiscombe & Weinman 1976): the share g^2 of the scattering
+ * that goes into the forward peak stays in the beam, whose depth is then
+ * (1 - g^2) tau (g: the clouds' asymmetry, 0.852 for the scene's two
+ * lobes).  So the site's sheets (fitted(): every genus but the heaped
+ * ones, whose look is their contrast and whose beam comes through their
+ * gaps) take one factor k on their extinction such that the mean of
+ * exp(-(1 - g^2) (k tau_sheets + tau_heaps)) over CS_BEAM_FIT_N^2 points
+ * of the stats' square is f (tau: each layer's depth toward the sun from
+ * the point, a geometric light march of 32 steps).  Over the capture's
+ * 90 hours with the sun 10 deg up or more this took the area GHI's mean
+ * log error against the forecast's from -0.14 to -0.02 and its rms from
+ * 0.35 to 0.23; fitting the beam undivided (tau not scaled) 0.05 and
+ * 0.28; fitting every layer 0.11 and 0.23, but the thinned cumulus
+ * washed out into a white veil (cloudrender(1), RADIATION).  The mean
+ * falls with k: bisection in log k, within [CS_BEAM_FIT_K_MIN,
+ * CS_BEAM_FIT_K_MAX].  Where the forecast's beam is below
+ * CS_BEAM_FIT_NONE of the clear sky's (none), the sheets only thicken
+ * until theirs is that too: a DNI of 0 bounds the depth from below.  Not
+ * fitted: a sun under CS_BEAM_FIT_MIN_ELEVATION_DEG (long slant paths
+ * through layers whose extent the forecast does not know), fog (its
+ * depth is the forecast's visibility, and it takes the beam first), and
+ * the far sites' layers.  The forecast's GHI and DHI stay an independent
+ * check of the light transport (cloudrender --stats). */
+static double beam_mean(const double *tau, const double *tau0, int n, double k)
+{
+	double sum = 0.0;
+	for (int i = 0; i < n; i++)
+		sum += exp(-k * tau[i] - tau0[i]);
+	return sum / n;
+}
+
+/* The genera whose depth the fit scales: the sheets. */
+static int fitted(enum cs_genus g)
+{
+	switch (g) {
+	case CS_CUMULUS:
+	case CS_CUMULONIMBUS:
+	case CS_ALTOCUMULUS:
+	case CS_STRATOCUMULUS:
+		return 0;
+	default:
+		return 1;
+	}
+}
+
+static void fit_beam(struct cs_scene *sc, const struct cs_wx *wx)
+{
+	sc->cloud_depth_scale = 1.0;
+	if (!wx->observed.has_radiation || sc->nlayers == 0 ||
+	    wx->visibility_m < CS_FOG_VISIBILITY_M ||
+	    sc->sun_dir.z < sin(CS_BEAM_FIT_MIN_ELEVATION_DEG * CS_PI / 180.0))
+		return;
+	double el = asin(sc->sun_dir.z) * 180.0 / CS_PI;
+	double clear_w_m2 = cs_luminance(sc->sun_illuminance[0], sc->sun_illuminance[1],
+					 sc->sun_illuminance[2]) *
+			    1000.0 / cs_beam_efficacy_lm_w(el);
+	if (!(clear_w_m2 > 0.0))
+		return;
+	double f = wx->observed.dni_w_m2 / clear_w_m2;
+	double g = sc->w_forward * sc->g_forward + (1.0 - sc->w_forward) * sc->g_back;
+	unsigned mask = 0;
+	unsigned all = 0;
+	for (int i = 0; i < sc->nlayers; i++) {
+		all |= sc->layers[i].site < 0 ? 1u << i : 0u;
+		mask |= sc->layers[i].site < 0 && fitted(sc->layers[i].genus) ? 1u << i : 0u;
+	}
+	if (mask == 0)
+		return;
+	struct cs_render_settings s;
+	cs_render_quality("reference", &s);
+	s.light_steps = 32;
+	s.light_march = CS_LIGHT_GEOMETRIC;
+	struct cs_render_stats st;
+	memset(&st, 0, sizeof st);
+	enum { N = CS_BEAM_FIT_N * CS_BEAM_FIT_N };
+	double tau[N], tau0[N];
+	for (int j = 0; j < CS_BEAM_FIT_N; j++)
+		for (int i = 0; i < CS_BEAM_FIT_N; i++) {
+			cs_v3 p = cs_irradiance_area_point(sc, CS_IRRADIANCE_AREA_M, CS_BEAM_FIT_N, i, j);
+			double t[2] = {0.0, 0.0}; /* the fitted layers', the others' */
+			for (int l = 0; l < sc->nlayers; l++)
+				if (all & (1u << l))
+					t[(mask >> l & 1u) ? 0 : 1] +=
+						cs_layer_depth(sc, &s, l, p, sc->sun_dir, &st);
+			for (int m = 0; m < 2; m++)
+				t[m] = isfinite(t[m]) && t[m] > 0.0 ? t[m] * (1.0 - g * g) : 0.0;
+			tau[j * CS_BEAM_FIT_N + i] = t[0];
+			tau0[j * CS_BEAM_FIT_N + i] = t[1];
+		}
+	if (f < CS_BEAM_FIT_NONE) {
+		if (beam_mean(tau, tau0, N, 1.0) <= CS_BEAM_FIT_NONE)
+			return; /* no beam, and none through the clouds already */
+		f = CS_BEAM_FIT_NONE;
+	}
+	double lo = log(CS_BEAM_FIT_K_MIN), hi = log(CS_BEAM_FIT_K_MAX);
+	if (beam_mean(tau, tau0, N, exp(lo)) <= f)
+		hi = lo; /* even the thinnest lets less through */
+	else if (beam_mean(tau, tau0, N, exp(hi)) >= f)
+		lo = hi; /* even the thickest lets more through */
+	for (int it = 0; it < 64 && hi - lo > 1e-9; it++) {
+		double mid = 0.5 * (lo + hi);
+		if (beam_mean(tau, tau0, N, exp(mid)) > f)
+			lo = mid;
+		else
+			hi = mid;
+	}
+	double k = exp(0.5 * (lo + hi));
+	for (int i = 0; i < sc->nlayers; i++)
+		if (mask & (1u << i))
+			sc->layers[i].extinction_per_m *= k;
+	sc->cloud_depth_scale = k;
+}
+
 /* The light: sun and sky for the date and place, the Moon and stars at
  * night, then what the clouds make of it (shadows, halo, the light under
  * them). */
@@ -155,6 +282,7 @@ static int build_light(struct cs_scene *sc, const struct cs_wx *wx, double time_
 	for (int i = 0; i < sc->nlayers && (sc->effects & CS_FX_KEY); i++)
 		if (sc->layers[i].genus == CS_CIRROSTRATUS)
 			sc->effects |= CS_FX_HALO;
+	fit_beam(sc, wx);
 	cs_scene_deck_light(sc, nthreads);
 	return CS_OK;
 }

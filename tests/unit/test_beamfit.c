@@ -1,0 +1,209 @@
+/* test_beamfit.c - the clouds' optical depth fitted to the forecast's beam
+ * (scene.c, fit_beam; DESIGN.md "The forecast's beam").
+ *
+ * The expected values come from outside the fit: the forecast's DNI (the
+ * test's input) over the clear sky's, which the radiometry (cs_irradiance_at,
+ * the renderer's own conversion to W/m2) gives for the same state without
+ * clouds; the delta-Eddington beam of Joseph, Wiscombe & Weinman (1976),
+ * exp(-(1 - g^2) tau), with g = 0.852, the asymmetry of the scene's phase
+ * function (0.96 x 0.9 + 0.04 x -0.3); and the render's own transmittance
+ * toward the sun (cs_render_sun_transmittance, a march of its own). */
+#include "core/err.h"
+#include "core/vec.h"
+#include "render/march.h"
+#include "render/render.h"
+#include "render/scene.h"
+#include "weather/wx.h"
+#include "test.h"
+
+#include <string.h>
+
+#define G_EFF 0.852
+
+static struct cs_volume noise;
+
+static struct cs_volume *get_noise(void)
+{
+	if (noise.data == NULL)
+		CHECK(cs_volume_new(&noise, 32, 32) == CS_OK &&
+		      cs_volume_bake(&noise, 0, NULL, NULL) == CS_OK);
+	return &noise;
+}
+
+/* Bern, 2021-06-14T14:00Z (the sun 52 deg up), clear air, the layers. */
+static void state(struct cs_wx *wx, int n, const struct cs_wx_layer *l)
+{
+	cs_wx_default(wx);
+	wx->visibility_m = 30000.0;
+	wx->nlayers = n;
+	for (int i = 0; i < n; i++)
+		wx->layers[i] = l[i];
+	wx->observed.has_radiation = 0;
+}
+
+/* The clear sky's DNI at the scene's origin, W/m2. */
+static double clear_dni(const struct cs_wx *wx)
+{
+	struct cs_wx w = *wx;
+	w.nlayers = 0;
+	w.observed.has_radiation = 0;
+	static struct cs_scene sc;
+	CHECK(cs_scene_build(&sc, &w, w.time_utc, get_noise()) == CS_OK);
+	struct cs_render_settings s;
+	cs_render_quality("low", &s);
+	struct cs_render_stats st;
+	memset(&st, 0, sizeof st);
+	struct cs_irradiance irr;
+	cs_irradiance_at(&sc, &s, cs_irradiance_area_point(&sc, CS_IRRADIANCE_AREA_M, 1, 0, 0),
+			 &irr, &st);
+	return irr.dni_w_m2;
+}
+
+/* The mean over the fit's points of the render's beam transmittance,
+ * delta-scaled. */
+static double scaled_beam(const struct cs_scene *sc)
+{
+	struct cs_render_settings s;
+	cs_render_quality("high", &s);
+	s.light_steps = 48;
+	struct cs_render_stats st;
+	memset(&st, 0, sizeof st);
+	double sum = 0.0;
+	for (int j = 0; j < CS_BEAM_FIT_N; j++)
+		for (int i = 0; i < CS_BEAM_FIT_N; i++) {
+			cs_v3 p = cs_irradiance_area_point(sc, CS_IRRADIANCE_AREA_M, CS_BEAM_FIT_N, i, j);
+			sum += pow(cs_render_sun_transmittance(sc, &s, p, &st), 1.0 - G_EFF * G_EFF);
+		}
+	return sum / (CS_BEAM_FIT_N * CS_BEAM_FIT_N);
+}
+
+static struct cs_scene fitted, plain;
+
+static void build_both(struct cs_wx *wx, double dni_w_m2)
+{
+	wx->observed.has_radiation = 1;
+	wx->observed.dni_w_m2 = dni_w_m2;
+	wx->observed.dhi_w_m2 = 100.0;
+	wx->observed.ghi_w_m2 = 100.0;
+	CHECK(cs_scene_build(&fitted, wx, wx->time_utc, get_noise()) == CS_OK);
+	struct cs_wx w = *wx;
+	w.observed.has_radiation = 0;
+	CHECK(cs_scene_build(&plain, &w, w.time_utc, get_noise()) == CS_OK);
+}
+
+/* An overcast altostratus lets through the share of the clear sky's beam
+ * that the forecast's DNI says, as a delta-scaled beam, whether that asks
+ * for a thinner deck or a thicker one. */
+static void a_sheet_lets_the_forecasts_beam_through(void)
+{
+	struct cs_wx wx;
+	const struct cs_wx_layer as = {CS_ALTOSTRATUS, 1.0, 3000.0, 5000.0};
+	state(&wx, 1, &as);
+	double clear = clear_dni(&wx);
+	CHECK(clear > 700.0 && clear < 1100.0);
+	static const double shares[] = {0.03, 0.15, 0.4, 0.7};
+	for (size_t i = 0; i < sizeof shares / sizeof shares[0]; i++) {
+		build_both(&wx, shares[i] * clear);
+		double got = scaled_beam(&fitted);
+		if (!(fabs(got - shares[i]) <= 0.03 * shares[i] + 0.002)) {
+			printf("  share %g: the deck lets %.4f through (scale %.4f)\n", shares[i],
+			       got, fitted.cloud_depth_scale);
+			t_case_failed = 1;
+		}
+		/* the scale is what the layer's extinction took */
+		CHECK_NEAR(fitted.layers[0].extinction_per_m,
+			   plain.layers[0].extinction_per_m * fitted.cloud_depth_scale,
+			   1e-12 * plain.layers[0].extinction_per_m);
+		CHECK(plain.cloud_depth_scale == 1.0);
+	}
+	/* the genera's altostratus (tau 12) lets about exp(-0.27 x 12 /
+	 * sin 52) = 1.6 % through: 3 % asks for a thinner one, 40 % for one
+	 * far thinner */
+	build_both(&wx, 0.03 * clear);
+	CHECK(fitted.cloud_depth_scale < 1.0 && fitted.cloud_depth_scale > 0.5);
+	build_both(&wx, 0.4 * clear);
+	CHECK(fitted.cloud_depth_scale < 0.3);
+	/* the whole beam: as thin as the fit goes */
+	build_both(&wx, clear);
+	CHECK_NEAR(fitted.cloud_depth_scale, CS_BEAM_FIT_K_MIN, 1e-6);
+}
+
+/* Heaped genera keep the genera's depth (their look is their contrast,
+ * and their beam goes through their gaps); the sheet over them takes
+ * the rest of the fit. */
+static void heaps_keep_their_depth(void)
+{
+	struct cs_wx wx;
+	const struct cs_wx_layer l[2] = {{CS_CUMULUS, 0.4, 1200.0, 2200.0},
+					 {CS_ALTOSTRATUS, 0.95, 3500.0, 5000.0}};
+	state(&wx, 2, l);
+	double clear = clear_dni(&wx);
+	build_both(&wx, 0.2 * clear);
+	CHECK(fitted.nlayers == 2);
+	CHECK(fitted.layers[0].genus == CS_CUMULUS);
+	CHECK(fitted.layers[0].extinction_per_m == plain.layers[0].extinction_per_m);
+	CHECK(fitted.cloud_depth_scale < 1.0);
+	CHECK_NEAR(fitted.layers[1].extinction_per_m,
+		   plain.layers[1].extinction_per_m * fitted.cloud_depth_scale,
+		   1e-12 * plain.layers[1].extinction_per_m);
+	CHECK_NEAR(scaled_beam(&fitted), 0.2, 0.2 * 0.03 + 0.002);
+	/* heaps alone: nothing to fit */
+	state(&wx, 1, l);
+	build_both(&wx, 0.9 * clear);
+	CHECK(fitted.cloud_depth_scale == 1.0);
+	CHECK(fitted.layers[0].extinction_per_m == plain.layers[0].extinction_per_m);
+}
+
+/* No fit without the forecast's beam, in fog, under a sun below 10 deg;
+ * a DNI of 0 only thickens clouds that let a beam through. */
+static void the_fit_only_where_it_is_asked_for(void)
+{
+	struct cs_wx wx;
+	const struct cs_wx_layer cs = {CS_CIRROSTRATUS, 1.0, 8000.0, 9000.0};
+	state(&wx, 1, &cs);
+	CHECK(cs_scene_build(&fitted, &wx, wx.time_utc, get_noise()) == CS_OK);
+	CHECK(fitted.cloud_depth_scale == 1.0);
+	/* fog */
+	wx.visibility_m = 500.0;
+	build_both(&wx, 100.0);
+	CHECK(fitted.cloud_depth_scale == 1.0);
+	CHECK(fitted.layers[0].extinction_per_m == plain.layers[0].extinction_per_m);
+	wx.visibility_m = 30000.0;
+	/* the sun 5 deg up (Bern, 2021-06-14 at 03:55 UTC: sunrise at 03:31) */
+	struct cs_wx dawn = wx;
+	dawn.time_utc -= 10 * 3600.0 + 5 * 60.0;
+	build_both(&dawn, 100.0);
+	double el = asin(fitted.sun_dir.z) * 180.0 / 3.14159265358979323846;
+	CHECK(el > 0.0 && el < CS_BEAM_FIT_MIN_ELEVATION_DEG);
+	CHECK(fitted.cloud_depth_scale == 1.0);
+	/* no beam: the thin cirrostratus (tau 0.8) thickens as far as the fit
+	 * goes, and still lets a beam through */
+	build_both(&wx, 0.0);
+	CHECK_NEAR(fitted.cloud_depth_scale, CS_BEAM_FIT_K_MAX, 1e-6);
+	CHECK(scaled_beam(&fitted) > 0.1);
+	/* no beam: an altostratus (tau 12: 1.6 % of the beam, delta-scaled)
+	 * thickens until its beam is 1 % of the clear sky's, no more */
+	const struct cs_wx_layer as = {CS_ALTOSTRATUS, 1.0, 3000.0, 5000.0};
+	state(&wx, 1, &as);
+	build_both(&wx, 0.0);
+	CHECK(fitted.cloud_depth_scale > 1.0 && fitted.cloud_depth_scale < 1.5);
+	CHECK_NEAR(scaled_beam(&fitted), CS_BEAM_FIT_NONE, 0.03 * CS_BEAM_FIT_NONE + 0.001);
+	/* no beam, and nimbostratus (tau 40) lets none through already */
+	const struct cs_wx_layer ns = {CS_NIMBOSTRATUS, 1.0, 800.0, 3500.0};
+	state(&wx, 1, &ns);
+	build_both(&wx, 0.0);
+	CHECK(fitted.cloud_depth_scale == 1.0);
+}
+
+static const struct t_case t_cases[] = {
+	CASE(a_sheet_lets_the_forecasts_beam_through),
+	CASE(heaps_keep_their_depth),
+	CASE(the_fit_only_where_it_is_asked_for),
+};
+
+int main(void)
+{
+	T_RUN_TABLE(t_cases);
+	cs_volume_free(&noise);
+	TEST_EXIT();
+}
