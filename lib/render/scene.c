@@ -267,7 +267,9 @@ static int build_light(struct cs_scene *sc, const struct cs_wx *wx, double time_
 	cs_v3 sd = cs_sun_direction_enu(&sun);
 	sc->sun_dir = v3_norm(sd);
 	double turbidity = cs_turbidity_from_visibility(air_visibility_m(wx));
-	double sky_t = turbidity < CS_SKY_MAX_TURBIDITY ? turbidity : CS_SKY_MAX_TURBIDITY;
+	double sky_t = turbidity < CS_SKY_MIN_TURBIDITY   ? CS_SKY_MIN_TURBIDITY
+		       : turbidity < CS_SKY_MAX_TURBIDITY ? turbidity
+							  : CS_SKY_MAX_TURBIDITY;
 	cs_sky_init_beam(&sc->sky, sd, sky_t, turbidity);
 	memcpy(sc->sun_illuminance, sc->sky.sun_illuminance, sizeof sc->sun_illuminance);
 	memcpy(sc->ambient_up, sc->sky.ambient_up, sizeof sc->ambient_up);
