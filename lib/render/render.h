@@ -495,7 +495,7 @@ void cs_irradiance_at(const struct cs_scene *sc, const struct cs_render_settings
  * the points a side of its grid, the factor's bounds, the share of the
  * clear sky's beam below which the forecast has none, and the lowest sun
  * it fits under, degrees. */
-#define CS_BEAM_FIT_N 16
+#define CS_BEAM_FIT_N 24
 #define CS_BEAM_FIT_K_MIN (1.0 / 64.0)
 #define CS_BEAM_FIT_K_MAX 4.0
 #define CS_BEAM_FIT_NONE 0.01

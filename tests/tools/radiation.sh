@@ -22,7 +22,7 @@ mean_abs_log() {
 # 1, the forecast's DNI 48 to 131 W/m2, its GHI 262 to 472): the genera's
 # depths leave the ground 0.47 too dark in the mean of |ln| (145 against
 # 262, 176 against 403 W/m2 at 12 and 13 UTC); the depths fitted to the
-# DNI bring it to 0.19, measured; more than 0.25, or the genera's under
+# DNI bring it to 0.17, measured; more than 0.25, or the genera's under
 # 0.35 (the fit not applied where asked, or applied where not), fails.
 begin cloudrender_overcast_afternoon_ground_light_near_the_forecasts
 if [ -f "$REAL" ]; then
