@@ -43,6 +43,11 @@ _cloudscape_values()
 	cloudrender:--view) "$1" --list-views 2>/dev/null | awk '{ print $1 }' ;;
 	cloudrender:-of | cloudrender:--of | cloudrender:--output-format) echo PNG EXR GTiff JPEG png exr gtiff jpeg ;;
 	cloudrender:--exposure) echo auto ;;
+	cloudrender:--cloud-depth) echo forecast genus ;;
+	cloudrender:--march) echo standard naive skip adaptive ;;
+	cloudrender:--light-march) echo auto cache geometric uniform quadratic cone ;;
+	cloudrender:--integrator) echo march reference ;;
+	cloudrender:--device) echo cpu cuda ;;
 	terrainprep:-f | terrainprep:--format) echo exr r16 tif ;;
 	terrainprep:-r | terrainprep:--resampling)
 		echo near bilinear cubic cubicspline lanczos average rms mode max min med q1 q3 sum ;;

@@ -370,15 +370,22 @@ static void describe(void *user, const struct cs_cloudrender_result *r)
 			cs_genus_name(l->genus), l->coverage, l->base_m, l->top_m, from);
 	}
 	if (sc->nlayers > 0) {
-		if (sc->cloud_depth_scale != 1.0)
-			cli_err("cloud depth: the sheets' %.3g times the genera's, to let through "
-				"the forecast's DNI of %.0f W/m2 (--cloud-depth forecast)",
-				sc->cloud_depth_scale, wx->observed.dni_w_m2);
+		double k = sc->cloud_depth_scale;
+		const char *bound = fabs(k - CS_BEAM_FIT_K_MIN) < 1e-9 * CS_BEAM_FIT_K_MIN
+					    ? ", at the bound: the thinnest the fit makes them"
+				    : fabs(k - CS_BEAM_FIT_K_MAX) < 1e-9 * CS_BEAM_FIT_K_MAX
+					    ? ", at the bound: the thickest the fit makes them"
+					    : "";
+		if (k != 1.0)
+			cli_err("cloud depth: the sheets' %.3g times the genera's, fitted to the "
+				"forecast's DNI of %.0f W/m2 (--cloud-depth forecast%s)",
+				k, wx->observed.dni_w_m2, bound);
 		else
 			cli_err("cloud depth: the genera's (%s)",
 				o->cloud_depth_genus ? "--cloud-depth genus"
-				: !wx->observed.has_radiation ? "the state has no forecast radiation"
-							      : "not fitted: see --cloud-depth");
+				: !wx->observed.has_radiation
+					? "no forecast radiation at the state's time"
+					: "not fitted or needing no change: see --cloud-depth");
 	}
 	char fx[256] = "";
 	size_t k = 0;

@@ -500,6 +500,8 @@ void cs_irradiance_at(const struct cs_scene *sc, const struct cs_render_settings
 #define CS_BEAM_FIT_K_MAX 4.0
 #define CS_BEAM_FIT_NONE 0.01
 #define CS_BEAM_FIT_MIN_ELEVATION_DEG 10.0
+/* the fit fades in over this much of the sun's elevation around that, deg */
+#define CS_BEAM_FIT_RAMP_DEG 4.0
 /* The mean over n x n points 2 m above the ground (the terrain where the
  * scene has it) on a square of side size_m centred at the scene origin (a
  * forecast's grid cell). */

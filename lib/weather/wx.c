@@ -737,5 +737,10 @@ void cs_wx_drift_at(const struct cs_wx *wx, double t, double *east_m,
 void cs_wx_retime(struct cs_wx *wx, double t)
 {
 	cs_wx_drift_at(wx, t, &wx->drift.east_m, &wx->drift.north_m);
+	/* the provider's instant values were the old time's: at another sun
+	 * they would misstate the light (and the renderer fits its sheets to
+	 * the DNI) */
+	if (t != wx->time_utc)
+		wx->observed.has_radiation = 0, wx->observed.has_cloud_cover = 0;
 	wx->time_utc = t;
 }

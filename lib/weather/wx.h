@@ -57,8 +57,9 @@ struct cs_wx_far {
 };
 
 /* What the provider says about the light and the sky, for comparing a
- * render with; the DNI also fits the sheets' optical depth (render/scene.c,
- * fit_beam: cloudrender --cloud-depth), the rest is never used to render.  Instant values at the state's
+ * render with; the DNI also fits the sheets' optical depth
+ * (render/scene.c, fit_beam: cloudrender --cloud-depth), the rest is
+ * never used to render.  Instant values at the state's
  * time, W/m2; GHI = DNI cos(zenith) + DHI.  The has_ flags say which the
  * provider had ("observed" in the JSON, written only with them). */
 struct cs_wx_observed {
@@ -161,7 +162,8 @@ int cs_wx_to_json(const struct cs_wx *wx, char **json);
 
 /* Moves the state to time t (UTC s): a known drift is carried on by the
  * state's own wind over t - time_utc, so that a state rendered at another
- * time shows its clouds where its wind takes them. */
+ * time shows its clouds where its wind takes them.  The observed values,
+ * the old time's, are dropped (unless t is the state's time). */
 void cs_wx_retime(struct cs_wx *wx, double t);
 
 /* The drift of a state at time t (UTC s), m: the state's drift carried on

@@ -30,7 +30,9 @@ if have bash; then
 	# an option's value: the words offered are the ones the program takes
 	# (each checked by the program, which refuses a bogus one)
 	for c in "cloudrender --quality" "cloudrender --projection" "cloudrender --view" \
-		"cloudrender -of" "terrainprep --format" "terrainprep --fill" \
+		"cloudrender -of" "cloudrender --cloud-depth" "cloudrender --march" \
+		"cloudrender --light-march" "cloudrender --integrator" \
+		"terrainprep --format" "terrainprep --fill" \
 		"mbfetch --provider" "mbfetch --site"; do
 		set -- $c
 		complete_words "$1" "$2" "" >"$T/values"

@@ -45,14 +45,14 @@ else
 fi
 
 # The scale is reported: -v says what the fit did and why not, --stats
-# gives it; 2024-10-07T13Z's sheets are thinned (the genera's altostratus
+# gives it; --time drops the forecast's radiation; 2024-10-07T13Z's sheets are thinned (the genera's altostratus
 # over cumulus let no beam through where the forecast lets 15 % through).
 begin cloudrender_cloud_depth_is_reported
 if [ -f "$REAL" ]; then
 	"$WI" "$REAL" --at 2024-10-07T13:00Z >"$T/h13.json" || bad "wxinterp failed"
 	run "$CR" --wx "$T/h13.json" --size 32x18 --quality low -v --stats -o "$T/a.png"
 	expect_rc 0
-	expect_err "to let through the forecast's DNI of 123 W/m2 (--cloud-depth forecast)"
+	expect_err "times the genera's, fitted to the forecast's DNI of 123 W/m2 (--cloud-depth forecast)"
 	k=$(grep -o '"cloud_depth_scale":[0-9.]*' "$T/err" | cut -d: -f2)
 	awk -v k="$k" 'BEGIN { exit !(k != "" && k > 0.02 && k < 0.5) }' ||
 		bad "cloud_depth_scale '$k', expected between 0.02 and 0.5"
@@ -60,6 +60,13 @@ if [ -f "$REAL" ]; then
 		-o "$T/b.png"
 	expect_rc 0
 	expect_err "cloud depth: the genera's (--cloud-depth genus)"
+	expect_err '"cloud_depth_scale":1.0000'
+	# at another time the forecast's radiation, its hour's, is dropped
+	# (its DNI under a sun of 16 deg thinned the sheets to the bound)
+	run "$CR" --wx "$T/h13.json" --time 2024-10-07T20:30Z --size 32x18 --quality low -v \
+		--stats -o "$T/e.png"
+	expect_rc 0
+	expect_err "cloud depth: the genera's (no forecast radiation at the state's time)"
 	expect_err '"cloud_depth_scale":1.0000'
 	end
 else
@@ -71,7 +78,7 @@ fi
 begin cloudrender_cloud_depth_without_radiation_and_bad_values
 run "$CR" --size 32x18 --quality low --noise-size 16 -v --stats -o "$T/c.png"
 expect_rc 0
-expect_err "cloud depth: the genera's (the state has no forecast radiation)"
+expect_err "cloud depth: the genera's (no forecast radiation at the state's time)"
 expect_err '"cloud_depth_scale":1.0000'
 run "$CR" --cloud-depth thick --size 32x18 -o "$T/d.png"
 expect_rc 2

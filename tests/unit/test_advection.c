@@ -199,6 +199,15 @@ static void state_at_another_time_carries_its_drift_by_its_wind(void)
 	double e, n;
 	cs_wx_drift_at(&def, def.time_utc + 600, &e, &n);
 	CHECK(!def.drift.known && e == 0 && n == 0);
+	/* the provider's instant values were the old time's: dropped, but
+	 * kept where the time stays */
+	CHECK(cs_wx_parse(v2, strlen(v2), &wx) == CS_OK);
+	wx.observed.has_radiation = 1, wx.observed.dni_w_m2 = 120.0;
+	wx.observed.has_cloud_cover = 1, wx.observed.total_cloud_cover = 0.9;
+	cs_wx_retime(&wx, wx.time_utc);
+	CHECK(wx.observed.has_radiation && wx.observed.has_cloud_cover);
+	cs_wx_retime(&wx, wx.time_utc + 3600.0);
+	CHECK(!wx.observed.has_radiation && !wx.observed.has_cloud_cover);
 }
 
 static long gcd(long a, long b)

@@ -1,5 +1,5 @@
 /* test_beamfit.c - the clouds' optical depth fitted to the forecast's beam
- * (scene.c, fit_beam; DESIGN.md "The forecast's beam").
+ * (scene.c, fit_beam; cloudrender(1), RADIATION).
  *
  * The expected values come from outside the fit: the forecast's DNI (the
  * test's input) over the clear sky's, which the radiometry (cs_irradiance_at,
@@ -13,9 +13,11 @@
 #include "render/march.h"
 #include "render/render.h"
 #include "render/scene.h"
+#include "astro/sun.h"
 #include "weather/wx.h"
 #include "test.h"
 
+#include <stdio.h>
 #include <string.h>
 
 #define G_EFF 0.852
@@ -158,7 +160,8 @@ static void heaps_keep_their_depth(void)
 }
 
 /* No fit without the forecast's beam, in fog, under a sun below 10 deg;
- * a DNI of 0 only thickens clouds that let a beam through. */
+ * a weaker beam than the genera's does not thicken the sheets, a DNI of 0
+ * thickens only sheets that let a beam through. */
 static void the_fit_only_where_it_is_asked_for(void)
 {
 	struct cs_wx wx;
@@ -179,6 +182,11 @@ static void the_fit_only_where_it_is_asked_for(void)
 	double el = asin(fitted.sun_dir.z) * 180.0 / 3.14159265358979323846;
 	CHECK(el > 0.0 && el < CS_BEAM_FIT_MIN_ELEVATION_DEG);
 	CHECK(fitted.cloud_depth_scale == 1.0);
+	/* a beam, but less than the thin cirrostratus lets through: that may
+	 * be the forecast's clear sky, and the sheet stays as it is */
+	build_both(&wx, 0.5 * clear_dni(&wx));
+	CHECK(fitted.cloud_depth_scale == 1.0);
+	CHECK(fitted.layers[0].extinction_per_m == plain.layers[0].extinction_per_m);
 	/* no beam: the thin cirrostratus (tau 0.8) thickens as far as the fit
 	 * goes, and still lets a beam through */
 	build_both(&wx, 0.0);
@@ -230,11 +238,145 @@ static void the_factor_does_not_follow_the_drift(void)
 	}
 }
 
+/* The bounds and the threshold as documented: at most 64 times thinner,
+ * at most 4 times thicker, "no beam" below 1 % of the clear sky's; every
+ * sheet genus fitted, no heap genus. */
+static void the_documented_bounds_and_genera(void)
+{
+	struct cs_wx wx;
+	const struct cs_wx_layer as = {CS_ALTOSTRATUS, 1.0, 3000.0, 5000.0};
+	state(&wx, 1, &as);
+	double clear = clear_dni(&wx);
+	build_both(&wx, clear);
+	CHECK_NEAR(fitted.cloud_depth_scale, 0.015625, 1e-12);
+	const struct cs_wx_layer cs = {CS_CIRROSTRATUS, 1.0, 8000.0, 9000.0};
+	state(&wx, 1, &cs);
+	build_both(&wx, 0.0);
+	CHECK_NEAR(fitted.cloud_depth_scale, 4.0, 1e-9);
+	/* between "none" and twice it the rules blend: no jump at 1 % */
+	state(&wx, 1, &as);
+	const struct cs_wx_layer ns = {CS_NIMBOSTRATUS, 1.0, 800.0, 3500.0};
+	state(&wx, 1, &ns);
+	double k[4], shares[4] = {0.0099, 0.0101, 0.015, 0.0201};
+	for (int i = 0; i < 4; i++) {
+		build_both(&wx, shares[i] * clear);
+		k[i] = fitted.cloud_depth_scale;
+	}
+	CHECK(k[0] == 1.0);
+	CHECK(k[1] < 1.0 && k[1] > 0.97);
+	CHECK(k[2] < k[1] && k[3] < k[2]);
+	/* at 2 % and more the nimbostratus (tau 40) lets the forecast's beam
+	 * through */
+	CHECK_NEAR(scaled_beam(&fitted, 30000.0, 40), 0.0201, 0.0201 * 0.05);
+	/* which genera take the factor: a forecast with the whole clear beam
+	 * thins every sheet as far as it goes and no heap */
+	static const struct {
+		enum cs_genus g;
+		int sheet;
+	} genera[] = {{CS_CIRRUS, 1},       {CS_CIRROCUMULUS, 1}, {CS_CIRROSTRATUS, 1},
+		      {CS_ALTOCUMULUS, 0},  {CS_ALTOSTRATUS, 1},  {CS_NIMBOSTRATUS, 1},
+		      {CS_STRATOCUMULUS, 0}, {CS_STRATUS, 1},     {CS_CUMULUS, 0},
+		      {CS_CUMULONIMBUS, 0}};
+	CHECK(sizeof genera / sizeof genera[0] == CS_GENUS_COUNT);
+	for (size_t i = 0; i < sizeof genera / sizeof genera[0]; i++) {
+		struct cs_wx_layer l = {genera[i].g, 0.9, 1500.0, 3500.0};
+		if (genera[i].g == CS_CIRRUS || genera[i].g == CS_CIRROCUMULUS ||
+		    genera[i].g == CS_CIRROSTRATUS)
+			l.base_m = 8000.0, l.top_m = 9500.0;
+		if (genera[i].g == CS_CUMULONIMBUS)
+			l.top_m = 9000.0;
+		state(&wx, 1, &l);
+		build_both(&wx, clear);
+		double want = genera[i].sheet ? 0.015625 : 1.0;
+		if (!(fabs(fitted.cloud_depth_scale - want) <= 1e-12)) {
+			printf("  %s: factor %g, expected %g\n", cs_genus_name(genera[i].g),
+			       fitted.cloud_depth_scale, want);
+			t_case_failed = 1;
+		}
+	}
+}
+
+/* The fit fades in with the sun between 8 and 12 deg: none below, all
+ * of it above, and no jump at 10 deg. */
+static void the_fit_fades_in_with_the_sun(void)
+{
+	struct cs_wx wx;
+	const struct cs_wx_layer as = {CS_ALTOSTRATUS, 1.0, 3000.0, 5000.0};
+	state(&wx, 1, &as);
+	double noon = wx.time_utc;
+	/* the morning's times of these apparent elevations (bisection on the
+	 * sun's position) */
+	static const double want_deg[] = {7.8, 8.2, 9.95, 10.05, 12.2};
+	double kk[5], at[5];
+	for (int i = 0; i < 5; i++) {
+		double lo = noon - 11.0 * 3600.0, hi = noon - 6.0 * 3600.0;
+		for (int it = 0; it < 40; it++) {
+			struct cs_sun sun;
+			double mid = 0.5 * (lo + hi);
+			CHECK(cs_sun_position(mid, wx.site.lat_deg, wx.site.lon_deg, &sun) == CS_OK);
+			if (sun.apparent_elevation_deg < want_deg[i])
+				lo = mid;
+			else
+				hi = mid;
+		}
+		at[i] = hi;
+		wx.time_utc = hi;
+		build_both(&wx, 200.0);
+		double el = asin(fitted.sun_dir.z) * 180.0 / 3.14159265358979323846;
+		CHECK_NEAR(el, want_deg[i], 0.01);
+		kk[i] = fitted.cloud_depth_scale;
+	}
+	CHECK(kk[0] == 1.0);
+	CHECK(kk[1] < 1.0 && kk[1] > 0.8);
+	CHECK(kk[2] < kk[1] && kk[4] < kk[3]);
+	CHECK(fabs(log(kk[3] / kk[2])) < 0.1 * fabs(log(kk[2])));
+	/* above 12 deg the beam is the forecast's */
+	wx.time_utc = at[4];
+	build_both(&wx, 200.0);
+	struct cs_wx w = wx;
+	w.nlayers = 0;
+	double clear = clear_dni(&w);
+	CHECK_NEAR(scaled_beam(&fitted, 30000.0, 40), 200.0 / clear, 0.03 * 200.0 / clear);
+}
+
+/* A state with far sites is not fitted: their layers take over from the
+ * site's across the area, and the layers' means do not multiply (under
+ * a far site's altostratus and nimbostratus 15 km toward the sun, the
+ * product had the site's altostratus let a forecast's 5 % through
+ * unthinned). */
+static void no_fit_with_far_sites(void)
+{
+	struct cs_wx wx;
+	const struct cs_wx_layer as = {CS_ALTOSTRATUS, 0.99, 3000.0, 5000.0};
+	state(&wx, 1, &as);
+	double clear = clear_dni(&wx);
+	wx.nfar = 1;
+	wx.far[0].site = wx.site;
+	snprintf(wx.far[0].site.name, sizeof wx.far[0].site.name, "west");
+	wx.far[0].site.lon_deg -= 0.2; /* 15 km toward the afternoon sun */
+	wx.far[0].precipitation_mm_h = 0.0;
+	wx.far[0].visibility_m = 30000.0;
+	wx.far[0].nlayers = 2;
+	wx.far[0].layers[0] = (struct cs_wx_layer){CS_NIMBOSTRATUS, 1.0, 900.0, 2800.0};
+	wx.far[0].layers[1] = as;
+	build_both(&wx, 0.3 * clear);
+	CHECK(fitted.cloud_depth_scale == 1.0);
+	CHECK(fitted.nlayers == 3);
+	for (int i = 0; i < fitted.nlayers; i++)
+		CHECK(fitted.layers[i].extinction_per_m == plain.layers[i].extinction_per_m);
+	wx.nfar = 0;
+	build_both(&wx, 0.3 * clear);
+	CHECK(fitted.cloud_depth_scale < 1.0);
+}
+
 static const struct t_case t_cases[] = {
 	CASE(a_sheet_lets_the_forecasts_beam_through),
 	CASE(heaps_keep_their_depth),
 	CASE(the_fit_only_where_it_is_asked_for),
 	CASE(the_factor_does_not_follow_the_drift),
+	CASE(the_documented_bounds_and_genera),
+	CASE(the_fit_fades_in_with_the_sun),
+	CASE(no_fit_with_far_sites),
 };
 
 int main(void)
