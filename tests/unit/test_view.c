@@ -10,8 +10,10 @@
 #include "core/time.h"
 #include "io/exr.h"
 #include "render/camera.h"
+#include "render/device.h"
 #include "render/render.h"
 
+#include <stdio.h>
 #include <stdlib.h>
 #include <unistd.h>
 
@@ -175,9 +177,50 @@ static void hazy_default_view_still_shows_the_nearest_clouds(void)
 	free(y1), free(y0), free(z1), free(z0), free(f1), free(f0), free(g1), free(g0);
 }
 
+/* The presets' light on a GPU (cloudrender --source-every): low and
+ * medium, whose light is cached, find a cloudy sample's light at every
+ * sample there (faster on a GPU, no less accurate), at every other on the
+ * CPU; high, which marches its light, and any explicit --source-every
+ * keep theirs; the reference is at every sample everywhere. */
+static void a_gpus_presets_find_the_light_at_every_sample(void)
+{
+	static const struct {
+		const char *q;
+		int device, light_march, given, want;
+	} c[] = {
+		{"low", CS_DEVICE_CPU, -1, 0, 2},
+		{"low", CS_DEVICE_CUDA, -1, 0, 1},
+		{"medium", CS_DEVICE_CPU, -1, 0, 2},
+		{"medium", CS_DEVICE_CUDA, -1, 0, 1},
+		{"high", CS_DEVICE_CUDA, -1, 0, 2},
+		{"reference", CS_DEVICE_CUDA, -1, 0, 1},
+		{"low", CS_DEVICE_CUDA, -1, 2, 2},
+		{"medium", CS_DEVICE_CUDA, CS_LIGHT_GEOMETRIC, 0, 2},
+		{"high", CS_DEVICE_CUDA, CS_LIGHT_CACHE, 0, 1},
+	};
+	for (size_t i = 0; i < sizeof c / sizeof c[0]; i++) {
+		struct cs_cloudrender_opts o;
+		cs_cloudrender_defaults(&o);
+		o.quality = c[i].q;
+		CHECK(cs_render_quality(c[i].q, &o.settings) == CS_OK);
+		o.device = c[i].device;
+		o.light_march = c[i].light_march;
+		o.source_every = c[i].given;
+		struct cs_render_settings s;
+		cs_cloudrender_settings(&o, &s);
+		if (s.source_every != c[i].want) {
+			printf("  %s on %s: source every %d, expected %d\n", c[i].q,
+			       c[i].device == CS_DEVICE_CUDA ? "cuda" : "cpu", s.source_every,
+			       c[i].want);
+			t_case_failed = 1;
+		}
+	}
+}
+
 static const struct t_case t_cases[] = {
 	CASE(default_view_looks_away_from_the_sun),
 	CASE(hazy_default_view_still_shows_the_nearest_clouds),
+	CASE(a_gpus_presets_find_the_light_at_every_sample),
 };
 
 int main(void)
