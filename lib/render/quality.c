@@ -25,7 +25,9 @@
  * time, medium's 0.0119 -> 0.0123 and low's 0.0159 -> 0.0164 in 23 and
  * 17 % less; the default 1280x720 scene renders 20 % faster on the CPU
  * and 6 % on an H200 at medium (cloudrender(1), QUALITY).  The reference
- * keeps the light at every sample.  Low and medium look the depths
+ * keeps the light at every sample, and so do low and medium on a GPU,
+ * where their light is cached: there every sample is the faster
+ * (cs_cloudrender_settings).  Low and medium look the depths
  * toward the sun and up the column in the light cache where it has them
  * and where the frame is large enough to pay for them (CS_LIGHT_AUTO):
  * with the cache (CS_LIGHT_CACHE), on the study's scenes, their relative
