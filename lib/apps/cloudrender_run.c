@@ -812,19 +812,7 @@ static int frame_scene(struct cs_cr_session *s, const struct cs_cloudrender_opts
 {
 	struct cs_scene *sc = s->sc;
 	r->scene = NULL;
-	/* --cloud-depth genus: the scene built from a copy of the state
-	 * without the forecast's radiation, which the fit reads */
-	struct cs_wx *genus = NULL;
-	if (o->cloud_depth_genus && r->wx.observed.has_radiation) {
-		genus = malloc(sizeof *genus);
-		if (genus == NULL)
-			return cs_error(CS_ENOMEM, "out of memory");
-		*genus = r->wx;
-		genus->observed.has_radiation = 0;
-	}
-	int rc = cs_scene_build_threads(sc, genus ? genus : &r->wx, r->wx.time_utc, &s->noise,
-					o->threads);
-	free(genus);
+	int rc = cs_scene_build_threads(sc, &r->wx, r->wx.time_utc, &s->noise, o->threads);
 	if (rc != CS_OK)
 		return rc;
 	r->scene = sc;

@@ -64,8 +64,9 @@ struct cs_cloudrender_opts {
 	 * spp paths per pixel, max_bounces (0: unlimited) */
 	int reference, spp, max_bounces;
 	int no_haze;              /* no aerosol haze (fog stays) */
-	int cloud_depth_genus;    /* the genera's optical depths, not fitted
-				     to the forecast's beam (scene.c) */
+	int cloud_depth_genus;    /* the genera's optical depths: each state
+				     read without the forecast's radiation,
+				     which cs_scene_fit_beam would fit to */
 	const char *quality;      /* the preset name, for reports */
 	double exposure_ev;
 	int exposure_auto;        /* choose exposure_ev from the image */

@@ -32,13 +32,20 @@ struct states {
 	int n;
 };
 
-static int get_state(const struct states *st, int i, struct cs_wx *wx)
+/* State i; with --cloud-depth genus without the forecast's radiation,
+ * which the scene would fit its sheets to (cs_scene_fit_beam) and nothing
+ * else in a render reads. */
+static int get_state(const struct states *st, const struct cs_cloudrender_opts *o, int i,
+		     struct cs_wx *wx)
 {
 	if (!st->from_file) {
 		cs_wx_default(wx);
 		return CS_OK;
 	}
-	return cs_wx_series_get(&st->series, i, wx);
+	int rc = cs_wx_series_get(&st->series, i, wx);
+	if (o->cloud_depth_genus)
+		wx->observed.has_radiation = 0;
+	return rc;
 }
 
 /* The options every frame shares, checked against the series: the
@@ -145,7 +152,7 @@ static int hold_look(struct cs_cr_session *s, const struct states *st,
 	why[0] = '\0';
 	if (st->n < 2 || fo->have_look || fo->view)
 		return CS_OK;
-	CS_TRY(get_state(st, 0, &r->wx));
+	CS_TRY(get_state(st, fo, 0, &r->wx));
 	CS_TRY(cs_cr_session_look(s, fo, r));
 	fo->have_look = 1;
 	fo->look_az_deg = r->look_az_deg, fo->look_el_deg = r->look_el_deg;
@@ -374,7 +381,7 @@ static int run_frames(struct cs_cr_session *s, const struct cs_cloudrender_opts 
 		memcpy(fo.outputs, names, sizeof names);
 		fo.noutputs = f->noutputs;
 		f->nth = (int)prog.done + 1;
-		if ((rc = get_state(st, i, &r->wx)) != CS_OK)
+		if ((rc = get_state(st, o, i, &r->wx)) != CS_OK)
 			break;
 		if (o->have_time)
 			cs_wx_retime(&r->wx, o->time_utc); /* the drift goes with the time */

@@ -353,9 +353,9 @@ struct cs_scene {
 	const struct cs_cpt *terrain_cpt; /* height -> colour, or NULL */
 	int nlayers;
 	struct cs_cloud_layer layers[CS_SCENE_MAX_LAYERS];
-	double cloud_depth_scale;     /* the factor on the site's layers'
-					 extinction that the forecast's beam
-					 asked for (scene.c, fit_beam); 1: none */
+	double cloud_depth_scale;     /* the factor on the sheets' extinction
+					 that the forecast's beam asked for
+					 (cs_scene_fit_beam); 1: none */
 	const struct cs_volume *noise;
 	cs_v3 sun_dir;                /* unit, toward the sun */
 	double sun_illuminance[3];    /* irradiance on a plane facing the sun */
@@ -488,20 +488,8 @@ struct cs_irradiance {
 void cs_irradiance_at(const struct cs_scene *sc, const struct cs_render_settings *s,
 		      cs_v3 p, struct cs_irradiance *out, struct cs_render_stats *st);
 /* The side of the square whose mean irradiance stands for a forecast's
- * grid cell (cloudrender --stats; the fit of the clouds' depth to the
- * forecast's beam, scene.c), m. */
+ * grid cell (cloudrender --stats), m. */
 #define CS_IRRADIANCE_AREA_M 10000.0
-/* The fit of the clouds' depth to the forecast's beam (scene.c, fit_beam):
- * the points a side of its grid, the factor's bounds, the share of the
- * clear sky's beam below which the forecast has none, and the lowest sun
- * it fits under, degrees. */
-#define CS_BEAM_FIT_N 24
-#define CS_BEAM_FIT_K_MIN (1.0 / 64.0)
-#define CS_BEAM_FIT_K_MAX 4.0
-#define CS_BEAM_FIT_NONE 0.01
-#define CS_BEAM_FIT_MIN_ELEVATION_DEG 10.0
-/* the fit fades in over this much of the sun's elevation around that, deg */
-#define CS_BEAM_FIT_RAMP_DEG 4.0
 /* The mean over n x n points 2 m above the ground (the terrain where the
  * scene has it) on a square of side size_m centred at the scene origin (a
  * forecast's grid cell). */

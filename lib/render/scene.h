@@ -27,4 +27,21 @@ int cs_scene_build(struct cs_scene *sc, const struct cs_wx *wx, double time_utc,
 int cs_scene_build_threads(struct cs_scene *sc, const struct cs_wx *wx, double time_utc,
 			   const struct cs_volume *noise, int nthreads);
 
+/* The fit of the clouds' depth to the forecast's beam (cs_scene_fit_beam):
+ * the points a side of its grid, the factor's bounds, the share of the
+ * clear sky's beam below which the forecast has none, and the lowest sun
+ * it fits under, degrees. */
+#define CS_BEAM_FIT_N 24
+#define CS_BEAM_FIT_K_MIN (1.0 / 64.0)
+#define CS_BEAM_FIT_K_MAX 4.0
+#define CS_BEAM_FIT_NONE 0.01
+#define CS_BEAM_FIT_MIN_ELEVATION_DEG 10.0
+/* the fit fades in over this much of the sun's elevation around that, deg */
+#define CS_BEAM_FIT_RAMP_DEG 4.0
+/* The sheets' optical depth scaled so that the clouds let through the
+ * forecast's DNI of wx->observed (beam_fit.c; cs_scene_build calls it
+ * once the layers and the sun are set, before their light): sets
+ * sc->cloud_depth_scale, 1 where nothing is fitted.  CS_OK or CS_ENOMEM. */
+int cs_scene_fit_beam(struct cs_scene *sc, const struct cs_wx *wx);
+
 #endif

@@ -58,7 +58,7 @@ struct cs_wx_far {
 
 /* What the provider says about the light and the sky, for comparing a
  * render with; the DNI also fits the sheets' optical depth
- * (render/scene.c, fit_beam: cloudrender --cloud-depth), the rest is
+ * (render/beam_fit.c: cloudrender --cloud-depth), the rest is
  * never used to render.  Instant values at the state's
  * time, W/m2; GHI = DNI cos(zenith) + DHI.  The has_ flags say which the
  * provider had ("observed" in the JSON, written only with them). */

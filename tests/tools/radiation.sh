@@ -1,5 +1,5 @@
 # The clouds' optical depth fitted to the forecast's beam, as a user runs
-# it (cloudrender --cloud-depth; scene.c, fit_beam).  The expected values
+# it (cloudrender --cloud-depth; render/beam_fit.c).  The expected values
 # come from the forecast itself: its GHI, which the fit does not read (it
 # reads the DNI), against the area GHI our light transport produces.
 . "$TOP/tests/tools/lib.sh"

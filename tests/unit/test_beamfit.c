@@ -1,5 +1,5 @@
 /* test_beamfit.c - the clouds' optical depth fitted to the forecast's beam
- * (scene.c, fit_beam; cloudrender(1), RADIATION).
+ * (beam_fit.c; cloudrender(1), RADIATION).
  *
  * The expected values come from outside the fit: the forecast's DNI (the
  * test's input) over the clear sky's, which the radiometry (cs_irradiance_at,
@@ -254,7 +254,6 @@ static void the_documented_bounds_and_genera(void)
 	build_both(&wx, 0.0);
 	CHECK_NEAR(fitted.cloud_depth_scale, 4.0, 1e-9);
 	/* between "none" and twice it the rules blend: no jump at 1 % */
-	state(&wx, 1, &as);
 	const struct cs_wx_layer ns = {CS_NIMBOSTRATUS, 1.0, 800.0, 3500.0};
 	state(&wx, 1, &ns);
 	double k[4], shares[4] = {0.0099, 0.0101, 0.015, 0.0201};
