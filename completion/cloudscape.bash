@@ -44,6 +44,7 @@ _cloudscape_values()
 	cloudrender:-of | cloudrender:--of | cloudrender:--output-format) echo PNG EXR GTiff JPEG png exr gtiff jpeg ;;
 	cloudrender:--exposure) echo auto ;;
 	cloudrender:--cloud-depth) echo forecast genus ;;
+	cloudrender:--sky-level) echo preetham ineichen ;;
 	cloudrender:--march) echo standard naive skip adaptive ;;
 	cloudrender:--light-march) echo auto cache geometric uniform quadratic cone ;;
 	cloudrender:--integrator) echo march reference ;;

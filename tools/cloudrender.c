@@ -229,6 +229,12 @@ static void usage(void)
 	       "                         let through the forecast's DNI (delta-scaled, as a\n"
 	       "                         radiation scheme counts it); genus: the genera's\n"
 	       "                         typical optical depths\n"
+	       "      --sky-level L      preetham (default): the sky's brightness as\n"
+	       "                         Preetham's model gives it, 1.5 to 2.5 times a clear\n"
+	       "                         sky's measured diffuse light; ineichen: the\n"
+	       "                         Ineichen-Perez clear sky's diffuse irradiance for\n"
+	       "                         the visibility's aerosol (Preetham's pattern and\n"
+	       "                         colour kept; the sun's beam as before)\n"
 	       "      --no-haze          no aerosol haze between the eye and the clouds (fog\n"
 	       "                         stays): what the reference integrator compares with\n"	       "      --no-ambient       no sky light on the clouds\n"
 	       "      --no-jitter        sample at step midpoints (banding instead of noise)\n"
@@ -323,7 +329,8 @@ static void print_stats(const struct cs_cloudrender_opts *o,
 		fprintf(stderr, "%s{\"genus\":\"%s\",\"coverage\":%.3f,\"base_m\":%.0f,\"top_m\":%.0f}",
 			i ? "," : "", cs_genus_name(sc->layers[i].genus),
 			sc->layers[i].coverage, sc->layers[i].base_m, sc->layers[i].top_m);
-	fprintf(stderr, "],\"cloud_depth_scale\":%.4f", sc ? sc->cloud_depth_scale : 1.0);
+	fprintf(stderr, "],\"cloud_depth_scale\":%.4f,\"sky_level_scale\":%.4f",
+		sc ? sc->cloud_depth_scale : 1.0, sc ? sc->sky_level_scale : 1.0);
 	fprintf(stderr, ",\"irradiance_w_m2\":{\"camera\":{\"ghi\":%.1f,\"dni\":%.1f,"
 		"\"dhi\":%.1f},\"area\":{\"size_km\":%.0f,\"ghi\":%.1f,\"dni\":%.1f,\"dhi\":%.1f},"
 		"\"wall_s\":%.3f}",
@@ -390,6 +397,11 @@ static void describe(void *user, const struct cs_cloudrender_result *r)
 					? "no forecast radiation at the state's time"
 					: "not fitted or needing no change: see --cloud-depth");
 	}
+	if (o->sky_level == CS_SKY_LEVEL_INEICHEN)
+		cli_err("sky level: %.3g times Preetham's, the Ineichen-Perez clear sky's diffuse "
+			"light (--sky-level ineichen)", sc->sky_level_scale);
+	else
+		cli_err("sky level: Preetham's (--sky-level preetham)");
 	char fx[256] = "";
 	size_t k = 0;
 	for (int b = 0; cs_effect_name(1u << b) && k < sizeof fx; b++)
@@ -533,6 +545,7 @@ enum {
 	OPT_PNG16, OPT_FLOAT, OPT_JPEG_QUALITY, OPT_NO_CLOBBER,
 	OPT_DEVICE, OPT_DEVICE_BENCH, /* the GPU renderer */
 	OPT_CLOUD_DEPTH,
+	OPT_SKY_LEVEL,
 };
 
 /* Where it rendered (with -v): the CPU's kernel, or the GPU and, with
@@ -583,6 +596,7 @@ int main(int argc, char **argv)
 		{"spp", required_argument, NULL, OPT_SPP},
 		{"no-haze", no_argument, NULL, OPT_NO_HAZE},
 		{"cloud-depth", required_argument, NULL, OPT_CLOUD_DEPTH},
+		{"sky-level", required_argument, NULL, OPT_SKY_LEVEL},
 		{"march", required_argument, NULL, OPT_MARCH},
 		{"light-march", required_argument, NULL, OPT_LIGHT_MARCH},
 		{"source-every", required_argument, NULL, OPT_SOURCE_EVERY},
@@ -752,6 +766,15 @@ int main(int argc, char **argv)
 				o.cloud_depth_genus = 1;
 			else
 				cli_usage_error("--cloud-depth: expected forecast or genus, not '%s'",
+						optarg);
+			break;
+		case OPT_SKY_LEVEL:
+			if (strcasecmp(optarg, "preetham") == 0)
+				o.sky_level = CS_SKY_LEVEL_PREETHAM;
+			else if (strcasecmp(optarg, "ineichen") == 0)
+				o.sky_level = CS_SKY_LEVEL_INEICHEN;
+			else
+				cli_usage_error("--sky-level: expected preetham or ineichen, not '%s'",
 						optarg);
 			break;
 		case OPT_MARCH:

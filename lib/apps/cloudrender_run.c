@@ -812,7 +812,8 @@ static int frame_scene(struct cs_cr_session *s, const struct cs_cloudrender_opts
 {
 	struct cs_scene *sc = s->sc;
 	r->scene = NULL;
-	int rc = cs_scene_build_threads(sc, &r->wx, r->wx.time_utc, &s->noise, o->threads);
+	struct cs_scene_opts so = {o->sky_level};
+	int rc = cs_scene_build_opts(sc, &r->wx, r->wx.time_utc, &s->noise, o->threads, &so);
 	if (rc != CS_OK)
 		return rc;
 	r->scene = sc;

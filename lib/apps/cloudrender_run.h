@@ -64,6 +64,7 @@ struct cs_cloudrender_opts {
 	 * spp paths per pixel, max_bounces (0: unlimited) */
 	int reference, spp, max_bounces;
 	int no_haze;              /* no aerosol haze (fog stays) */
+	enum cs_sky_level sky_level; /* the sky's absolute level (--sky-level) */
 	int cloud_depth_genus;    /* the genera's optical depths: each state
 				     read without the forecast's radiation,
 				     which cs_scene_fit_beam would fit to */

@@ -16,7 +16,8 @@
 #define SUN_TOA_KLUX 128.0 /* the sun's illuminance above the atmosphere */
 
 void cs_scene_night(struct cs_scene *sc, double time_utc, double lat_deg, double lon_deg,
-		    double sun_elevation_deg, double turbidity)
+		    double sun_elevation_deg, double turbidity, enum cs_sky_level level,
+		    double aod550, double altitude_m)
 {
 	sc->moon_scale = 0.0;
 	if (sun_elevation_deg < -12.0) {
@@ -36,6 +37,9 @@ void cs_scene_night(struct cs_scene *sc, double time_utc, double lat_deg, double
 		return;
 	cs_v3 dir = cs_moon_direction_enu(&m);
 	cs_sky_init(&sc->moon_sky, dir, turbidity);
+	if (level == CS_SKY_LEVEL_INEICHEN)
+		cs_sky_scale_dome(&sc->moon_sky, cs_clear_sky_dome_scale(dir, turbidity, turbidity, aod550,
+									 altitude_m, CS_SOLAR_CONSTANT_W_M2));
 	sc->moon_scale = m.illuminance_lux * 1e-3 / SUN_TOA_KLUX;
 	sc->sun_dir = v3_norm(dir);
 	for (int k = 0; k < 3; k++) {

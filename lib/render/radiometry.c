@@ -32,6 +32,67 @@ double cs_diffuse_efficacy_lm_w(double clear_fraction)
 	return 115.0 + 29.0 * f;
 }
 
+/* Pressure over sea-level pressure at an altitude in the U.S. Standard
+ * Atmosphere's troposphere (the barometric formula). */
+static double pressure_ratio(double altitude_m)
+{
+	double h = altitude_m < 11000.0 ? altitude_m : 11000.0;
+	return pow(1.0 - 2.25577e-5 * h, 5.25588);
+}
+
+void cs_clear_sky_ineichen(double zenith_deg, double air_mass_abs, double linke_turbidity,
+			   double altitude_m, double dni_extra_w_m2, int perez_enhancement,
+			   struct cs_irradiance *out)
+{
+	out->ghi_w_m2 = out->dni_w_m2 = out->dhi_w_m2 = 0.0;
+	double cz = cos(zenith_deg * CS_PI / 180.0), tl = linke_turbidity, m = air_mass_abs;
+	if (!(cz > 0.0) || !(m > 0.0) || !(tl > 0.0) || !(dni_extra_w_m2 > 0.0))
+		return;
+	double fh1 = exp(-altitude_m / 8000.0), fh2 = exp(-altitude_m / 1250.0);
+	double cg1 = 5.09e-5 * altitude_m + 0.868, cg2 = 3.92e-5 * altitude_m + 0.0387;
+	double ghi = cg1 * dni_extra_w_m2 * cz * exp(-cg2 * m * (fh1 + fh2 * (tl - 1.0))) *
+		     (perez_enhancement ? exp(0.01 * pow(m, 1.8)) : 1.0);
+	double b = 0.664 + 0.163 / fh1;
+	double dni = dni_extra_w_m2 * b * exp(-0.09 * m * (tl - 1.0));
+	/* the model's own bound on the beam (its eq. for the diffuse share) */
+	double cap = ghi * (1.0 - (0.1 - 0.2 * exp(-tl)) / (0.1 + 0.882 / fh1)) / cz;
+	dni = dni < cap ? dni : cap > 0.0 ? cap : 0.0;
+	out->ghi_w_m2 = ghi;
+	out->dni_w_m2 = dni;
+	out->dhi_w_m2 = ghi - dni * cz;
+}
+
+double cs_linke_turbidity(double aod550, double water_cm, double altitude_m)
+{
+	double pc = 1.0 / pressure_ratio(altitude_m);
+	double w = water_cm > 0.01 ? water_cm : 0.01;
+	return 3.91 * exp(0.689 * pc) * (aod550 > 0.0 ? aod550 : 0.0) + 0.376 * log(w) + 2.0 +
+	       0.54 * pc - 0.5 * pc * pc + 0.16 * pc * pc * pc;
+}
+
+double cs_clear_sky_dome_scale(cs_v3 sun_dir, double sky_turbidity, double beam_turbidity,
+			       double aod550, double altitude_m, double dni_extra_w_m2)
+{
+	double el_min = CS_CLEAR_SKY_MIN_ELEVATION_DEG * CS_PI / 180.0;
+	cs_v3 d = v3_norm(sun_dir);
+	double el = asin(d.z < -1.0 ? -1.0 : d.z > 1.0 ? 1.0 : d.z);
+	if (!(el >= el_min)) { /* also NaN: the same azimuth at el_min */
+		double h = sqrt(d.x * d.x + d.y * d.y);
+		d = h > 1e-12 ? v3(d.x / h * cos(el_min), d.y / h * cos(el_min), sin(el_min))
+			      : v3(cos(el_min), 0.0, sin(el_min));
+		el = el_min;
+	}
+	struct cs_sky sky;
+	cs_sky_init_beam(&sky, d, sky_turbidity, beam_turbidity);
+	double dome_klux = CS_PI * cs_luminance(sky.ambient_up[0], sky.ambient_up[1], sky.ambient_up[2]);
+	struct cs_irradiance cl;
+	cs_clear_sky_ineichen(90.0 - el * 180.0 / CS_PI, cs_relative_air_mass(el) * pressure_ratio(altitude_m),
+			      cs_linke_turbidity(aod550, CS_STANDARD_WATER_CM, altitude_m), altitude_m,
+			      dni_extra_w_m2, 1, &cl);
+	double want_klux = cl.dhi_w_m2 * cs_diffuse_efficacy_lm_w(1.0) / 1000.0;
+	return dome_klux > 0.0 && want_klux > 0.0 ? want_klux / dome_klux : 1.0;
+}
+
 void cs_irradiance_at(const struct cs_scene *sc, const struct cs_render_settings *s,
 		      cs_v3 p, struct cs_irradiance *out, struct cs_render_stats *st)
 {

@@ -356,6 +356,9 @@ struct cs_scene {
 	double cloud_depth_scale;     /* the factor on the sheets' extinction
 					 that the forecast's beam asked for
 					 (cs_scene_fit_beam); 1: none */
+	double sky_level_scale;       /* the factor on the Preetham sky's
+					 radiance (CS_SKY_LEVEL_INEICHEN; 1
+					 for CS_SKY_LEVEL_PREETHAM) */
 	const struct cs_volume *noise;
 	cs_v3 sun_dir;                /* unit, toward the sun */
 	double sun_illuminance[3];    /* irradiance on a plane facing the sun */
@@ -402,12 +405,20 @@ double cs_rain_extinction(double rate_mm_h);
  * factor of 3 to 10 with the crystals' kind: this is its middle. */
 double cs_snow_extinction(double rate_mm_h);
 
+/* The sky's absolute level (cloudrender --sky-level): Preetham's model's
+ * own, or the Ineichen-Perez clear sky's diffuse light
+ * (cs_clear_sky_dome_scale), the pattern and colour Preetham's either way. */
+enum cs_sky_level { CS_SKY_LEVEL_PREETHAM = 0, CS_SKY_LEVEL_INEICHEN };
+
 /* The night (night.c): with the sun below -6 deg and the Moon up, the
  * Moon becomes the key light (CS_FX_MOON, sun_dir, sun_illuminance; ambient light
  * gains the moonlit sky); below -12 deg the stars come out.  Call after
- * the sky and ambient light are set. */
+ * the sky and ambient light are set; with CS_SKY_LEVEL_INEICHEN the
+ * moonlit sky's level is a clear sky's for the aerosol's optical depth at
+ * 550 nm and the altitude (m), as the day's (cs_clear_sky_dome_scale). */
 void cs_scene_night(struct cs_scene *sc, double time_utc, double lat_deg, double lon_deg,
-		    double sun_elevation_deg, double turbidity);
+		    double sun_elevation_deg, double turbidity, enum cs_sky_level level,
+		    double aod550, double altitude_m);
 /* The sky's radiance along d, moonlit sky included, and the sun's and
  * Moon's discs; the stars (kcd/m^2). */
 CS_HD void cs_scene_sky(const struct cs_scene *sc, cs_v3 d, double rgb[3]);
@@ -506,6 +517,45 @@ void cs_irradiance_from_klux(const struct cs_scene *sc, cs_v3 p, double dni_klux
  * at a sun elevation, and of diffuse light at a share of clear sky 0..1. */
 double cs_beam_efficacy_lm_w(double elevation_deg);
 double cs_diffuse_efficacy_lm_w(double clear_fraction);
+
+/* The clear sky's irradiance (W/m^2) by Ineichen & Perez (2002), "A new
+ * airmass independent formulation for the Linke turbidity coefficient",
+ * Solar Energy 73(3), as pvlib's clearsky.ineichen: at an apparent sun
+ * zenith (deg), an absolute (pressure-corrected) air mass, a Linke
+ * turbidity at air mass 2, a site altitude (m) and the sun's irradiance
+ * above the atmosphere; perez_enhancement nonzero multiplies the GHI by
+ * exp(0.01 m^1.8) as the paper does (pvlib's option, off by default
+ * there).  DNI is held to the model's bound from its GHI; all 0 with the
+ * sun down. */
+void cs_clear_sky_ineichen(double zenith_deg, double air_mass_abs, double linke_turbidity,
+			   double altitude_m, double dni_extra_w_m2, int perez_enhancement,
+			   struct cs_irradiance *out);
+/* The Linke turbidity at air mass 2 of an atmosphere with an aerosol
+ * optical depth at 550 nm, a precipitable water (cm) and an altitude (m):
+ * Ineichen (2008), "Conversion function between the Linke turbidity and
+ * the atmospheric water vapor and aerosol content", Solar Energy 82. */
+double cs_linke_turbidity(double aod550, double water_cm, double altitude_m);
+/* Precipitable water of the U.S. Standard Atmosphere (1976), cm: the
+ * forecasts carry none. */
+#define CS_STANDARD_WATER_CM 1.42
+/* Total solar irradiance at 1 au (Kopp & Lean 2011), W/m^2. */
+#define CS_SOLAR_CONSTANT_W_M2 1361.0
+/* Below this sun elevation the clear sky's level keeps its factor at it
+ * (the clear-sky model is fitted to a sun above the horizon's haze; the
+ * twilight sky dims by its own law, sky.c). */
+#define CS_CLEAR_SKY_MIN_ELEVATION_DEG 10.0
+/* The factor on the sky's radiance (cs_sky_scale_dome) that makes its
+ * diffuse illuminance on a horizontal plane, cloudless, the clear-sky
+ * model's DHI (cs_clear_sky_ineichen with the Perez enhancement, its Linke
+ * turbidity by cs_linke_turbidity from the aerosol's optical depth at
+ * 550 nm and the standard water) times the clear sky's diffuse efficacy;
+ * the sky as cs_sky_init_beam makes it for the sun (or Moon) at sun_dir
+ * and the turbidities given, at an altitude (m), under a source of
+ * dni_extra_w_m2 above the atmosphere.  For a sun under
+ * CS_CLEAR_SKY_MIN_ELEVATION_DEG, the factor at that elevation and the
+ * same azimuth.  1 where either side has no diffuse light. */
+double cs_clear_sky_dome_scale(cs_v3 sun_dir, double sky_turbidity, double beam_turbidity,
+			       double aod550, double altitude_m, double dni_extra_w_m2);
 
 /* Renders the image into out: 5 floats per pixel (R, G, B, alpha, Z), rows
  * top to bottom, on the CPU pool.  Deterministic for any nthreads (<= 0:

@@ -131,7 +131,7 @@ static void build_layers(struct cs_scene *sc, const struct cs_wx *wx, double tim
  * night, then what the clouds make of it (shadows, halo, the light under
  * them). */
 static int build_light(struct cs_scene *sc, const struct cs_wx *wx, double time_utc,
-		       int nthreads)
+		       int nthreads, enum cs_sky_level level)
 {
 	struct cs_sun sun;
 	int rc = cs_sun_position(time_utc, wx->site.lat_deg, wx->site.lon_deg, &sun);
@@ -144,6 +144,16 @@ static int build_light(struct cs_scene *sc, const struct cs_wx *wx, double time_
 		       : turbidity < CS_SKY_MAX_TURBIDITY ? turbidity
 							  : CS_SKY_MAX_TURBIDITY;
 	cs_sky_init_beam(&sc->sky, sd, sky_t, turbidity);
+	/* the sky's level: Preetham's own, or a clear-sky model's diffuse
+	 * light for the aerosol's optical depth (the turbidity less the air's
+	 * own, in units of its Rayleigh depth) */
+	double aod550 = (turbidity - 1.0) * CS_RAYLEIGH_DEPTH_550;
+	double d_au = sun.distance_au > 0.0 ? sun.distance_au : 1.0;
+	sc->sky_level_scale = level == CS_SKY_LEVEL_INEICHEN
+				      ? cs_clear_sky_dome_scale(sd, sky_t, turbidity, aod550, wx->site.alt_m,
+								CS_SOLAR_CONSTANT_W_M2 / (d_au * d_au))
+				      : 1.0;
+	cs_sky_scale_dome(&sc->sky, sc->sky_level_scale);
 	memcpy(sc->sun_illuminance, sc->sky.sun_illuminance, sizeof sc->sun_illuminance);
 	memcpy(sc->ambient_up, sc->sky.ambient_up, sizeof sc->ambient_up);
 	memcpy(sc->ambient_down, sc->sky.ambient_down, sizeof sc->ambient_down);
@@ -151,7 +161,7 @@ static int build_light(struct cs_scene *sc, const struct cs_wx *wx, double time_
 	    sc->sun_illuminance[1] > 0.0) /* disk still partly above the horizon */
 		sc->effects |= CS_FX_SUN;
 	cs_scene_night(sc, time_utc, wx->site.lat_deg, wx->site.lon_deg,
-		       sun.apparent_elevation_deg, sky_t);
+		       sun.apparent_elevation_deg, sky_t, level, aod550, wx->site.alt_m);
 	if ((sc->effects & CS_FX_KEY) && sc->nlayers > 0)
 		sc->effects |= CS_FX_CLOUD_SHADOWS;
 	for (int i = 0; i < sc->nlayers && (sc->effects & CS_FX_KEY); i++)
@@ -225,6 +235,15 @@ int cs_scene_build(struct cs_scene *sc, const struct cs_wx *wx, double time_utc,
 int cs_scene_build_threads(struct cs_scene *sc, const struct cs_wx *wx, double time_utc,
 			   const struct cs_volume *noise, int nthreads)
 {
+	return cs_scene_build_opts(sc, wx, time_utc, noise, nthreads, NULL);
+}
+
+int cs_scene_build_opts(struct cs_scene *sc, const struct cs_wx *wx, double time_utc,
+			const struct cs_volume *noise, int nthreads, const struct cs_scene_opts *opts)
+{
+	static const struct cs_scene_opts defaults = {CS_SKY_LEVEL_PREETHAM};
+	if (opts == NULL)
+		opts = &defaults;
 	int rc = cs_wx_validate(wx);
 	if (rc != CS_OK)
 		return rc;
@@ -245,7 +264,7 @@ int cs_scene_build_threads(struct cs_scene *sc, const struct cs_wx *wx, double t
 	sc->g_forward = 0.9, sc->g_back = -0.3, sc->w_forward = 0.96;
 	sc->effects = CS_FX_SKY | CS_FX_GROUND;
 	build_layers(sc, wx, time_utc, noise);
-	rc = build_light(sc, wx, time_utc, nthreads);
+	rc = build_light(sc, wx, time_utc, nthreads, opts->sky_level);
 	if (rc != CS_OK)
 		return rc;
 	build_air(sc, wx);

@@ -27,6 +27,15 @@ int cs_scene_build(struct cs_scene *sc, const struct cs_wx *wx, double time_utc,
 int cs_scene_build_threads(struct cs_scene *sc, const struct cs_wx *wx, double time_utc,
 			   const struct cs_volume *noise, int nthreads);
 
+/* Where building a scene has a choice (cloudrender's options); zeroed,
+ * the defaults. */
+struct cs_scene_opts {
+	enum cs_sky_level sky_level; /* the sky's absolute level */
+};
+/* cs_scene_build_threads with opts (NULL: the defaults). */
+int cs_scene_build_opts(struct cs_scene *sc, const struct cs_wx *wx, double time_utc,
+			const struct cs_volume *noise, int nthreads, const struct cs_scene_opts *opts);
+
 /* The fit of the clouds' depth to the forecast's beam (cs_scene_fit_beam):
  * the points a side of its grid, the factor's bounds, the share of the
  * clear sky's beam below which the forecast has none, and the lowest sun

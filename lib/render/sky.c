@@ -62,9 +62,7 @@ CS_HD static void xyY_to_rgb(double x, double y, double Y, double rgb[3])
 	}
 }
 
-/* Relative optical air mass, Kasten & Young (1989), for an elevation
- * clamped to >= 0 (38 at the horizon). */
-static double air_mass(double elev)
+double cs_relative_air_mass(double elev)
 {
 	double z = CS_PI / 2 - (elev > 0.0 ? elev : 0.0);
 	return 1.0 / (cos(z) + 0.50572 * pow(96.07995 - z / DEG, -1.6364));
@@ -86,7 +84,7 @@ double cs_turbidity_from_visibility(double visibility_m)
 	if (!(visibility_m > 0.0))
 		return 10.0;
 	double tau_a = (3.912 / visibility_m - 1.16e-5) * 1200.0;
-	return clampd(tau_a / 0.0973 + 1.0, 1.7, 10.0);
+	return clampd(tau_a / CS_RAYLEIGH_DEPTH_550 + 1.0, 1.7, 10.0);
 }
 
 static void perez_coefficients(double T, double c[3][5])
@@ -147,9 +145,9 @@ static void init_sun(struct cs_sky *sky, double elev, double beam_turbidity)
 {
 	double omega = 2.0 * CS_PI * (1.0 - cos(SUN_RADIUS));
 	double frac = disk_fraction(elev);
-	double m = air_mass(elev);
+	double m = cs_relative_air_mass(elev);
 	for (int i = 0; i < 3; i++) {
-		double tau = TAU_R[i] + (beam_turbidity - 1.0) * 0.0973 *
+		double tau = TAU_R[i] + (beam_turbidity - 1.0) * CS_RAYLEIGH_DEPTH_550 *
 						pow(LAMBDA[i] / 550.0, -1.3);
 		double L = frac > 0.0 ? SUN_E0 / omega * exp(-tau * m) : 0.0;
 		sky->sun_radiance[i] = L;
@@ -186,6 +184,14 @@ static void init_ambient(struct cs_sky *sky, double elev)
 			0.2 * (sky->sun_illuminance[c] * sin_h / CS_PI +
 			       sky->ambient_up[c]);
 	}
+}
+
+void cs_sky_scale_dome(struct cs_sky *sky, double f)
+{
+	if (!(f > 0.0) || !isfinite(f))
+		return;
+	sky->scale[0] *= f;
+	init_ambient(sky, asin(clampd(sky->sun_dir.z, -1.0, 1.0)));
 }
 
 void cs_sky_init(struct cs_sky *sky, cs_v3 sun, double turbidity)

@@ -27,7 +27,7 @@ struct cs_sky {
 	/* Private to sky.c. */
 	double shape_sun[3];  /* sun_dir with elevation raised to >= 2 deg: the Perez shape's sun */
 	double perez[3][5];   /* Perez A..E for Y, x, y */
-	double scale[3];      /* Yz, x_z, y_z divided by F(0, theta_s) */
+	double scale[3];      /* Yz (times cs_sky_scale_dome's f), x_z, y_z divided by F(0, theta_s) */
 	double depression;    /* degrees of sun below 2 deg elevation; 0 in daylight */
 	double twilight;      /* luminance factor at the zenith, 1 in daylight */
 	double glow_tint;     /* strength of the warm tint near the sun's horizon */
@@ -40,6 +40,9 @@ struct cs_sky {
  * scale height of 1.2 km, as a ratio to the Rayleigh optical depth 0.0973,
  * plus 1; clamped to 1.7..10.  V = +inf gives 1.7; V <= 0 or NaN gives 10. */
 double cs_turbidity_from_visibility(double visibility_m);
+/* Rayleigh optical depth of the atmosphere at 550 nm, sea level: a
+ * turbidity T is an aerosol optical depth (T - 1) times it. */
+#define CS_RAYLEIGH_DEPTH_550 0.0973
 
 /* Precomputes the sky for a sun direction and turbidity.  Any finite sun
  * direction works, including below the horizon (twilight and night); it
@@ -50,6 +53,19 @@ void cs_sky_init(struct cs_sky *sky, cs_v3 sun_dir, double turbidity);
  * aerosol's true one, where the sky's pattern uses a capped one). */
 void cs_sky_init_beam(struct cs_sky *sky, cs_v3 sun_dir, double turbidity,
 		      double beam_turbidity);
+
+/* Scales the sky's radiance (the sun's beam stays) by f > 0, and its
+ * ambient terms with it; any other f changes nothing.  The Preetham model
+ * gives the sky's pattern and colour; its level in absolute units puts 1.3
+ * to 2.1 times a clear-sky model's diffuse light on the ground (Zotti,
+ * Wilkie & Purgathofer 2007 found its luminance off too), and with
+ * CS_SKY_LEVEL_INEICHEN the scene sets the level from that model
+ * (render.h: cs_clear_sky_dome_scale). */
+void cs_sky_scale_dome(struct cs_sky *sky, double f);
+
+/* Relative optical air mass, Kasten & Young (1989), at a sun elevation in
+ * radians clamped to >= 0 (38 at the horizon). */
+double cs_relative_air_mass(double elevation_rad);
 
 /* Sky radiance seen along dir (unit), kcd/m², without the sun disk; finite
  * and >= 0.  For dir below the horizon, the value at the horizon in that

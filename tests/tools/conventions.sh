@@ -30,7 +30,8 @@ if have bash; then
 	# an option's value: the words offered are the ones the program takes
 	# (each checked by the program, which refuses a bogus one)
 	for c in "cloudrender --quality" "cloudrender --projection" "cloudrender --view" \
-		"cloudrender -of" "cloudrender --cloud-depth" "cloudrender --march" \
+		"cloudrender -of" "cloudrender --cloud-depth" "cloudrender --sky-level" \
+		"cloudrender --march" \
 		"cloudrender --light-march" "cloudrender --integrator" \
 		"terrainprep --format" "terrainprep --fill" \
 		"mbfetch --provider" "mbfetch --site"; do
