@@ -524,9 +524,10 @@ double cs_diffuse_efficacy_lm_w(double clear_fraction);
  * zenith (deg), an absolute (pressure-corrected) air mass, a Linke
  * turbidity at air mass 2, a site altitude (m) and the sun's irradiance
  * above the atmosphere; perez_enhancement nonzero multiplies the GHI by
- * exp(0.01 m^1.8) as the paper does (pvlib's option, off by default
- * there).  DNI is held to the model's bound from its GHI; all 0 with the
- * sun down. */
+ * exp(0.01 m^1.8) for the air mass m (Perez et al. 2002, Solar Energy
+ * 73(5): pvlib's perez_enhancement, off by default there as unsure at
+ * high air mass).  DNI is held to the model's bound from its GHI; all 0
+ * with the sun down. */
 void cs_clear_sky_ineichen(double zenith_deg, double air_mass_abs, double linke_turbidity,
 			   double altitude_m, double dni_extra_w_m2, int perez_enhancement,
 			   struct cs_irradiance *out);

@@ -188,7 +188,7 @@ static void init_ambient(struct cs_sky *sky, double elev)
 
 void cs_sky_scale_dome(struct cs_sky *sky, double f)
 {
-	if (!(f > 0.0) || !isfinite(f))
+	if (!(f > 0.0) || !isfinite(f) || f == 1.0)
 		return;
 	sky->scale[0] *= f;
 	init_ambient(sky, asin(clampd(sky->sun_dir.z, -1.0, 1.0)));

@@ -55,12 +55,12 @@ void cs_sky_init_beam(struct cs_sky *sky, cs_v3 sun_dir, double turbidity,
 		      double beam_turbidity);
 
 /* Scales the sky's radiance (the sun's beam stays) by f > 0, and its
- * ambient terms with it; any other f changes nothing.  The Preetham model
- * gives the sky's pattern and colour; its level in absolute units puts 1.3
- * to 2.1 times a clear-sky model's diffuse light on the ground (Zotti,
- * Wilkie & Purgathofer 2007 found its luminance off too), and with
- * CS_SKY_LEVEL_INEICHEN the scene sets the level from that model
- * (render.h: cs_clear_sky_dome_scale). */
+ * ambient terms with it; 1 or any other f changes nothing.  The Preetham
+ * model gives the sky's pattern and colour; its level in absolute units
+ * puts 1.3 to 2.1 times a clear-sky model's diffuse light on the ground at
+ * turbidities 2 to 4, more in hazier air (Zotti, Wilkie & Purgathofer 2007
+ * found its luminance off too), and with CS_SKY_LEVEL_INEICHEN the scene
+ * sets the level from that model (render.h: cs_clear_sky_dome_scale). */
 void cs_sky_scale_dome(struct cs_sky *sky, double f);
 
 /* Relative optical air mass, Kasten & Young (1989), at a sun elevation in

@@ -1,4 +1,5 @@
 #include "core/err.h"
+#include "core/time.h"
 #include "render/render.h"
 #include "render/scene.h"
 #include "render/sky.h"
@@ -483,8 +484,9 @@ static void ineichen_clear_sky_matches_pvlib(void)
 		{46.0467599, 1.32355476, 3.0, 0.0, 1364.0, 1, 716.46580547, 888.9014706, 99.50500553},
 		{82.85457044, 6.97935524, 3.0, 0.0, 1364.0, 1, 91.1249279, 321.16092171, 51.17628184},
 		{40.0, 5.5, 3.0, 0.0, 1364.0, 0, 478.92699901, 419.14891162, 157.84030442},
-		/* where the model's bound on the beam holds it down */
 		{80.0, 10.0, 4.0, 0.0, 1364.0, 0, 43.72365587, 75.80970012, 30.5594396},
+		/* where the model's bound on the beam holds it down */
+		{0.0, 1.0, 2.0, 0.0, 1364.0, 0, 1095.77074798, 1014.38807396, 81.38267402},
 	};
 	for (size_t i = 0; i < sizeof c / sizeof c[0]; i++) {
 		struct cs_irradiance o;
@@ -500,9 +502,11 @@ static void ineichen_clear_sky_matches_pvlib(void)
 }
 
 /* Ineichen (2008): TL = 3.91 exp(0.689 p0/p) aod550 + 0.376 ln(w) + 2 +
- * 0.54 p0/p - 0.5 (p0/p)^2 + 0.16 (p0/p)^3; at sea level and 1 cm of water
- * 2.2 for clean air, 7.788 more per unit of aerosol depth; 0.376 ln 1.42
- * more at the standard water; higher up the same air has a lower one. */
+ * 0.54 p0/p - 0.5 (p0/p)^2 + 0.16 (p0/p)^3, evaluated here from its
+ * printed coefficients: at sea level and 1 cm of water 2.2 for clean air,
+ * 7.788 more per unit of aerosol depth; 0.376 ln 1.42 more at the
+ * standard water; the same aerosol depth higher up (less air above, the
+ * same aerosol) a higher one. */
 static void linke_turbidity_follows_ineichen_2008(void)
 {
 	CHECK_NEAR(cs_linke_turbidity(0.0, 1.0, 0.0), 2.2, 1e-12);
@@ -514,7 +518,7 @@ static void linke_turbidity_follows_ineichen_2008(void)
 	CHECK_NEAR(cs_linke_turbidity(0.1, 1.0, 1500.0),
 		   3.91 * exp(0.689 * pc) * 0.1 + 2.0 + 0.54 * pc - 0.5 * pc * pc + 0.16 * pc * pc * pc,
 		   1e-12);
-	CHECK(cs_linke_turbidity(0.1, 1.0, 1500.0) < cs_linke_turbidity(0.1, 1.0, 0.0) + 0.3);
+	CHECK(cs_linke_turbidity(0.1, 1.0, 1500.0) > cs_linke_turbidity(0.1, 1.0, 0.0) + 0.05);
 }
 
 /* --sky-level ineichen: the sky, scaled, lights a horizontal plane with the
@@ -542,6 +546,22 @@ static void clear_sky_level_gives_the_models_diffuse_light(void)
 			CHECK_NEAR(PI * lum(sky.ambient_up) * 1000.0 / 144.0 / m.dhi_w_m2, 1.0, 0.01);
 			CHECK(lum(sky.sun_illuminance) == beam);
 		}
+	/* at 1500 m: the air mass the pressure's share of sea level's (84556
+	 * of 101325 Pa, the U.S. Standard Atmosphere), the model's altitude
+	 * terms, the Linke turbidity's */
+	{
+		double el_d = 35.0, el = el_d * DEG, T = 3.0, aod = 2.0 * 0.0973, pc = 101325.0 / 84556.0;
+		cs_v3 sun = v3(cos(el), 0.0, sin(el));
+		struct cs_sky sky;
+		cs_sky_init_beam(&sky, sun, T, T);
+		cs_sky_scale_dome(&sky, cs_clear_sky_dome_scale(sun, T, T, aod, 1500.0, 1361.0));
+		double am = 1.0 / (sin(el) + 0.50572 * pow(6.07995 + el_d, -1.6364)) / pc;
+		double tl = 3.91 * exp(0.689 * pc) * aod + 0.376 * log(1.42) + 2.0 + 0.54 * pc -
+			    0.5 * pc * pc + 0.16 * pc * pc * pc;
+		struct cs_irradiance m;
+		cs_clear_sky_ineichen(90.0 - el_d, am, tl, 1500.0, 1361.0, 1, &m);
+		CHECK_NEAR(PI * lum(sky.ambient_up) * 1000.0 / 144.0 / m.dhi_w_m2, 1.0, 0.01);
+	}
 	/* under 10 deg, the factor at 10 */
 	cs_v3 low = v3(cos(3.0 * DEG), 0.0, sin(3.0 * DEG)), ten = v3(cos(10.0 * DEG), 0.0, sin(10.0 * DEG));
 	CHECK_NEAR(cs_clear_sky_dome_scale(low, 3.0, 3.0, 0.1946, 0.0, 1361.0),
@@ -553,6 +573,31 @@ static void clear_sky_level_gives_the_models_diffuse_light(void)
 	cs_sky_scale_dome(&b, NAN);
 	cs_sky_scale_dome(&b, -1.0);
 	CHECK(memcmp(&a, &b, sizeof a) == 0);
+}
+
+/* A moonlit night (Montevideo, 2024-10-17T04:00Z, the Moon full and high,
+ * the sun far down): with --sky-level ineichen the Moon's sky takes the
+ * clear-sky factor for the Moon's place, as the day's sky for the sun's;
+ * with preetham neither changes. */
+static void moonlit_sky_takes_the_clear_sky_level(void)
+{
+	struct cs_wx wx;
+	cs_wx_default(&wx);
+	wx.nlayers = 0;
+	wx.site.lat_deg = -34.81, wx.site.lon_deg = -56.15, wx.site.alt_m = 34.0;
+	wx.visibility_m = 20000.0;
+	CHECK(cs_time_parse("2024-10-17T04:00:00Z", &wx.time_utc) == CS_OK);
+	static struct cs_scene a, b;
+	struct cs_scene_opts pre = {CS_SKY_LEVEL_PREETHAM}, ine = {CS_SKY_LEVEL_INEICHEN};
+	CHECK(cs_scene_build_opts(&a, &wx, wx.time_utc, NULL, 1, &pre) == CS_OK);
+	CHECK(cs_scene_build_opts(&b, &wx, wx.time_utc, NULL, 1, &ine) == CS_OK);
+	CHECK((a.effects & CS_FX_MOON) && (b.effects & CS_FX_MOON));
+	CHECK(a.sky_level_scale == 1.0 && b.sky_level_scale > 0.2 && b.sky_level_scale < 0.9);
+	double T = a.moon_sky.turbidity, aod = (cs_turbidity_from_visibility(20000.0) - 1.0) * 0.0973;
+	double f = cs_clear_sky_dome_scale(a.moon_sky.sun_dir, T, T, aod, 34.0, 1361.0);
+	CHECK(f > 0.2 && f < 0.9);
+	CHECK_NEAR(lum(b.moon_sky.ambient_up) / lum(a.moon_sky.ambient_up), f, 1e-9);
+	CHECK(lum(b.moon_sky.sun_illuminance) == lum(a.moon_sky.sun_illuminance));
 }
 
 static const struct t_case t_cases[] = {
@@ -573,6 +618,7 @@ static const struct t_case t_cases[] = {
 	CASE(ineichen_clear_sky_matches_pvlib),
 	CASE(linke_turbidity_follows_ineichen_2008),
 	CASE(clear_sky_level_gives_the_models_diffuse_light),
+	CASE(moonlit_sky_takes_the_clear_sky_level),
 };
 
 int main(void)
