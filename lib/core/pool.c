@@ -90,12 +90,13 @@ int cs_pool_run(int ntasks, int nthreads, cs_task_fn fn, void *user,
 	pthread_t tid[CS_POOL_MAX_THREADS];
 	struct worker w[CS_POOL_MAX_THREADS];
 	int started = 0;
-	for (; started < nthreads; started++) {
+	/* one worker with no one to report progress: no thread to start */
+	for (; started < nthreads && (nthreads > 1 || progress); started++) {
 		w[started] = (struct worker){&p, started};
 		if (pthread_create(&tid[started], NULL, work, &w[started]) != 0)
 			break;
 	}
-	if (started == 0) { /* no thread could start: work here */
+	if (started == 0) { /* none asked for, or none could start: work here */
 		w[0] = (struct worker){&p, 0};
 		work(&w[0]);
 	}

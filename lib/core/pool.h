@@ -21,7 +21,8 @@ typedef void (*cs_task_fn)(void *user, int task, int worker);
 /* Runs fn for every task on nthreads workers (<= 0: one per processor;
  * at most ntasks and CS_POOL_MAX_THREADS).  *nworkers (may be NULL) gets
  * the number of worker indices used.  progress may be NULL; when it asks
- * to stop, no new task starts and CS_ECANCELED is returned.  CS_OK. */
+ * to stop, no new task starts and CS_ECANCELED is returned.  With one
+ * worker and no progress the tasks run on the calling thread.  CS_OK. */
 int cs_pool_run(int ntasks, int nthreads, cs_task_fn fn, void *user,
 		cs_progress_fn progress, void *progress_user, int *nworkers);
 

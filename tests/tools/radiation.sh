@@ -3,7 +3,7 @@
 # come from the forecast itself: its GHI, which the fit does not read (it
 # reads the DNI), against the area GHI our light transport produces.
 . "$TOP/tests/tools/lib.sh"
-plan 4
+plan 5
 CR="$BIN/cloudrender"
 WI="$BIN/wxinterp"
 REAL="${DATA:-$TOP/../shared/data}/weather/meteoblue-basic-clouds-solar-1h.json"
@@ -118,3 +118,31 @@ if [ -f "$REAL" ]; then
 else
 	skip cloudrender_sky_level_gives_a_cloudless_hours_diffuse_light "no $REAL"
 fi
+
+# radiation-study's summary by the forecast's cover, over stand-ins for
+# wxinterp (four hours of known radiation) and cloudrender (ours: GHI 1.2,
+# 0.9, 0.8 and 1.25 times the forecast's, DHI 1.5, 1, 0.8 and 1.25): the
+# means and rms of ln(ours / forecast) by hand.
+begin radiation_study_summarises_by_cover
+cat >"$T/fake-wx" <<'EOS'
+#!/bin/sh
+for h in "10 500 600 100 0.1" "11 400 300 200 0.5" "12 300 100 250 0.9" "13 320 100 280 0.95"; do
+	set -- $h
+	printf '{"time_utc":"2024-01-01T%s:00:00Z","observed":{"ghi_w_m2":%s,"dni_w_m2":%s,"dhi_w_m2":%s,"total_cloud_cover":%s}}\n' "$@"
+done
+EOS
+cat >"$T/fake-cr" <<'EOS'
+#!/bin/sh
+while [ $# -gt 0 ]; do [ "$1" = --wx ] && wx=$2; shift; done
+case $(grep -o 'T[0-9][0-9]:' "$wx") in
+T10:) g=600 d=150 ;; T11:) g=360 d=200 ;; T12:) g=240 d=200 ;; T13:) g=400 d=350 ;;
+esac
+printf '{"sun":{"azimuth_deg":0,"elevation_deg":40},"cloud_fraction":0.5,"irradiance_w_m2":{"area":{"size_km":10,"ghi":%s,"dni":0,"dhi":%s}}}\n' $g $d >&2
+EOS
+chmod +x "$T/fake-wx" "$T/fake-cr"
+WXINTERP="$T/fake-wx" CLOUDRENDER="$T/fake-cr" run "$TOP/scripts/radiation-study" any.json
+expect_rc 0
+expect_out "cover < 0.2: 1 hours, ln(ours/forecast) GHI mean +0.182 rms 0.182, DHI mean +0.405 rms 0.405"
+expect_out "cover 0.2-0.8: 1 hours, ln(ours/forecast) GHI mean -0.105 rms 0.105, DHI mean +0.000 rms 0.000"
+expect_out "cover >= 0.8: 2 hours, ln(ours/forecast) GHI mean +0.000 rms 0.223, DHI mean +0.000 rms 0.223"
+end

@@ -2,6 +2,7 @@
 #include "core/pool.h"
 #include "test.h"
 
+#include <pthread.h>
 #include <stdatomic.h>
 #include <time.h>
 
@@ -99,10 +100,48 @@ static void pool_cancel_starts_no_new_task(void)
 	CHECK(atomic_load(&j.calls) == 1); /* not asked again once cancelled */
 }
 
+/* One worker and no progress: the tasks run on the calling thread, in
+ * order (no thread to start for a pool of one); with progress, or two
+ * workers, they run on others. */
+struct where {
+	pthread_t caller;
+	int on_caller, elsewhere, next, in_order;
+};
+
+static void where_task(void *user, int t, int worker)
+{
+	struct where *w = user;
+	(void)worker;
+	if (pthread_equal(pthread_self(), w->caller))
+		w->on_caller++;
+	else
+		__atomic_add_fetch(&w->elsewhere, 1, __ATOMIC_RELAXED);
+	if (t != w->next++)
+		w->in_order = 0;
+}
+
+static int no_stop(void *user, double fraction)
+{
+	(void)user, (void)fraction;
+	return 0;
+}
+
+static void pool_of_one_runs_on_the_calling_thread(void)
+{
+	struct where w = {pthread_self(), 0, 0, 0, 1};
+	int workers = 0;
+	CHECK(cs_pool_run(50, 1, where_task, &w, NULL, NULL, &workers) == CS_OK);
+	CHECK(w.on_caller == 50 && w.elsewhere == 0 && w.in_order && workers == 1);
+	w = (struct where){pthread_self(), 0, 0, 0, 1};
+	CHECK(cs_pool_run(50, 1, where_task, &w, no_stop, NULL, NULL) == CS_OK);
+	CHECK(w.on_caller == 0 && w.elsewhere == 50);
+}
+
 /* The cases, in the order they run: their number is the plan. */
 static const struct t_case t_cases[] = {
 	CASE(pool_runs_every_task_once),
 	CASE(pool_cancel_starts_no_new_task),
+	CASE(pool_of_one_runs_on_the_calling_thread),
 };
 
 int main(void)
