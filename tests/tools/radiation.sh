@@ -119,16 +119,17 @@ else
 	skip cloudrender_sky_level_gives_a_cloudless_hours_diffuse_light "no $REAL"
 fi
 
-# radiation-study's summary by the forecast's cover, over stand-ins for
-# wxinterp (four hours of known radiation) and cloudrender (ours: GHI 1.2,
-# 0.9, 0.8 and 1.25 times the forecast's, DHI 1.5, 1, 0.8 and 1.25): the
-# means and rms of ln(ours / forecast) by hand.
+# radiation-study's summaries by the forecast's cover, over stand-ins for
+# wxinterp (five hours of known radiation, the last in fog) and cloudrender
+# (ours: GHI 1.2, 0.9, 0.8, 1.25 and 0.9 times the forecast's, DHI 1.5, 1,
+# 0.8, 1.25 and 1): the means and rms of ln(ours / forecast) by hand.
 begin radiation_study_summarises_by_cover
 cat >"$T/fake-wx" <<'EOS'
 #!/bin/sh
-for h in "10 500 600 100 0.1" "11 400 300 200 0.5" "12 300 100 250 0.9" "13 320 100 280 0.95"; do
+for h in "10 500 600 100 0.1 20000" "11 400 300 200 0.5 20000" "12 300 100 250 0.9 20000" \
+	"13 320 100 280 0.95 20000" "14 200 100 150 0.6 300"; do
 	set -- $h
-	printf '{"time_utc":"2024-01-01T%s:00:00Z","observed":{"ghi_w_m2":%s,"dni_w_m2":%s,"dhi_w_m2":%s,"total_cloud_cover":%s}}\n' "$@"
+	printf '{"time_utc":"2024-01-01T%s:00:00Z","layers":[{"genus":"cumulus","coverage":0.5}],"precipitation_mm_h":0.4,"visibility_m":%s,"observed":{"ghi_w_m2":%s,"dni_w_m2":%s,"dhi_w_m2":%s,"total_cloud_cover":%s}}\n' "$1" "$6" "$2" "$3" "$4" "$5"
 done
 EOS
 cat >"$T/fake-cr" <<'EOS'
@@ -136,13 +137,28 @@ cat >"$T/fake-cr" <<'EOS'
 while [ $# -gt 0 ]; do [ "$1" = --wx ] && wx=$2; shift; done
 case $(grep -o 'T[0-9][0-9]:' "$wx") in
 T10:) g=600 d=150 ;; T11:) g=360 d=200 ;; T12:) g=240 d=200 ;; T13:) g=400 d=350 ;;
+T14:) g=180 d=150 ;;
 esac
+# cloudless and dry: 1000 W/m2
+grep -q '"layers":\[\].*"precipitation_mm_h":0,' "$wx" && g=1000
 printf '{"sun":{"azimuth_deg":0,"elevation_deg":40},"cloud_fraction":0.5,"irradiance_w_m2":{"area":{"size_km":10,"ghi":%s,"dni":0,"dhi":%s}}}\n' $g $d >&2
 EOS
 chmod +x "$T/fake-wx" "$T/fake-cr"
 WXINTERP="$T/fake-wx" CLOUDRENDER="$T/fake-cr" run "$TOP/scripts/radiation-study" any.json
 expect_rc 0
 expect_out "cover < 0.2: 1 hours, ln(ours/forecast) GHI mean +0.182 rms 0.182, DHI mean +0.405 rms 0.405"
-expect_out "cover 0.2-0.8: 1 hours, ln(ours/forecast) GHI mean -0.105 rms 0.105, DHI mean +0.000 rms 0.000"
+expect_out "cover 0.2-0.8: 2 hours, ln(ours/forecast) GHI mean -0.105 rms 0.105, DHI mean +0.000 rms 0.000"
 expect_out "cover >= 0.8: 2 hours, ln(ours/forecast) GHI mean +0.000 rms 0.223, DHI mean +0.000 rms 0.223"
+grep -q "transmission" "$T/out" && bad "the clouds' transmission without STUDY_CLEAR"
+# STUDY_CLEAR=1: each hour again cloudless (1000 W/m2 from the stand-in):
+# the transmissions ours/1000 and the forecast's/1000 by hand, Kasten &
+# Czeplak's 1 - 0.75 N^3.4 at N = 0.1, 0.5, 0.9, 0.95: 1.00, 0.93, 0.48, 0.37
+# (0.5 in the bin 0.5-0.8: bins hold their lower edge; the hour in fog,
+# 300 m of visibility, left out of them)
+STUDY_CLEAR=1 WXINTERP="$T/fake-wx" CLOUDRENDER="$T/fake-cr" run "$TOP/scripts/radiation-study" any.json
+expect_rc 0
+expect_out "cover 0-0.2: 1 hours, the clouds' transmission (GHI over our cloudless GHI) 0.60, the forecast's 0.50, Kasten & Czeplak's 1.00"
+expect_out "cover 0.5-0.8: 1 hours, the clouds' transmission (GHI over our cloudless GHI) 0.36, the forecast's 0.40, Kasten & Czeplak's 0.93"
+expect_out "cover 0.8-0.95: 1 hours, the clouds' transmission (GHI over our cloudless GHI) 0.24, the forecast's 0.30, Kasten & Czeplak's 0.48"
+expect_out "cover 0.95-1: 1 hours, the clouds' transmission (GHI over our cloudless GHI) 0.40, the forecast's 0.32, Kasten & Czeplak's 0.37"
 end
