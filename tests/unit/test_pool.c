@@ -101,11 +101,13 @@ static void pool_cancel_starts_no_new_task(void)
 }
 
 /* One worker and no progress: the tasks run on the calling thread, in
- * order (no thread to start for a pool of one); with progress, or two
- * workers, they run on others. */
+ * order (no thread to start for a pool of one); with progress (which the
+ * calling thread reports) on another. */
 struct where {
 	pthread_t caller;
-	int on_caller, elsewhere, next, in_order;
+	int on_caller;
+	atomic_int elsewhere;
+	int next, in_order;
 };
 
 static void where_task(void *user, int t, int worker)
@@ -115,7 +117,7 @@ static void where_task(void *user, int t, int worker)
 	if (pthread_equal(pthread_self(), w->caller))
 		w->on_caller++;
 	else
-		__atomic_add_fetch(&w->elsewhere, 1, __ATOMIC_RELAXED);
+		atomic_fetch_add(&w->elsewhere, 1);
 	if (t != w->next++)
 		w->in_order = 0;
 }
@@ -131,10 +133,10 @@ static void pool_of_one_runs_on_the_calling_thread(void)
 	struct where w = {pthread_self(), 0, 0, 0, 1};
 	int workers = 0;
 	CHECK(cs_pool_run(50, 1, where_task, &w, NULL, NULL, &workers) == CS_OK);
-	CHECK(w.on_caller == 50 && w.elsewhere == 0 && w.in_order && workers == 1);
+	CHECK(w.on_caller == 50 && atomic_load(&w.elsewhere) == 0 && w.in_order && workers == 1);
 	w = (struct where){pthread_self(), 0, 0, 0, 1};
 	CHECK(cs_pool_run(50, 1, where_task, &w, no_stop, NULL, NULL) == CS_OK);
-	CHECK(w.on_caller == 0 && w.elsewhere == 50);
+	CHECK(w.on_caller == 0 && atomic_load(&w.elsewhere) == 50);
 }
 
 /* The cases, in the order they run: their number is the plan. */
