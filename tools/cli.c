@@ -92,6 +92,20 @@ long cli_long(const char *opt, const char *s, long lo, long hi)
 	return v;
 }
 
+int cli_choice(const char *opt, const char *s, const char *const names[])
+{
+	char list[512] = "";
+	size_t k = 0;
+	int n = 0;
+	for (; names[n]; n++)
+		if (strcasecmp(s, names[n]) == 0)
+			return n;
+	for (int i = 0; i < n && k < sizeof list; i++)
+		k += (size_t)snprintf(list + k, sizeof list - k, "%s%s",
+				      i == 0 ? "" : i == n - 1 ? " or " : ", ", names[i]);
+	cli_usage_error("%s: '%s' is not %s", opt, s, list);
+}
+
 double cli_double(const char *opt, const char *s, double lo, double hi)
 {
 	char *end;

@@ -45,6 +45,9 @@ const char *cli_one_output(int *given, const char *arg);
 
 /* Parses a whole number in [lo, hi] (finite), or exits with a usage error. */
 double cli_double(const char *opt, const char *s, double lo, double hi);
+/* The index of s among the NULL-terminated names (any case), or a usage
+ * error "OPT: 'S' is not A, B or C". */
+int cli_choice(const char *opt, const char *s, const char *const names[]);
 
 /* Parses a comma-separated list of exactly n integers in [lo, hi]; a single
  * value is repeated n times.  Exits with a usage error otherwise. */

@@ -747,67 +747,40 @@ int main(int argc, char **argv)
 			o.light_steps = (int)cli_long("--light-steps", optarg, 1, 10000);
 			break;
 		case OPT_MS: o.ms_octaves = (int)cli_long("--ms-octaves", optarg, 1, 4); break;
-		case OPT_INTEGRATOR:
-			if (strcasecmp(optarg, "march") == 0)
-				o.reference = 0;
-			else if (strcasecmp(optarg, "reference") == 0)
-				o.reference = 1;
-			else
-				cli_usage_error("--integrator: '%s' is not march or reference", optarg);
+		case OPT_INTEGRATOR: {
+			static const char *const names[] = {"march", "reference", NULL};
+			o.reference = cli_choice("--integrator", optarg, names);
 			break;
+		}
 		case OPT_SPP: o.spp = (int)cli_long("--spp", optarg, 1, 1000000); break;
 		case OPT_MAX_BOUNCES:
 			o.max_bounces = (int)cli_long("--max-bounces", optarg, 0, 1000000);
 			break;
 		case OPT_NO_HAZE: o.no_haze = 1; break;
-		case OPT_CLOUD_DEPTH:
-			if (strcasecmp(optarg, "forecast") == 0)
-				o.cloud_depth_genus = 0;
-			else if (strcasecmp(optarg, "genus") == 0)
-				o.cloud_depth_genus = 1;
-			else
-				cli_usage_error("--cloud-depth: expected forecast or genus, not '%s'",
-						optarg);
+		case OPT_CLOUD_DEPTH: {
+			static const char *const names[] = {"forecast", "genus", NULL};
+			o.cloud_depth_genus = cli_choice("--cloud-depth", optarg, names);
 			break;
-		case OPT_SKY_LEVEL:
-			if (strcasecmp(optarg, "preetham") == 0)
-				o.sky_level = CS_SKY_LEVEL_PREETHAM;
-			else if (strcasecmp(optarg, "ineichen") == 0)
-				o.sky_level = CS_SKY_LEVEL_INEICHEN;
-			else
-				cli_usage_error("--sky-level: expected preetham or ineichen, not '%s'",
-						optarg);
+		}
+		case OPT_SKY_LEVEL: {
+			/* in enum cs_sky_level's order */
+			static const char *const names[] = {"preetham", "ineichen", NULL};
+			o.sky_level = (enum cs_sky_level)cli_choice("--sky-level", optarg, names);
 			break;
-		case OPT_MARCH:
-			if (strcasecmp(optarg, "standard") == 0)
-				o.march = CS_MARCH_STANDARD;
-			else if (strcasecmp(optarg, "naive") == 0)
-				o.march = CS_MARCH_NAIVE;
-			else if (strcasecmp(optarg, "skip") == 0)
-				o.march = CS_MARCH_SKIP;
-			else if (strcasecmp(optarg, "adaptive") == 0)
-				o.march = CS_MARCH_ADAPTIVE;
-			else
-				cli_usage_error("--march: '%s' is not standard, naive, skip or adaptive",
-						optarg);
+		}
+		case OPT_MARCH: {
+			/* in CS_MARCH_*'s order */
+			static const char *const names[] = {"standard", "naive", "skip", "adaptive", NULL};
+			o.march = cli_choice("--march", optarg, names);
 			break;
-		case OPT_LIGHT_MARCH:
-			if (strcasecmp(optarg, "uniform") == 0)
-				o.light_march = CS_LIGHT_UNIFORM;
-			else if (strcasecmp(optarg, "quadratic") == 0)
-				o.light_march = CS_LIGHT_QUADRATIC;
-			else if (strcasecmp(optarg, "geometric") == 0)
-				o.light_march = CS_LIGHT_GEOMETRIC;
-			else if (strcasecmp(optarg, "cone") == 0)
-				o.light_march = CS_LIGHT_CONE;
-			else if (strcasecmp(optarg, "cache") == 0)
-				o.light_march = CS_LIGHT_CACHE;
-			else if (strcasecmp(optarg, "auto") == 0)
-				o.light_march = CS_LIGHT_AUTO;
-			else
-				cli_usage_error("--light-march: '%s' is not uniform, quadratic, geometric, "
-						"cone, cache or auto", optarg);
+		}
+		case OPT_LIGHT_MARCH: {
+			/* in CS_LIGHT_*'s order */
+			static const char *const names[] = {"uniform", "quadratic", "geometric", "cone",
+							    "cache",   "auto",      NULL};
+			o.light_march = cli_choice("--light-march", optarg, names);
 			break;
+		}
 		case OPT_SOURCE_EVERY:
 			o.source_every = (int)cli_long("--source-every", optarg, 1, 2);
 			break;

@@ -73,15 +73,8 @@ double cs_linke_turbidity(double aod550, double water_cm, double altitude_m)
 double cs_clear_sky_dome_scale(cs_v3 sun_dir, double sky_turbidity, double beam_turbidity,
 			       double aod550, double altitude_m, double dni_extra_w_m2)
 {
-	double el_min = CS_CLEAR_SKY_MIN_ELEVATION_DEG * CS_PI / 180.0;
-	cs_v3 d = v3_norm(sun_dir);
+	cs_v3 d = cs_sky_raise(v3_norm(sun_dir), CS_CLEAR_SKY_MIN_ELEVATION_DEG * CS_PI / 180.0);
 	double el = asin(d.z < -1.0 ? -1.0 : d.z > 1.0 ? 1.0 : d.z);
-	if (!(el >= el_min)) { /* also NaN: the same azimuth at el_min */
-		double h = sqrt(d.x * d.x + d.y * d.y);
-		d = h > 1e-12 ? v3(d.x / h * cos(el_min), d.y / h * cos(el_min), sin(el_min))
-			      : v3(cos(el_min), 0.0, sin(el_min));
-		el = el_min;
-	}
 	struct cs_sky sky;
 	cs_sky_init_beam(&sky, d, sky_turbidity, beam_turbidity);
 	double dome_klux = CS_PI * cs_luminance(sky.ambient_up[0], sky.ambient_up[1], sky.ambient_up[2]);

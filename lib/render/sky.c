@@ -186,6 +186,18 @@ static void init_ambient(struct cs_sky *sky, double elev)
 	}
 }
 
+cs_v3 cs_sky_raise(cs_v3 d, double elevation_rad)
+{
+	if (asin(clampd(d.z, -1.0, 1.0)) >= elevation_rad)
+		return d;
+	double hx = d.x, hy = d.y, hl = sqrt(hx * hx + hy * hy);
+	if (hl > 0.0)
+		hx /= hl, hy /= hl;
+	else
+		hx = 1.0, hy = 0.0;
+	return v3(cos(elevation_rad) * hx, cos(elevation_rad) * hy, sin(elevation_rad));
+}
+
 void cs_sky_scale_dome(struct cs_sky *sky, double f)
 {
 	if (!(f > 0.0) || !isfinite(f) || f == 1.0)
@@ -218,19 +230,8 @@ void cs_sky_init_beam(struct cs_sky *sky, cs_v3 sun, double turbidity, double be
 
 	double elev = asin(clampd(sky->sun_dir.z, -1.0, 1.0));
 	double *sh = sky->shape_sun;
-	if (elev >= SHAPE_ELEV) {
-		sh[0] = sky->sun_dir.x, sh[1] = sky->sun_dir.y, sh[2] = sky->sun_dir.z;
-	} else {
-		double hx = sky->sun_dir.x, hy = sky->sun_dir.y;
-		double hl = sqrt(hx * hx + hy * hy);
-		if (hl > 0.0)
-			hx /= hl, hy /= hl;
-		else
-			hx = 1.0, hy = 0.0;
-		sh[0] = cos(SHAPE_ELEV) * hx;
-		sh[1] = cos(SHAPE_ELEV) * hy;
-		sh[2] = sin(SHAPE_ELEV);
-	}
+	cs_v3 raised = cs_sky_raise(sky->sun_dir, SHAPE_ELEV);
+	sh[0] = raised.x, sh[1] = raised.y, sh[2] = raised.z;
 
 	double ts = acos(clampd(sh[2], -1.0, 1.0)), zen[3];
 	perez_coefficients(T, sky->perez);

@@ -63,6 +63,11 @@ void cs_sky_init_beam(struct cs_sky *sky, cs_v3 sun_dir, double turbidity,
  * sets the level from that model (render.h: cs_clear_sky_dome_scale). */
 void cs_sky_scale_dome(struct cs_sky *sky, double f);
 
+/* The unit direction d if it is elevation_rad or more above the horizon,
+ * else the direction of the same azimuth elevation_rad up (due east where
+ * d has none, or is NaN). */
+cs_v3 cs_sky_raise(cs_v3 d, double elevation_rad);
+
 /* Relative optical air mass, Kasten & Young (1989), at a sun elevation in
  * radians clamped to >= 0 (38 at the horizon). */
 double cs_relative_air_mass(double elevation_rad);

@@ -82,7 +82,7 @@ expect_err "cloud depth: the genera's (no forecast radiation at the state's time
 expect_err '"cloud_depth_scale":1.0000'
 run "$CR" --cloud-depth thick --size 32x18 -o "$T/d.png"
 expect_rc 2
-expect_err "cloudrender: --cloud-depth: expected forecast or genus, not 'thick'"
+expect_err "cloudrender: --cloud-depth: 'thick' is not forecast or genus"
 expect_no_file "$T/d.png"
 end
 
@@ -114,6 +114,7 @@ if [ -f "$REAL" ]; then
 	expect_err '"sky_level_scale":1.0000'
 	run "$CR" --sky-level bright -o "$T/s.png"
 	expect_rc 2
+	expect_err "--sky-level: 'bright' is not preetham or ineichen"
 	end
 else
 	skip cloudrender_sky_level_gives_a_cloudless_hours_diffuse_light "no $REAL"
