@@ -93,6 +93,12 @@ CS_HD double cs_slab_escape(double mu)
 	return 3.0 / 7.0 * (1.0 + 2.0 * mu);
 }
 
+CS_HD double cs_face_sky_share(double nz)
+{
+	nz = nz > -1.0 ? nz < 1.0 ? nz : 1.0 : -1.0;
+	return 0.5 * (1.0 + nz);
+}
+
 CS_HD CS_COLD void cs_slab_transmittances(double tau, double mu0, double *beam, double *diffuse)
 {
 	if (!(tau > 0.0)) {

@@ -322,16 +322,21 @@ CS_HD CS_COLD static void march_rain(const struct ray_ctx *c, const struct inter
  * sky_td >= 0: the share of the sky's light that reaches the point,
  * instead of the column above's diffuse transmittance; ground_td: the
  * share of the ground's that reaches it by a way other than up through
- * the column under it (a tower's wall, which sees the ground: 0 else).
+ * the column under it (a tower's face toward the eye, which sees the
+ * ground: 0 else), taken for the towers' share 1 - sun_share where it
+ * is more.
  * Through the face the eye sees, the cumulonimbus scenes of the accuracy
  * study against the path tracer at high (the tests/scenes side and low
  * sun views, 128^3 noise; held out, 64^3: the side view at 11:00 UTC,
  * at 15:00 toward the sun, and at 15:00 with 12 % cover), with
  * tilt_light's face toward the eye:
- * relative MSE 0.162, 0.097, 0.066, 0.047, 0.206 -> 0.153, 0.097,
- * 0.059, 0.039, 0.192; mean luminance -20.3, -7.9, -5.0, -10.0, -12.2
- * % -> -18.3, -5.2, -1.9, -7.7, -8.3 %; the sky's face alone: 0.157,
- * 0.099, 0.062, 0.042, 0.198. */
+ * relative MSE 0.162, 0.097, 0.066, 0.047, 0.206 -> 0.156, 0.098,
+ * 0.060, 0.041, 0.196; mean luminance -20.3, -7.9, -5.0, -10.0, -12.2
+ * % -> -18.9, -5.6, -2.9, -8.3, -9.2 %; the sky's face alone: 0.157,
+ * 0.099, 0.062, 0.042, 0.198; the ground's light through it without
+ * the face's share of the ground (1 - n_z) / 2, 0.153, 0.097, 0.059,
+ * 0.039, 0.192, but a face looking up would then take the light of a
+ * ground it does not see. */
 CS_HD CS_SHARED static void cloud_ambient(const struct cs_scene *sc, int li, double hb,
 				double tau, double tau_sun, double w_up, int sky_behind,
 				double escape, int inside, double dz, double cos_sun,
@@ -423,8 +428,10 @@ CS_HD CS_SHARED static void cloud_ambient(const struct cs_scene *sc, int li, dou
 		*fwd = w < 1.0 ? w : 1.0;
 	}
 	/* the ground's light: up through the column under the point, or in
-	 * a tower through the face the eye sees (ground_td), where more */
-	double reach_up = ground_td > 1.0 - hb ? ground_td : 1.0 - hb;
+	 * a tower through the face the eye sees (ground_td) where more, for
+	 * the towers' share 1 - sun_share as the sky's (tilt_light) */
+	double reach_up = 1.0 - hb;
+	reach_up += ground_td > reach_up ? (1.0 - sun_share) * (ground_td - reach_up) : 0.0;
 	for (int k = 0; k < 3; k++) {
 		double gain = 1.0 + (gg[k] - 1.0) * reach;
 		double skyl = (1.0 - f) * d->dif_top[li][k] * Td / CS_PI;
@@ -476,13 +483,17 @@ CS_HD static double escape_toward_eye(const struct ray_ctx *c, const struct cs_c
 #define TILT_WALL 0.6
 
 /* The vertical part of the outward normal of layer li's cloud at p: the
- * way its extinction falls, by central differences HEAP_NORMAL_M apart
- * (a tower's walls are smooth over that; at 50 and 150 m the study's
- * five cumulonimbus scenes measured the same to 2 % in relative MSE);
- * where it does not change, the face toward the eye (-d). */
+ * way its extinction falls, by central differences at p +- HEAP_NORMAL_M
+ * (a tower's walls are smooth over that; at +-50 and +-150 m the study's
+ * five cumulonimbus scenes measured the same to 2 % in relative MSE;
+ * within that of the layer's base or top its height profile tilts it);
+ * where it does not change, the face toward the eye (-d).  Its six
+ * lookups count as light samples. */
 #define HEAP_NORMAL_M 150.0
-CS_HD static double heap_normal_z(const struct cs_scene *sc, int li, cs_v3 p, cs_v3 d)
+CS_HD static double heap_normal_z(const struct cs_scene *sc, int li, cs_v3 p, cs_v3 d,
+				  struct cs_render_stats *st)
 {
+	st->light_samples += 6;
 	const struct cs_cloud_layer *l = &sc->layers[li];
 	const double h = HEAP_NORMAL_M;
 	double alt = cs_scene_altitude(sc, p);
@@ -511,35 +522,44 @@ CS_HD static double heap_normal_z(const struct cs_scene *sc, int li, cs_v3 p, cs
  * under a low sun; through the thinnest face whichever way it faced, an
  * anvil's underside, which faces the ground, came out the sky's blue:
  * test_reference), or the face the eye sees, through the tower's depth
- * back toward the eye (*tau_eye, which cloud_ambient's light from the
- * ground also takes), its normal the way the extinction falls
- * (heap_normal_z).  Without that face, the walls away from the sun had
- * only the face away from it, which looks down along the beam (a sun 42
- * deg up: 16 % of the sky), and the study's tower 16 deg up in the
- * shade was 2.4 kcd/m^2 against the path tracer's 6.2, its light the
- * sky's blue.  Out of line: the rays that meet no tower do not carry its
- * registers. */
+ * back toward the eye, its normal the way the extinction falls
+ * (heap_normal_z); the ground's share (1 - n_z) / 2 through that face
+ * goes to cloud_ambient (*ground_face).  Without that face, the walls
+ * away from the sun had only the face away from it, which looks down
+ * along the beam (a sun 42 deg up: 16 % of the sky), and the study's
+ * tower 16 deg up in the shade was 2.4 kcd/m^2 against the path
+ * tracer's 6.2, its light the sky's blue.  The face is an empirical
+ * stand-in for the light field near the surface the eye sees, and so
+ * depends on where the eye is: for the points it sees, within an
+ * optical depth or two of that surface, the face lets in nearly all the
+ * light its share of sky and ground sends.  Out of line: the rays that
+ * meet no tower do not carry its registers. */
 CS_HD CS_SHARED static double tilt_light(const struct ray_ctx *c, cs_v3 p, int li,
-					 double tau_above, double tau_sun, double ts, double L[3],
-					 double *tau_eye)
+					 double tau_above, double tau_sun, double ts, double hb,
+					 double L[3], double *ground_face)
 {
 	const struct cs_scene *sc = c->sc;
 	double tau_away = cs_heap_depth(sc, c->s, li, p, v3_scale(sc->sun_dir, -1.0), c->st);
-	*tau_eye = cs_heap_depth(sc, c->s, li, p, v3_scale(c->d, -1.0), c->st);
+	double tau_eye = cs_heap_depth(sc, c->s, li, p, v3_scale(c->d, -1.0), c->st);
 	cs_deck_tilt_source(&sc->deck, tau_sun, tau_away, -c->cos_sun, L);
 	for (int k = 0; k < 3; k++)
 		L[k] = ts * (L[k] * TILT_WALL);
 	double sz = sc->sun_dir.z;
 	double up = cs_slab_diffuse_transmittance(tau_above);
-	double sun_face = 0.5 * (1.0 + sz) * cs_slab_diffuse_transmittance(tau_sun);
-	double away_face = 0.5 * (1.0 - sz) * cs_slab_diffuse_transmittance(tau_away);
+	double sun_face = cs_face_sky_share(sz) * cs_slab_diffuse_transmittance(tau_sun);
+	double away_face = cs_face_sky_share(-sz) * cs_slab_diffuse_transmittance(tau_away);
 	double td = up > sun_face ? up : sun_face;
 	td = away_face > td ? away_face : td;
-	/* (the normal only where the face could let in more) */
-	double eye_td = cs_slab_diffuse_transmittance(*tau_eye);
-	if (eye_td > td) {
-		double eye_face = 0.5 * (1.0 + heap_normal_z(sc, li, p, c->d)) * eye_td;
+	/* the face the eye sees, the sky in its upper share and the ground in
+	 * its lower (the normal only where the face could let in more than
+	 * the other faces, or the column under the point, 1 - hb) */
+	double eye_td = cs_slab_diffuse_transmittance(tau_eye);
+	*ground_face = 0.0;
+	if (eye_td > td || eye_td > 1.0 - hb) {
+		double nz = heap_normal_z(sc, li, p, c->d, c->st);
+		double eye_face = cs_face_sky_share(nz) * eye_td;
 		td = eye_face > td ? eye_face : td;
+		*ground_face = (1.0 - cs_face_sky_share(nz)) * eye_td;
 	}
 	return ts * td + (1.0 - ts) * up;
 }
@@ -617,9 +637,8 @@ CS_HD static void sample_source(const struct ray_ctx *c, cs_v3 p, double alt,
 		A[0] = A[1] = A[2] = 0.0;
 		/* (a tau_sun not finite: a light march lost; no tower's light) */
 		ts = isfinite(tau_sun) ? ts : 0.0;
-		double L[3], tau_eye = INFINITY;
-		double sky_td = ts > 0.0 ? tilt_light(c, p, li, tau_above, tau_sun, ts, L, &tau_eye) : -1.0;
-		double ground_td = ts > 0.0 ? ts * cs_slab_diffuse_transmittance(tau_eye) : 0.0;
+		double L[3], ground_td = 0.0;
+		double sky_td = ts > 0.0 ? tilt_light(c, p, li, tau_above, tau_sun, ts, hb, L, &ground_td) : -1.0;
 		if (wf < 1.0)
 			cloud_ambient(sc, li, hb, tau_above, tau_sun, c->below_share,
 				      c->sky_on, escape_toward_eye(c, l), eye_in_layer(c, l),

@@ -443,6 +443,11 @@ CS_HD void cs_slab_transmittances(double tau, double mu0, double *beam, double *
  * exact sqrt(3)/4 H(mu) within 5 %): 3/7 along the surface, 9/7 along the
  * normal, 1 on the mean (2 int K mu dmu = 1).  mu is clamped to [0, 1]. */
 CS_HD double cs_slab_escape(double mu);
+/* The share of an isotropic sky's light that a plane of outward normal n
+ * (vertical component nz) receives, against a horizontal plane facing up:
+ * its view factor of the upper hemisphere, (1 + nz) / 2; the ground below
+ * the horizon sends it the rest.  nz is clamped to [-1, 1]. */
+CS_HD double cs_face_sky_share(double nz);
 
 /* Fills sc->deck from the scene's layers, sun and clear-sky ambient (call
  * after those are set); sets CS_FX_DECK when there are layers.  Its light

@@ -837,6 +837,35 @@ static void escape_function_is_chandrasekhars(void)
 	CHECK_NEAR(cs_slab_escape(3.0), cs_slab_escape(1.0), 0.0);
 }
 
+/* The sky's share of a tilted plane (cs_face_sky_share, which a
+ * cumulonimbus's faces take in integrator.c's tilt_light) against its
+ * view factor of the upper hemisphere integrated here: the irradiance on
+ * a plane of outward normal n from a radiance of 1 over the directions
+ * above the horizon, over pi (a horizontal plane facing up), by the
+ * midpoint rule in the polar angle and azimuth.  The closed form
+ * (1 + n_z) / 2: 1 facing up, 1/2 for a wall, 0 facing down; at 0.4
+ * (1 + n_z), 20 % less, a wall's 0.4 fails. */
+static void face_sky_share_is_the_view_factor(void)
+{
+	enum { NT = 400, NP = 800 };
+	const double nzs[] = {-1.0, -0.67, -0.3, 0.0, 0.24, 0.67, 1.0};
+	for (size_t k = 0; k < sizeof nzs / sizeof nzs[0]; k++) {
+		double nz = nzs[k], nx = sqrt(1.0 - nz * nz), sum = 0.0;
+		for (int i = 0; i < NT; i++) {
+			double th = (i + 0.5) * (0.5 * CS_PI) / NT; /* from the zenith */
+			for (int j = 0; j < NP; j++) {
+				double ph = (j + 0.5) * 2.0 * CS_PI / NP;
+				double c = nx * sin(th) * cos(ph) + nz * cos(th);
+				if (c > 0.0)
+					sum += c * sin(th) * (0.5 * CS_PI / NT) * (2.0 * CS_PI / NP);
+			}
+		}
+		CHECK_NEAR(cs_face_sky_share(nz), sum / CS_PI, 2e-3);
+	}
+	CHECK_NEAR(cs_face_sky_share(2.0), 1.0, 0.0);
+	CHECK_NEAR(cs_face_sky_share(-2.0), 0.0, 0.0);
+}
+
 /* A homogeneous layer 0.01 /m from 1000 to 2000 m, lit by the sun, and
  * the medium preset's settings. */
 static void sunlit_slab(struct cs_scene *sc, struct cs_render_settings *s)
@@ -1511,6 +1540,7 @@ static const struct t_case t_cases[] = {
 	CASE(black_object_at_the_visibility_keeps_two_percent_contrast),
 	CASE(fog_extinction_at_the_ground_is_koschmieder),
 	CASE(escape_function_is_chandrasekhars),
+	CASE(face_sky_share_is_the_view_factor),
 	CASE(fog_under_a_deck_adds_no_sunlight),
 	CASE(light_march_toward_any_sun_is_beer_lambert),
 	CASE(a_far_tower_shadows_the_ground_under_a_low_sun),
