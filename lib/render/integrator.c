@@ -556,10 +556,9 @@ CS_HD CS_SHARED static double tilt_light(const struct ray_ctx *c, cs_v3 p, int l
 	double eye_td = cs_slab_diffuse_transmittance(tau_eye);
 	*ground_face = 0.0;
 	if (eye_td > td || eye_td > 1.0 - hb) {
-		double nz = heap_normal_z(sc, li, p, c->d, c->st);
-		double eye_face = cs_face_sky_share(nz) * eye_td;
-		td = eye_face > td ? eye_face : td;
-		*ground_face = (1.0 - cs_face_sky_share(nz)) * eye_td;
+		double sky = cs_face_sky_share(heap_normal_z(sc, li, p, c->d, c->st));
+		td = sky * eye_td > td ? sky * eye_td : td;
+		*ground_face = (1.0 - sky) * eye_td;
 	}
 	return ts * td + (1.0 - ts) * up;
 }

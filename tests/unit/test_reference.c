@@ -287,20 +287,9 @@ static void irradiance_under_a_slab(void)
  * field of view in degrees), rendered by the march at quality and by the
  * reference path tracer (an independent implementation of the transport:
  * delta tracking, no deck model, no octaves) with spp paths, the haze off
- * (the reference has none): the ratio of their mean luminances, printed. */
+ * (the reference has none), its mean over the seeds 1 to seeds: the ratio
+ * of their mean luminances, printed. */
 enum { CMP_MAX_PX = 16 * 9 };
-static double march_over_references(const char *what, const struct cs_wx *wx,
-				    const struct cs_volume *noise, double eye_m, double az, double el,
-				    double fov, int w, int h, const char *quality, int spp,
-				    int seeds);
-static double march_over_reference(const char *what, const struct cs_wx *wx,
-				   const struct cs_volume *noise, double eye_m, double az, double el,
-				   double fov, int w, int h, const char *quality, int spp)
-{
-	return march_over_references(what, wx, noise, eye_m, az, el, fov, w, h, quality, spp, 1);
-}
-
-/* The same against the mean of the references of seeds 1 to seeds. */
 static double march_over_references(const char *what, const struct cs_wx *wx,
 				    const struct cs_volume *noise, double eye_m, double az, double el,
 				    double fov, int w, int h, const char *quality, int spp,
@@ -330,6 +319,14 @@ static double march_over_references(const char *what, const struct cs_wx *wx,
 	printf("  %s: mean luminance: march (%s) %.4f, reference %.4f (%+.1f %%)\n", what, quality,
 	       ym / (w * h), yr / (w * h), 100.0 * (ym / yr - 1.0));
 	return ym / yr;
+}
+
+/* The same against one reference, of seed 1. */
+static double march_over_reference(const char *what, const struct cs_wx *wx,
+				   const struct cs_volume *noise, double eye_m, double az, double el,
+				   double fov, int w, int h, const char *quality, int spp)
+{
+	return march_over_references(what, wx, noise, eye_m, az, el, fov, w, h, quality, spp, 1);
 }
 
 /* The 32^3 noise the march-against-path-tracer cases share, baked once
@@ -533,8 +530,9 @@ static void middle_cover_matches_the_reference(void)
  * and under an afternoon sun looking up at an anvil within 20 % (measured
  * -0.9 %, -2.9 % before; -10 % against the mean of four seeds, which
  * scatter by 6 % at 128 paths, when it measured -2.5 %); towers of 35 %
- * cover under the low sun within 15 % (measured +7.5 %, -2.3 % before).  The towers take the sun's diffuse light from their tilted
- * columns (cs_deck_tilt_source), 0.6 of it at their walls (integrator.c's
+ * cover under the low sun within 15 % (measured +7.5 %, -2.3 % before).
+ * The towers take the sun's diffuse light from their tilted columns
+ * (cs_deck_tilt_source), 0.6 of it at their walls (integrator.c's
  * TILT_WALL), all of it up to 20 % cover and none from 50 %
  * (CS_DECK_TILT_FULL, CS_DECK_TILT_NONE): the octaves and vertical columns before measured -58.8 % on
  * the walls, and fail; all of the columns' light +32 %, 0.48 of it
