@@ -83,7 +83,11 @@ NVCC_ARCH ?= -gencode arch=compute_90,code=sm_90 -gencode arch=compute_90,code=c
 CUDA_LIB  ?= $(if $(NVCC),$(firstword $(wildcard $(dir $(NVCC))../lib64 $(dir $(NVCC))../lib)))
 # what render_cuda.o keeps global (the rest of the unity build's host code
 # is made local, so that it never meets the C objects at link time)
-CUDA_API  := cs_device_available cs_cuda_scene_new cs_cuda_scene_update cs_cuda_scene_free cs_cuda_render cs_cuda_bench
+CUDA_API  := cs_device_available cs_cuda_scene_new cs_cuda_scene_update cs_cuda_scene_free cs_cuda_render cs_cuda_bench \
+	     cs_cuda_kernel_name
+# the kernels for a set of effects (lib/render/cuda/kernels.h names the same):
+# render_cuda.cu compiled again for each, its launch kept global
+CUDA_KERNELS := plain terrain
 ifeq ($(CUDA),1)
 ifeq ($(NVCC),)
 $(error CUDA=1 but nvcc is not on the PATH nor at /usr/local/cuda/bin/nvcc: give NVCC=)
@@ -92,7 +96,7 @@ ifneq ($(SAN)$(FUZZ),)
 $(error CUDA=1 does not combine with SAN or FUZZ)
 endif
 B         := build-cuda
-DEVICE_OBJ = $(B)/lib/render/cuda/render_cuda.o
+DEVICE_OBJ = $(B)/lib/render/cuda/render_cuda.o $(CUDA_KERNELS:%=$(B)/lib/render/cuda/render_cuda_%.o)
 CUDA_LIBS  = -L$(CUDA_LIB) -lcudart_static -ldl -lrt -lstdc++
 else
 DEVICE_OBJ = $(B)/lib/render/cuda/device_none.o
@@ -155,7 +159,16 @@ $(B)/lib/render/cuda/render_cuda.o: lib/render/cuda/render_cuda.cu
 		-I lib -Werror all-warnings -diag-suppress 20091 -Xcompiler -Wall \
 		-MMD -MP -MT $@ -MF $(@:.o=.d) \
 		-c $< -o $@.tmp
-	objcopy $(CUDA_API:%=-G %) $@.tmp $@
+	objcopy $(CUDA_API:%=-G %) -G cs_cuda_texture_all -G cs_cuda_launch_all $@.tmp $@
+	@rm -f $@.tmp
+$(CUDA_KERNELS:%=$(B)/lib/render/cuda/render_cuda_%.o): $(B)/lib/render/cuda/render_cuda_%.o: \
+		lib/render/cuda/render_cuda.cu
+	@mkdir -p $(@D)
+	$(NVCC) -std=c++17 -O3 $(NVCC_ARCH) -D_POSIX_C_SOURCE=200809L -DCS_VERSION='"$(VERSION)"' \
+		-DCS_CUDA_KERNEL=$* -I lib -Werror all-warnings -diag-suppress 20091 -Xcompiler -Wall \
+		-MMD -MP -MT $@ -MF $(@:.o=.d) \
+		-c $< -o $@.tmp
+	objcopy -G cs_cuda_texture_$* -G cs_cuda_launch_$* $@.tmp $@
 	@rm -f $@.tmp
 # lib/render/cpu/kernel.c three times: -O3, no contraction (the same bits as
 # the library's objects), for each instruction set; only the kernel's

@@ -701,6 +701,7 @@ static int render_device(const struct cs_cloudrender_opts *o, struct cs_cloudren
 	if (rc == CS_OK)
 		rc = cs_cuda_render(*gpu, cam, &r->settings, px, &r->stats, &r->device_kernel_ms);
 	if (rc == CS_OK) {
+		r->device_kernel = cs_cuda_kernel_name(*gpu, &r->settings);
 		r->stats.light_samples += cache_evaluations;
 		r->stats.cache_cells = cache_evaluations;
 		r->stats.cache_volumes = volumes;

@@ -162,6 +162,7 @@ struct cs_cloudrender_result {
 	 * device_bench the mean time of one warm frame (ms, CUDA events) */
 	char device_name[160];
 	double device_kernel_ms, device_frame_ms;
+	const char *device_kernel; /* its name (cs_cuda_kernel_name) */
 };
 
 /* Defaults: built-in weather, in-memory noise, the default camera at the

@@ -49,4 +49,10 @@ int cs_cuda_render(struct cs_cuda_scene *d, const struct cs_camera *cam,
 int cs_cuda_bench(struct cs_cuda_scene *d, const struct cs_camera *cam,
 		  const struct cs_render_settings *s, int n, double *frame_ms);
 
+/* The name of the kernel that renders a frame of d with s: the first of
+ * render/cuda/kernels.h built for all the frame needs ("plain",
+ * "terrain"), else "all", every effect's (or what the environment's
+ * CLOUDSCAPE_CUDA_KERNEL=all asks for). */
+const char *cs_cuda_kernel_name(const struct cs_cuda_scene *d, const struct cs_render_settings *s);
+
 #endif

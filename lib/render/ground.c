@@ -99,7 +99,7 @@ CS_HD static void terrain_albedo(const struct cs_scene *sc, double x, double y,
 CS_HD static int water_at(const struct cs_scene *sc, double x, double y)
 {
 	const struct cs_hfield *f = sc->terrain;
-	if (sc->terrain_water == NULL)
+	if (!CS_BUILT(CS_FX_WATER) || sc->terrain_water == NULL)
 		return 0;
 	double col = f->a[0] + f->a[1] * x + f->a[2] * y;
 	double row = f->b[0] + f->b[1] * x + f->b[2] * y;
@@ -119,7 +119,7 @@ CS_HD CS_COLD void cs_water_light(const struct cs_scene *sc, const struct cs_ren
 	/* the sky in the mirror direction: under a deck what it lets through */
 	cs_v3 r = v3_norm(v3_mad(d, n, 2.0 * cv));
 	double sky[3] = {0.0, 0.0, 0.0};
-	if (sc->effects & CS_FX_SKY) {
+	if (CS_FX_IS(sc, CS_FX_SKY)) {
 		if (sc->deck.on)
 			for (int k = 0; k < 3; k++)
 				sky[k] = sc->deck.sky_below[k];
@@ -131,9 +131,9 @@ CS_HD CS_COLD void cs_water_light(const struct cs_scene *sc, const struct cs_ren
 	const double body[3] = {CS_WATER_BODY_R, CS_WATER_BODY_G, CS_WATER_BODY_B};
 	const double *amb = sc->deck.on ? sc->deck.sky_below : sc->ambient_up;
 	double cosi = v3_dot(n, sc->sun_dir), sunT = 0.0;
-	if ((sc->effects & CS_FX_KEY) && cosi > 0.0) {
+	if (CS_FX_IS(sc, CS_FX_KEY) && cosi > 0.0) {
 		double self = on_terrain ? terrain_shadow(sc->terrain, p, sc->sun_dir) : 1.0;
-		sunT = (sc->effects & CS_FX_CLOUD_SHADOWS) && self > 0.0
+		sunT = CS_FX_IS(sc, CS_FX_CLOUD_SHADOWS) && self > 0.0
 			       ? self * cs_render_sun_transmittance(sc, s, p, st)
 			       : self;
 	}
@@ -146,7 +146,7 @@ CS_HD CS_COLD void cs_water_light(const struct cs_scene *sc, const struct cs_ren
 	for (int k = 0; k < 3; k++)
 		rgb[k] = F * sky[k] +
 			 (1.0 - F) * body[k] * (sc->sun_illuminance[k] * cosi * sunT / CS_PI +
-						((sc->effects & CS_FX_SKY) ? amb[k] : 0.0)) +
+						(CS_FX_IS(sc, CS_FX_SKY) ? amb[k] : 0.0)) +
 			 glint * sc->sun_illuminance[k] * sunT;
 }
 
@@ -180,6 +180,7 @@ CS_HD CS_COLD void cs_ground_light(const struct cs_scene *sc,
 			 const struct cs_render_settings *s, cs_v3 p, cs_v3 d,
 			 int on_terrain, struct cs_render_stats *st, double rgb[3])
 {
+	on_terrain = CS_BUILT(CS_FX_TERRAIN) && on_terrain;
 	if (on_terrain && water_at(sc, p.x, p.y)) {
 		cs_water_light(sc, s, p, d, on_terrain, st, rgb);
 		return;
@@ -193,13 +194,13 @@ CS_HD CS_COLD void cs_ground_light(const struct cs_scene *sc,
 		ao = terrain_ao(sc->terrain, p, h);
 	}
 	double cosi = v3_dot(n, sc->sun_dir), alt = cs_scene_altitude(sc, p);
-	int key = (sc->effects & CS_FX_KEY) != 0;
-	int fog = sc->fog_beta_per_m > 0.0 && alt < sc->fog_top_m;
+	int key = CS_FX_IS(sc, CS_FX_KEY);
+	int fog = CS_BUILT(CS_FX_FOG) && sc->fog_beta_per_m > 0.0 && alt < sc->fog_top_m;
 	if (key && cosi > 0.0 && on_terrain)
 		self = terrain_shadow(sc->terrain, p, sc->sun_dir);
 	/* the clouds' transmittance of the sun's beam */
 	double Tc = 1.0, direct = 0.0;
-	if (key && (sc->effects & CS_FX_CLOUD_SHADOWS) && cosi > 0.0 && self > 0.0)
+	if (key && CS_FX_IS(sc, CS_FX_CLOUD_SHADOWS) && cosi > 0.0 && self > 0.0)
 		Tc = cs_render_sun_transmittance(sc, s, p, st);
 	if (key && cosi > 0.0) {
 		/* and the fog's beam transmittance: in fog at a low sun the
@@ -219,7 +220,7 @@ CS_HD CS_COLD void cs_ground_light(const struct cs_scene *sc,
 			diffuse[k] *= ao / CS_PI;
 	} else {
 		for (int k = 0; k < 3; k++)
-			diffuse[k] = (sc->effects & CS_FX_SKY) ? sky[k] * ao : 0.0;
+			diffuse[k] = CS_FX_IS(sc, CS_FX_SKY) ? sky[k] * ao : 0.0;
 	}
 	for (int k = 0; k < 3; k++)
 		rgb[k] = alb[k] * (sc->sun_illuminance[k] * direct + diffuse[k]);

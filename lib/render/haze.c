@@ -17,7 +17,7 @@ CS_HD CS_COLD void cs_haze_light(const struct cs_scene *sc, cs_v3 d, double clea
 {
 	for (int k = 0; k < 3; k++)
 		clear[k] = sun[k] = 0.0;
-	if (!(sc->effects & CS_FX_SKY))
+	if (!CS_FX_IS(sc, CS_FX_SKY))
 		return;
 	double up = fabs(d.z) > 0.0175 ? fabs(d.z) : 0.0175;
 	double flat = sqrt(d.x * d.x + d.y * d.y);
@@ -53,7 +53,7 @@ CS_HD double cs_haze_depth(const struct cs_scene *sc, double h0, double dz, doub
 
 CS_HD double cs_fog_depth(const struct cs_scene *sc, double h0, double dz, double t)
 {
-	if (!(sc->fog_beta_per_m > 0.0))
+	if (!CS_BUILT(CS_FX_FOG) || !(sc->fog_beta_per_m > 0.0))
 		return 0.0;
 	double top = sc->fog_top_m, len;
 	if (fabs(dz) < 1e-12) {
@@ -68,7 +68,7 @@ CS_HD double cs_fog_depth(const struct cs_scene *sc, double h0, double dz, doubl
 
 CS_HD double cs_fog_sun_transmittance(const struct cs_scene *sc, double alt_m)
 {
-	if (!(sc->fog_beta_per_m > 0.0) || !(alt_m < sc->fog_top_m))
+	if (!CS_BUILT(CS_FX_FOG) || !(sc->fog_beta_per_m > 0.0) || !(alt_m < sc->fog_top_m))
 		return 1.0;
 	double mu = sc->sun_dir.z;
 	if (!(mu > 0.0))

@@ -151,7 +151,7 @@ CS_HD static void haze_part(const struct ray_ctx *c, struct path *P, double t)
 		cs_v3 p = v3_mad(c->o, c->d, 0.5 * (P->t_haze + t1));
 		/* the full light march: a coarse one (a third of the steps)
 		 * drew false shadows through thick stratocumulus */
-		double ts = (c->sc->effects & CS_FX_KEY) ? exp(-cs_light_depth(c->sc, c->s, p, ~0u, c->st))
+		double ts = CS_FX_IS(c->sc, CS_FX_KEY) ? exp(-cs_light_depth(c->sc, c->s, p, ~0u, c->st))
 							 : 1.0;
 		haze_step(c, P, t1, ts);
 	}
@@ -169,7 +169,7 @@ CS_HD static void haze_to(const struct ray_ctx *c, struct path *P, double t)
 {
 	if (!c->haze || !(t > P->t_haze))
 		return;
-	if (c->fog_cross > P->t_haze && c->fog_cross < t)
+	if (CS_BUILT(CS_FX_FOG) && c->fog_cross > P->t_haze && c->fog_cross < t)
 		haze_part(c, P, c->fog_cross);
 	haze_part(c, P, t);
 }
@@ -184,17 +184,17 @@ CS_HD CS_COLD double cs_find_ground(const struct cs_scene *sc, cs_v3 o, cs_v3 d,
 	double tg = INFINITY, g0, g1;
 	cs_v3 up = v3(o.x, o.y, o.z + sc->earth_radius_m);
 	*on_terrain = 0;
-	if ((sc->effects & CS_FX_GROUND) &&
+	if (CS_FX_IS(sc, CS_FX_GROUND) &&
 	    cs_sphere_hit(o, d, sc->earth_radius_m, sc->earth_radius_m + sc->ground_alt_m,
 			  &g0, &g1) &&
 	    g1 >= 0.0 && (g0 >= 0.0 || v3_dot(up, d) < 0.0)) {
 		tg = g0 > 0.0 ? g0 : 0.0;
 		double hh;
 		cs_v3 p = v3_mad(o, d, tg);
-		if (sc->terrain && cs_hfield_height(sc->terrain, p.x, p.y, &hh))
+		if (CS_BUILT(CS_FX_TERRAIN) && sc->terrain && cs_hfield_height(sc->terrain, p.x, p.y, &hh))
 			tg = INFINITY; /* inside the grid the terrain is the ground */
 	}
-	if (sc->terrain) {
+	if (CS_BUILT(CS_FX_TERRAIN) && sc->terrain) {
 		double tt;
 		unsigned long cells = 0;
 		if (cs_hfield_intersect(sc->terrain, o, d, isfinite(tg) ? tg : 1e7, &tt, &cells)) {
@@ -220,7 +220,7 @@ CS_HD CS_COLD static int gather_intervals(const struct cs_scene *sc, cs_v3 o, cs
 		for (int j = 0; j < k; j++)
 			iv[n++] = (struct interval){a[j][0], a[j][1], 1u << i};
 	}
-	if (sc->effects & CS_FX_RAIN) {
+	if (CS_FX_IS(sc, CS_FX_RAIN | CS_FX_SNOW)) {
 		double a[2][2];
 		int k = cs_shell_intervals(sc, o, d, R + sc->ground_alt_m - 1.0,
 					   R + sc->rain_top_m, tmax, a);
@@ -593,8 +593,9 @@ CS_HD static void sample_source(const struct ray_ctx *c, cs_v3 p, double alt,
 	/* a cumulonimbus's towers: the sun's multiply scattered light from
 	 * their tilted columns for the share ts (deck.tilt_weight), from the
 	 * octaves and cloud_ambient for the rest */
-	double ts = sc->deck.on && c->s->ambient ? sc->deck.tilt_weight[li] : 0.0;
-	if (sc->effects & CS_FX_KEY) {
+	double ts = CS_BUILT(CS_BUILT_TOWERS) && sc->deck.on && c->s->ambient ? sc->deck.tilt_weight[li]
+									    : 0.0;
+	if (CS_FX_IS(sc, CS_FX_KEY)) {
 		double tau = cs_light_depth(sc, c->s, p, mask, c->st);
 		tau_sun = tau;
 		double w = 0.0, a = 1.0, b = 1.0;
@@ -605,7 +606,7 @@ CS_HD static void sample_source(const struct ray_ctx *c, cs_v3 p, double alt,
 		}
 		/* in cirrostratus a share of the single scattering goes into
 		 * the halo instead of the two lobes */
-		int halo = (sc->effects & CS_FX_HALO) && sc->layers[li].genus == CS_CIRROSTRATUS;
+		int halo = CS_FX_IS(sc, CS_FX_HALO) && sc->layers[li].genus == CS_CIRROSTRATUS;
 		for (int k = 0; k < 3; k++) {
 			double single = c->phase[0] * exp(-tau);
 			double wk = halo ? w - CS_HALO_SHARE * single +
@@ -623,8 +624,9 @@ CS_HD static void sample_source(const struct ray_ctx *c, cs_v3 p, double alt,
 		double tau_above = 0.0;
 		int n = c->s->light_steps / 2 > 2 ? c->s->light_steps / 2 : 2;
 		/* the column's volume (--light-march cache), or n samples */
-		const struct cs_light_cache *vc = CS_LIGHT_CACHED(c->s->light_march) &&
-								  sc->column_cache[li].depth != NULL
+		const struct cs_light_cache *vc = !CS_BUILT(CS_BUILT_LIGHT_MARCH) ||
+								  (CS_LIGHT_CACHED(c->s->light_march) &&
+								   sc->column_cache[li].depth != NULL)
 							  ? &sc->column_cache[li]
 							  : NULL;
 		if (sc->deck.on && vc != NULL) {
@@ -809,7 +811,7 @@ CS_HD static int march_sample(const struct ray_ctx *c, struct path *P, unsigned 
 	double tr = exp(-sigma * dt);
 	double integ = naive ? dt : -expm1(-sigma * dt) / sigma;
 	double ss = sc->albedo * sigma;
-	if (c->s->source_every == 2 && ss > 0.0)
+	if (CS_BUILT(CS_BUILT_SOURCE_EVERY2) && c->s->source_every == 2 && ss > 0.0)
 		source_every_other(c, P, p, alt, mask, amb, odd, t, dt, ss, integ, S, &fwd);
 	else
 		sample_source(c, p, alt, mask, amb, ss, S, &fwd);
@@ -955,7 +957,8 @@ CS_HD static void march_intervals(const struct ray_ctx *c, struct interval *iv,
 {
 	for (int i = 0; i < n && !P->terminated; i++) {
 		if (iv[i].mask == 0) {
-			march_rain(c, &iv[i], P);
+			if (CS_BUILT(CS_FX_RAIN | CS_FX_SNOW))
+				march_rain(c, &iv[i], P);
 			continue;
 		}
 		double t0 = iv[i].t0, t1 = iv[i].t1;
@@ -988,7 +991,7 @@ CS_HD CS_COLD static void finish_ray(const struct ray_ctx *c, double tg, int on_
 				bg[k] *= P->th;
 			if (P->depth == CS_SKY_DEPTH_M)
 				P->depth = tg;
-		} else if (sc->effects & CS_FX_SKY) {
+		} else if (CS_FX_IS(sc, CS_FX_SKY)) {
 			/* the fog is not in the sky's radiance: it dims it */
 			haze_to(c, P, 1e7);
 			double disk[3], stars[3], tf = exp(-P->tau_f);
@@ -1035,7 +1038,7 @@ CS_HD void cs_render_ray(const struct cs_scene *sc, const struct cs_render_setti
 	c.escape_wall = cs_slab_escape(0.25 * CS_PI * sqrt(fmax(0.0, 1.0 - d.z * d.z)));
 	if (sc->deck.on)
 		c.below_share = below_share(&sc->deck, -d.z);
-	c.sky_on = sc->deck.on && (sc->effects & CS_FX_SKY) && d.z > 0.0 && !isfinite(tg);
+	c.sky_on = sc->deck.on && CS_FX_IS(sc, CS_FX_SKY) && d.z > 0.0 && !isfinite(tg);
 	double dh = d.x * d.x + d.y * d.y, sh = sc->sun_dir.x * sc->sun_dir.x +
 						   sc->sun_dir.y * sc->sun_dir.y;
 	c.cphi_sun = dh > 1e-24 && sh > 1e-24
@@ -1047,10 +1050,10 @@ CS_HD void cs_render_ray(const struct cs_scene *sc, const struct cs_render_setti
 	for (int k = 0; k < s->ms_octaves; k++)
 		c.phase[k] = cs_phase_two_lobe(cos_theta, sc->g_forward, sc->g_back,
 					       sc->w_forward, pow(sc->g_forward, k));
-	for (int k = 0; k < 3 && (sc->effects & CS_FX_HALO); k++)
+	for (int k = 0; k < 3 && CS_FX_IS(sc, CS_FX_HALO); k++)
 		c.halo[k] = cs_phase_halo(cos_theta, k);
-	c.haze = (sc->effects & CS_FX_HAZE) &&
-		 (sc->haze_beta0_per_m > 0.0 || sc->fog_beta_per_m > 0.0);
+	c.haze = CS_FX_IS(sc, CS_FX_HAZE) &&
+		 (sc->haze_beta0_per_m > 0.0 || (CS_BUILT(CS_FX_FOG) && sc->fog_beta_per_m > 0.0));
 	if (c.haze) {
 		c.h0 = cs_scene_altitude(sc, o);
 		c.dz = v3_dot(d, v3_norm(v3(o.x, o.y, o.z + sc->earth_radius_m)));
@@ -1060,17 +1063,17 @@ CS_HD void cs_render_ray(const struct cs_scene *sc, const struct cs_render_setti
 		 * solution (cs_fog_source) and the sun's beam scattered once,
 		 * with the droplets' phase function (octave 0's, the full
 		 * one): the glow around the sun */
-		int sun_up = (sc->effects & CS_FX_KEY) && sc->sun_dir.z > 0.0;
+		int sun_up = CS_FX_IS(sc, CS_FX_KEY) && sc->sun_dir.z > 0.0;
 		double fphase = sun_up ? sc->albedo * c.phase[0] : 0.0;
 		for (int k = 0; k < 3; k++) {
 			c.hdome[k] = sc->deck.on ? sc->deck.sky_below[k] : c.hclear[k] - c.hsun[k];
 			c.fsun[k] = fphase * sc->sun_illuminance[k];
 		}
-		if (sc->fog_beta_per_m > 0.0 && fabs(c.dz) > 1e-12) {
+		if (CS_BUILT(CS_FX_FOG) && sc->fog_beta_per_m > 0.0 && fabs(c.dz) > 1e-12) {
 			double tc = (sc->fog_top_m - c.h0) / c.dz;
 			c.fog_cross = tc > 0.0 ? tc : -1.0;
 		}
-		if ((sc->effects & CS_FX_SHAFTS) && s->haze_steps > 0)
+		if (CS_FX_IS(sc, CS_FX_SHAFTS) && s->haze_steps > 0)
 			c.shaft_dt = CS_SHAFTS_RANGE_M / s->haze_steps;
 	}
 	struct path P = {.L = {0.0, 0.0, 0.0}, .T = 1.0, .Tcloud = 1.0, .depth = CS_SKY_DEPTH_M, .th = 1.0, .thh = 1.0, .Tsky = 1.0};

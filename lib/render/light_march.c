@@ -220,7 +220,8 @@ CS_HD CS_SHARED double cs_light_depth(const struct cs_scene *sc,
 								  : 0.0;
 	int others = s->light_steps / 3 > 2 ? s->light_steps / 3 : 2;
 	for (int i = 0; i < sc->nlayers; i++) {
-		if (CS_LIGHT_CACHED(s->light_march) && sc->light_cache[i].depth != NULL) {
+		if (!CS_BUILT(CS_BUILT_LIGHT_MARCH) ||
+		    (CS_LIGHT_CACHED(s->light_march) && sc->light_cache[i].depth != NULL)) {
 			tau += cs_cached_depth(&sc->layers[i], &sc->light_cache[i], p.x, p.y, alt);
 			continue;
 		}
@@ -246,7 +247,7 @@ CS_HD double cs_render_sun_transmittance(const struct cs_scene *sc,
 				   const struct cs_render_settings *s, cs_v3 p,
 				   struct cs_render_stats *st)
 {
-	if (!(sc->effects & CS_FX_KEY) || sc->nlayers == 0)
+	if (!CS_FX_IS(sc, CS_FX_KEY) || sc->nlayers == 0)
 		return 1.0;
 	return exp(-cs_light_depth(sc, s, p, (1u << sc->nlayers) - 1u, st));
 }

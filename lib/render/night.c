@@ -53,7 +53,7 @@ void cs_scene_night(struct cs_scene *sc, double time_utc, double lat_deg, double
 CS_HD CS_COLD void cs_scene_sky(const struct cs_scene *sc, cs_v3 d, double rgb[3])
 {
 	cs_sky_radiance(&sc->sky, d, rgb);
-	if (sc->effects & CS_FX_MOON) {
+	if (CS_FX_IS(sc, CS_FX_MOON)) {
 		double m[3];
 		cs_sky_radiance(&sc->moon_sky, d, m);
 		for (int k = 0; k < 3; k++)
@@ -64,7 +64,7 @@ CS_HD CS_COLD void cs_scene_sky(const struct cs_scene *sc, cs_v3 d, double rgb[3
 CS_HD CS_COLD void cs_scene_disk(const struct cs_scene *sc, cs_v3 d, double rgb[3])
 {
 	cs_sky_sun_disk(&sc->sky, d, rgb);
-	if (sc->effects & CS_FX_MOON) {
+	if (CS_FX_IS(sc, CS_FX_MOON)) {
 		double m[3];
 		cs_sky_sun_disk(&sc->moon_sky, d, m);
 		for (int k = 0; k < 3; k++)
@@ -85,7 +85,7 @@ enum { STAR_RA = 2048, STAR_DEC = 1024 };
 CS_HD CS_COLD void cs_scene_stars(const struct cs_scene *sc, cs_v3 d, double rgb[3])
 {
 	rgb[0] = rgb[1] = rgb[2] = 0.0;
-	if (!(sc->effects & CS_FX_STARS) || d.z <= 0.0)
+	if (!CS_FX_IS(sc, CS_FX_STARS) || d.z <= 0.0)
 		return;
 	const cs_v3 *f = sc->star_frame;
 	cs_v3 q = v3_add(v3_add(v3_scale(f[0], d.x), v3_scale(f[1], d.y)), v3_scale(f[2], d.z));

@@ -133,6 +133,27 @@ enum {
 	CS_FX_KEY = CS_FX_SUN | CS_FX_MOON
 };
 
+/* The code a renderer is built with.  On a CPU every effect's; a GPU
+ * kernel may be built for a set of them (CS_FX_BUILT, render_cuda.cu): a
+ * scene without the others renders the same through code without theirs,
+ * which the GPU runs faster (its registers and its instruction cache).
+ * CS_FX_IS(sc, fx): the scene has one of the effects fx and their code is
+ * built; CS_BUILT(fx): the code for fx is built, where the per-sample
+ * code reads an effect from the scene's state instead of its flags (the
+ * fog's extinction, the terrain, its water, a cumulonimbus's towers). */
+#ifndef CS_FX_BUILT
+#define CS_FX_BUILT 0xffffffffu
+#endif
+#define CS_BUILT(fx) ((CS_FX_BUILT & (unsigned)(fx)) != 0u)
+#define CS_FX_IS(sc, fx) (((unsigned)(sc)->effects & CS_FX_BUILT & (unsigned)(fx)) != 0u)
+/* what CS_FX_BUILT holds besides the effects: the towers' light
+ * (cs_deck.tilt_weight), the light marched where a layer has no light
+ * cache (cs_render_settings.light_march), and the light found at every
+ * other sample (source_every 2) */
+#define CS_BUILT_TOWERS (1u << 24)
+#define CS_BUILT_LIGHT_MARCH (1u << 25)
+#define CS_BUILT_SOURCE_EVERY2 (1u << 26)
+
 /* How far along a ray the clouds' shadows in the haze are sampled, m;
  * beyond, their area mean. */
 #define CS_SHAFTS_RANGE_M 20000.0

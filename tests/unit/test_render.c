@@ -5,6 +5,7 @@
 #include "render/scene.h"
 #include "render/sky.h"
 #include "test.h"
+#include "core/color.h"
 #include "core/time.h"
 
 /* arrays of three doubles to and from cs_v3 */
@@ -1202,6 +1203,39 @@ static void precipitation_only_when_it_rains_or_snows(void)
 	CHECK_NEAR(sc.rain_extinction_per_m, cs_snow_extinction(2.0 / 0.9), 1e-12);
 }
 
+/* Snow alone is seen: a precipitation that is all snow (no CS_FX_RAIN)
+ * is marched as rain of the same extinction and albedo is, and a view
+ * through it is not the view without it.  Until 2026-12-05 only rain put
+ * the shafts on the ray (all-snow hours rendered no snowfall). */
+static void snow_alone_is_marched_as_rain_is(void)
+{
+	struct cs_wx wx;
+	cs_wx_default(&wx);
+	wx.layers[0].genus = CS_NIMBOSTRATUS;
+	wx.layers[0].coverage = 0.9;
+	wx.precipitation_mm_h = 2.0, wx.snow_fraction = 1.0;
+	static struct cs_scene sc;
+	CHECK(cs_scene_build(&sc, &wx, wx.time_utc, &noise) == CS_OK);
+	CHECK((sc.effects & CS_FX_SNOW) && !(sc.effects & CS_FX_RAIN));
+	struct cs_render_settings s;
+	cs_render_quality("medium", &s);
+	struct cs_render_stats st;
+	struct cs_ray_result snow, rain, none;
+	/* from 300 m up to the ground 2 km away (a shaft over it) */
+	cs_v3 o = v3(0.0, 0.0, wx.site.alt_m + 300.0), d = v3_norm(v3(1.0, 0.0, -0.15));
+	cs_render_ray(&sc, &s, o, d, 0.5, &st, &snow);
+	sc.effects ^= CS_FX_SNOW | CS_FX_RAIN;
+	cs_render_ray(&sc, &s, o, d, 0.5, &st, &rain);
+	sc.effects &= ~(unsigned)CS_FX_RAIN;
+	cs_render_ray(&sc, &s, o, d, 0.5, &st, &none);
+	double ys = cs_luminance(snow.rgb[0], snow.rgb[1], snow.rgb[2]);
+	double yr = cs_luminance(rain.rgb[0], rain.rgb[1], rain.rgb[2]);
+	double yn = cs_luminance(none.rgb[0], none.rgb[1], none.rgb[2]);
+	printf("  luminance through 2 mm/h: all snow %.4g, as rain %.4g, none %.4g\n", ys, yr, yn);
+	CHECK_NEAR(ys, yr, 1e-12 * yr);
+	CHECK(fabs(ys - yn) > 0.01 * yn);
+}
+
 /* A thin cirrostratus in front of the sun shows the 22-degree halo: the
  * minimum deviation of a 60-degree ice prism, 2 asin(n sin 30) - 60, at
  * n = 1.3079 (red, 650 nm) and 1.3148 (blue, 450 nm): red inside, blue
@@ -1537,6 +1571,7 @@ static const struct t_case t_cases[] = {
 	CASE(thin_cirrostratus_shows_the_22_degree_halo),
 	CASE(rain_and_snow_extinction_follow_published_relations),
 	CASE(precipitation_only_when_it_rains_or_snows),
+	CASE(snow_alone_is_marched_as_rain_is),
 	CASE(black_object_at_the_visibility_keeps_two_percent_contrast),
 	CASE(fog_extinction_at_the_ground_is_koschmieder),
 	CASE(escape_function_is_chandrasekhars),

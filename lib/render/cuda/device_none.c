@@ -43,6 +43,12 @@ int cs_cuda_render(struct cs_cuda_scene *d, const struct cs_camera *cam,
 	return cs_error(CS_EINVAL, "%s", CS_CUDA_WHY);
 }
 
+const char *cs_cuda_kernel_name(const struct cs_cuda_scene *d, const struct cs_render_settings *s)
+{
+	(void)d, (void)s;
+	return "none";
+}
+
 int cs_cuda_bench(struct cs_cuda_scene *d, const struct cs_camera *cam,
 		  const struct cs_render_settings *s, int n, double *frame_ms)
 {

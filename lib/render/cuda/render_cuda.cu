@@ -18,6 +18,18 @@
  * which the texture unit interpolates (below).  The noise lookup is the
  * other device-only piece: volume.c's, with its index arithmetic made
  * cheap for a GPU, or the texture (below). */
+/* Compiled once with every effect (the host's code and the kernel "all"),
+ * and once for each kernel of kernels.h with -DCS_CUDA_KERNEL=name
+ * (its kernel and launch alone: CS_CUDA_KERNEL_ONLY). */
+#define CS_CUDA_CAT_(a, b) a##b
+#define CS_CUDA_CAT(a, b) CS_CUDA_CAT_(a, b)
+#ifdef CS_CUDA_KERNEL
+#define CS_CUDA_KERNEL_ONLY 1
+#define CS_FX_BUILT CS_CUDA_CAT(CS_CUDA_FX_, CS_CUDA_KERNEL)
+#else
+#define CS_CUDA_KERNEL all
+#endif
+
 #include <ctype.h>
 #include <math.h>
 #include <stddef.h>
@@ -32,6 +44,7 @@
 extern "C" {
 #include "core/err.h"
 #include "core/half.h"
+#include "render/cuda/kernels.h"
 #include "render/device.h"
 #include "render/pixel.h"
 
@@ -253,6 +266,7 @@ struct dev_scene {
 #endif
 enum { NSTATS = 6, BLOCK_W = CS_CUDA_BLOCK_W, BLOCK_H = CS_CUDA_BLOCK_H };
 
+#ifndef CS_CUDA_KERNEL_ONLY
 struct cs_cuda_scene {
 	struct dev_scene *d;       /* device */
 	void *arrays[5];           /* device: noise, heights, block maxima, water, colour */
@@ -268,12 +282,14 @@ struct cs_cuda_scene {
 	cudaArray_t noise_arr;     /* the noise as halves, for noise_tex */
 	cudaTextureObject_t noise_tex;
 	const void *noise_src;     /* the host array it was made from */
+	unsigned needs;            /* what the scene needs of a kernel (scene_needs) */
 };
 
 static int cuda_error(cudaError_t e, const char *what)
 {
 	return cs_error(CS_EIO, "CUDA: %s: %s", what, cudaGetErrorString(e));
 }
+#endif
 
 /* One thread a pixel; the statistics summed per warp, then atomically. */
 __global__ void __launch_bounds__(BLOCK_W * BLOCK_H, CS_CUDA_MIN_BLOCKS)
@@ -299,6 +315,48 @@ render_kernel(const struct dev_scene *ds, struct cs_camera cam, struct cs_render
 			atomicAdd(&stats[k], v[k]);
 	}
 }
+
+/* This unit's kernel, for the host's code: its module's texture handle
+ * (each unit has its own dev_noise_tex), and n launches for cam's pixels;
+ * a cudaError_t. */
+extern "C" int CS_CUDA_CAT(cs_cuda_texture_, CS_CUDA_KERNEL)(unsigned long long tex)
+{
+	return (int)cudaMemcpyToSymbol(dev_noise_tex, &tex, sizeof tex);
+}
+
+extern "C" int CS_CUDA_CAT(cs_cuda_launch_, CS_CUDA_KERNEL)(const struct dev_scene *ds,
+							     const struct cs_camera *cam,
+							     const struct cs_render_settings *s,
+							     float *out, unsigned long long *stats,
+							     int n)
+{
+	dim3 block(BLOCK_W, BLOCK_H);
+	dim3 grid((cam->width + BLOCK_W - 1) / BLOCK_W, (cam->height + BLOCK_H - 1) / BLOCK_H);
+	for (int k = 0; k < n; k++)
+		render_kernel<<<grid, block>>>(ds, *cam, *s, out, stats);
+	return (int)cudaGetLastError();
+}
+
+#ifndef CS_CUDA_KERNEL_ONLY
+/* The kernels: kernels.h's, then the one with every effect. */
+#define CS_CUDA_DECLARE(name)                                                                  \
+	extern "C" int cs_cuda_texture_##name(unsigned long long tex);                         \
+	extern "C" int cs_cuda_launch_##name(const struct dev_scene *ds,                        \
+					     const struct cs_camera *cam,                        \
+					     const struct cs_render_settings *s, float *out,     \
+					     unsigned long long *stats, int n);
+CS_CUDA_KERNELS(CS_CUDA_DECLARE)
+#define CS_CUDA_ENTRY(name) {#name, CS_CUDA_FX_##name, cs_cuda_texture_##name, cs_cuda_launch_##name},
+static const struct kernel {
+	const char *name;
+	unsigned built; /* CS_FX_BUILT */
+	int (*texture)(unsigned long long tex);
+	int (*launch)(const struct dev_scene *ds, const struct cs_camera *cam,
+		      const struct cs_render_settings *s, float *out, unsigned long long *stats,
+		      int n);
+} kernels[] = {CS_CUDA_KERNELS(CS_CUDA_ENTRY){"all", 0xffffffffu, cs_cuda_texture_all,
+							   cs_cuda_launch_all}};
+enum { NKERNELS = sizeof kernels / sizeof kernels[0] };
 
 extern "C" int cs_device_available(char *why, size_t n)
 {
@@ -394,8 +452,48 @@ static int noise_texture(struct cs_cuda_scene *c, const struct cs_volume *v)
 
 /* The scene's struct on the device, pointing at the device arrays (each
  * uploaded once for as long as the host's array stays the same). */
+/* What of CS_FX_BUILT the scene's frame needs of a kernel, its settings
+ * aside (kernel_for): its effects and what the per-sample code reads
+ * from its state (fog, terrain, water, towers), and the light marched
+ * where a layer has no light cache (its column's too, under a deck). */
+static unsigned scene_needs(const struct cs_scene *sc)
+{
+	unsigned need = sc->effects;
+	need |= sc->fog_beta_per_m > 0.0 ? (unsigned)CS_FX_FOG : 0u;
+	need |= sc->terrain ? (unsigned)CS_FX_TERRAIN : 0u;
+	need |= sc->terrain && sc->terrain_water ? (unsigned)CS_FX_WATER : 0u;
+	for (int i = 0; i < sc->nlayers; i++) {
+		if (sc->deck.on && sc->deck.tilt_weight[i] > 0.0)
+			need |= CS_BUILT_TOWERS;
+		if (sc->light_cache[i].depth == NULL ||
+		    (sc->deck.on && sc->column_cache[i].depth == NULL))
+			need |= CS_BUILT_LIGHT_MARCH;
+	}
+	return need;
+}
+
+/* The first kernel built for all a frame of scene c with settings s
+ * needs; the last, every effect's, builds all. */
+static const struct kernel *kernel_for(const struct cs_cuda_scene *c,
+				       const struct cs_render_settings *s)
+{
+	/* CLOUDSCAPE_CUDA_KERNEL=all: every effect's, to compare
+	 * (cloudrender(1), ENVIRONMENT) */
+	const char *force = getenv("CLOUDSCAPE_CUDA_KERNEL");
+	if (force != NULL && strcmp(force, "all") == 0)
+		return &kernels[NKERNELS - 1];
+	unsigned need = c->needs;
+	need |= s->source_every == 2 ? CS_BUILT_SOURCE_EVERY2 : 0u;
+	need |= CS_LIGHT_CACHED(s->light_march) ? 0u : CS_BUILT_LIGHT_MARCH;
+	for (int k = 0; k < NKERNELS - 1; k++)
+		if ((need & ~kernels[k].built) == 0u)
+			return &kernels[k];
+	return &kernels[NKERNELS - 1];
+}
+
 static int scene_struct(struct cs_cuda_scene *c, const struct cs_scene *sc)
 {
+	c->needs = scene_needs(sc);
 	cudaError_t e;
 	struct dev_scene *h = (struct dev_scene *)calloc(1, sizeof *h);
 	if (h == NULL)
@@ -570,16 +668,13 @@ static int launch(struct cs_cuda_scene *c, const struct cs_camera *cam,
 	 * launch (the only place a kernel starts, and it waits for the kernel
 	 * to end): another scene may have set it, or destroyed its texture,
 	 * since; 0 without a noise texture: the loads */
+	const struct kernel *k = kernel_for(c, s);
 	unsigned long long tex = (unsigned long long)c->noise_tex;
-	cudaError_t e = cudaMemcpyToSymbol(dev_noise_tex, &tex, sizeof tex);
+	cudaError_t e = (cudaError_t)k->texture(tex);
 	if (e != cudaSuccess)
 		return cuda_error(e, "the noise texture");
-	dim3 block(BLOCK_W, BLOCK_H);
-	dim3 grid((cam->width + BLOCK_W - 1) / BLOCK_W, (cam->height + BLOCK_H - 1) / BLOCK_H);
 	cudaEventRecord(c->ev[0]);
-	for (int k = 0; k < n; k++)
-		render_kernel<<<grid, block>>>(c->d, *cam, *s, c->frame, stats);
-	e = cudaGetLastError();
+	e = (cudaError_t)k->launch(c->d, cam, s, c->frame, stats, n);
 	if (e != cudaSuccess)
 		return cuda_error(e, "launching the render kernel");
 	cudaEventRecord(c->ev[1]);
@@ -620,6 +715,12 @@ extern "C" int cs_cuda_render(struct cs_cuda_scene *c, const struct cs_camera *c
 	return CS_OK;
 }
 
+extern "C" const char *cs_cuda_kernel_name(const struct cs_cuda_scene *c,
+					   const struct cs_render_settings *s)
+{
+	return kernel_for(c, s)->name;
+}
+
 extern "C" int cs_cuda_bench(struct cs_cuda_scene *c, const struct cs_camera *cam,
 			     const struct cs_render_settings *s, int n, double *frame_ms)
 {
@@ -631,3 +732,4 @@ extern "C" int cs_cuda_bench(struct cs_cuda_scene *c, const struct cs_camera *ca
 		rc = launch(c, cam, s, n, NULL, frame_ms);
 	return rc;
 }
+#endif /* CS_CUDA_KERNEL_ONLY */

@@ -1,0 +1,32 @@
+/* kernels.h - the GPU's render kernels besides the one with every effect:
+ * render_cuda.cu compiled again for a set of effects (CS_FX_BUILT,
+ * render.h), one object each (the Makefile's CUDA_KERNELS names the same
+ * ones).  A frame renders with the first whose set holds everything the
+ * scene and the settings need (scene_needs in render_cuda.cu), else with
+ * the kernel of every effect ("all").
+ *
+ * Why: the kernel of every effect is 1.7 MB of code, whose registers are
+ * allocated for the rarest path; without the effects a scene lacks the
+ * compiler drops their code, and the common scenes run faster
+ * (cloudrender(1), GPU, has the figures).
+ *
+ * "plain": sun, sky, clouds of any genus but cumulonimbus towers lit
+ * through their tilted columns, flat ground with the clouds' shadows,
+ * haze and the deck's light, the light from the light cache at every
+ * sample (the low and medium presets on a GPU).
+ * "terrain": the same over a heightfield, with its water. */
+#ifndef CS_CUDA_KERNELS_H
+#define CS_CUDA_KERNELS_H
+
+#include "render/render.h"
+
+/* CS_CUDA_FX_name: the effects kernel name is built for */
+#define CS_CUDA_FX_plain                                                                       \
+	(CS_FX_SUN | CS_FX_SKY | CS_FX_CLOUDS | CS_FX_GROUND | CS_FX_HAZE | CS_FX_CLOUD_SHADOWS | \
+	 CS_FX_DECK)
+#define CS_CUDA_FX_terrain (CS_CUDA_FX_plain | CS_FX_TERRAIN | CS_FX_WATER)
+
+/* X(name) for each, in the order they are tried */
+#define CS_CUDA_KERNELS(X) X(plain) X(terrain)
+
+#endif
