@@ -12,8 +12,9 @@
  *
  * "plain": sun, sky, clouds of any genus but cumulonimbus towers lit
  * through their tilted columns, flat ground with the clouds' shadows,
- * haze and the deck's light, the light from the light cache at every
- * sample (the low and medium presets on a GPU).
+ * haze with the crepuscular rays of a low sun, the deck's light, the
+ * light from the light cache at every sample (the low and medium presets
+ * on a GPU).
  * "terrain": the same over a heightfield, with its water. */
 #ifndef CS_CUDA_KERNELS_H
 #define CS_CUDA_KERNELS_H
@@ -23,7 +24,7 @@
 /* CS_CUDA_FX_name: the effects kernel name is built for */
 #define CS_CUDA_FX_plain                                                                       \
 	(CS_FX_SUN | CS_FX_SKY | CS_FX_CLOUDS | CS_FX_GROUND | CS_FX_HAZE | CS_FX_CLOUD_SHADOWS | \
-	 CS_FX_DECK)
+	 CS_FX_DECK | CS_FX_SHAFTS)
 #define CS_CUDA_FX_terrain (CS_CUDA_FX_plain | CS_FX_TERRAIN | CS_FX_WATER)
 
 /* X(name) for each, in the order they are tried */
