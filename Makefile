@@ -181,6 +181,10 @@ $(KERNEL_OBJ): $(B)/lib/render/cpu/kernel_%.o: lib/render/cpu/kernel.c
 	objcopy -G cs_kernel_rows_$* -G cs_kernel_extinction_$* $@.tmp $@
 	@rm -f $@.tmp
 $(B)/lib/render/cuda/device_none.o: ALL_CFLAGS += -DCS_CUDA_WHY='"$(CUDA_WHY)"'
+# the texture unit's ceiling for the noise's lookups (make check-gpu)
+$(B)/bench/texfetch: bench/texfetch.cu
+	@mkdir -p $(@D)
+	$(NVCC) -O3 $(NVCC_ARCH) -Werror all-warnings $< -o $@
 # the baker's row loops vectorized (-O3; no contraction: the same bits)
 $(B)/lib/noise/noise.o $(B)/lib/noise/volume.o: ALL_CFLAGS += -O3 -ffp-contract=off
 # the fog's orders of scattering (lib/render/fog.c): dot products, vectorized
@@ -259,7 +263,7 @@ deps:
 # the GPU renderer against the CPU's, and its speed (scripts/gpu-check), on a
 # machine with a GPU (CI has none: never part of check)
 check-gpu: have-deps
-	@$(MAKE) --no-print-directory CUDA=1 all build-cuda/bench/imgerr
+	@$(MAKE) --no-print-directory CUDA=1 all build-cuda/bench/imgerr build-cuda/bench/texfetch
 	@scripts/gpu-check --build build-cuda $(GPU_CHECK_ARGS)
 
 # the accuracy study (scripts/accuracy-study): STUDY_ARGS=--full for 1280x720
