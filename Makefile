@@ -74,8 +74,8 @@ B         := build
 SANFLAGS  :=
 endif
 # The GPU renderer (lib/render/cuda/): only with CUDA=1, into build-cuda/.
-# Not by default although nvcc may be there: the unity build takes a minute
-# of nvcc, its objects would link the CUDA runtime into every test program
+# Not by default although nvcc may be there: the unity build, compiled once
+# for every effect and once for each of CUDA_KERNELS, takes minutes of nvcc, its objects would link the CUDA runtime into every test program
 # (and under ASan and TSan), and CI has no GPU to run it.
 CUDA      ?= 0
 NVCC      ?= $(or $(shell command -v nvcc 2>/dev/null),$(wildcard /usr/local/cuda/bin/nvcc))

@@ -4,11 +4,11 @@
  * voxel through a wrapped 128^3 RGBA16F texture with trilinear filtering
  * and normalized coordinates, as the renderer's texture is.  Prints the
  * fetches a second (the best of REPEATS launches, timed by CUDA events),
- * the figure cloudrender(1) GPU divides the kernel's own fetch rate by.
+ * the ceiling cloudrender(1) GPU compares the kernel's own fetch rate with.
  *
- *   nvcc -O3 -arch=sm_90 bench/texfetch.cu -o texfetch && ./texfetch
- *
- * Built by hand on a machine with nvcc (never by make: CI has no GPU). */
+ * make check-gpu builds it (build-cuda/bench/texfetch) and gpu-check runs
+ * it; by hand: nvcc -O3 -arch=sm_90 bench/texfetch.cu -o texfetch.  Never
+ * by make check: CI has no GPU. */
 #include <cuda_fp16.h>
 #include <cuda_runtime.h>
 #include <stdio.h>

@@ -559,13 +559,13 @@ static void report_device(const struct cs_cloudrender_opts *o, const struct cs_c
 		return;
 	}
 	if (cli_verbose)
-		cli_err("rendered on %s: kernel %s, %.3f ms", r->device_name, r->device_kernel,
-			r->device_kernel_ms);
+		cli_err("rendered on %s: kernel %s, %.3f ms", r->device_name,
+			r->device_kernel ? r->device_kernel : "none", r->device_kernel_ms);
 	if (o->device_bench > 0)
 		cli_err("device benchmark: %dx%d, %d warm frames: %.3f ms a frame, %.1f frames/s "
 			"(%s, kernel %s)", o->width, o->height, o->device_bench, r->device_frame_ms,
 			r->device_frame_ms > 0.0 ? 1000.0 / r->device_frame_ms : 0.0, r->device_name,
-			r->device_kernel);
+			r->device_kernel ? r->device_kernel : "none");
 }
 
 int main(int argc, char **argv)

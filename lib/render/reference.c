@@ -96,7 +96,7 @@ CS_HD static int media_segments(const struct cs_scene *sc, cs_v3 o, cs_v3 d,
 		for (int j = 0; j < k; j++)
 			iv[n++] = (struct seg){a[j][0], a[j][1], sc->fog_beta_per_m};
 	}
-	if ((sc->effects & CS_FX_RAIN) && sc->rain_extinction_per_m > 0.0) {
+	if ((sc->effects & (CS_FX_RAIN | CS_FX_SNOW)) && sc->rain_extinction_per_m > 0.0) {
 		int k = cs_shell_intervals(sc, o, d, R + sc->ground_alt_m - 1.0,
 					   R + sc->rain_top_m, tmax, a);
 		for (int j = 0; j < k; j++)
@@ -139,7 +139,8 @@ CS_HD static void media_at(const struct cs_scene *sc, cs_v3 p, double sig[3])
 	sig[M_CLOUD] = cs_extinction_at(sc, ~0u, p, alt, &dom);
 	sig[M_FOG] = has_fog(sc) && alt < sc->fog_top_m ? sc->fog_beta_per_m : 0.0;
 	sig[M_RAIN] = 0.0;
-	if ((sc->effects & CS_FX_RAIN) && alt < sc->rain_top_m && alt > sc->ground_alt_m - 1.0)
+	if ((sc->effects & (CS_FX_RAIN | CS_FX_SNOW)) && alt < sc->rain_top_m &&
+	    alt > sc->ground_alt_m - 1.0)
 		sig[M_RAIN] = sc->rain_extinction_per_m * cs_rain_shaft(sc, p.x, p.y);
 }
 

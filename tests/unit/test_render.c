@@ -1,6 +1,7 @@
 #include "render/cloud.h"
 #include "core/err.h"
 #include "render/march.h"
+#include "render/reference.h"
 #include "render/render.h"
 #include "render/scene.h"
 #include "render/sky.h"
@@ -1234,6 +1235,25 @@ static void snow_alone_is_marched_as_rain_is(void)
 	printf("  luminance through 2 mm/h: all snow %.4g, as rain %.4g, none %.4g\n", ys, yr, yn);
 	CHECK_NEAR(ys, yr, 1e-12 * yr);
 	CHECK(fabs(ys - yn) > 0.01 * yn);
+	/* and the path tracer: the same 64 paths (keys) through each */
+	struct cs_reference_settings rs = {64, 1, 0};
+	double y[3];
+	for (int m = 0; m < 3; m++) {
+		sc.effects &= ~(unsigned)(CS_FX_RAIN | CS_FX_SNOW);
+		sc.effects |= m == 0 ? CS_FX_SNOW : m == 1 ? CS_FX_RAIN : 0u;
+		double sum = 0.0;
+		for (int k = 0; k < rs.spp; k++) {
+			double L[3], depth;
+			int hit;
+			cs_reference_path(&sc, &rs, o, d, 1000u + (uint64_t)k, &st, L, &hit, &depth);
+			sum += cs_luminance(L[0], L[1], L[2]);
+		}
+		y[m] = sum / rs.spp;
+	}
+	printf("  the path tracer, 64 paths: all snow %.4g, as rain %.4g, none %.4g\n", y[0], y[1],
+	       y[2]);
+	CHECK_NEAR(y[0], y[1], 1e-12 * y[1]);
+	CHECK(fabs(y[0] - y[2]) > 0.1 * y[2]);
 }
 
 /* A thin cirrostratus in front of the sun shows the 22-degree halo: the

@@ -283,6 +283,9 @@ struct cs_cuda_scene {
 	cudaTextureObject_t noise_tex;
 	const void *noise_src;     /* the host array it was made from */
 	unsigned needs;            /* what the scene needs of a kernel (scene_needs) */
+	int no_sun_cache;          /* a layer has no light cache toward the sun */
+	int no_column_cache;       /* under a deck, a layer has none up the column */
+	int deck_layers;           /* layers under a deck: their columns are read */
 };
 
 static int cuda_error(cudaError_t e, const char *what)
@@ -450,24 +453,24 @@ static int noise_texture(struct cs_cuda_scene *c, const struct cs_volume *v)
 	return CS_OK;
 }
 
-/* The scene's struct on the device, pointing at the device arrays (each
- * uploaded once for as long as the host's array stays the same). */
 /* What of CS_FX_BUILT the scene's frame needs of a kernel, its settings
  * aside (kernel_for): its effects and what the per-sample code reads
- * from its state (fog, terrain, water, towers), and the light marched
- * where a layer has no light cache (its column's too, under a deck). */
-static unsigned scene_needs(const struct cs_scene *sc)
+ * from its state (fog, terrain, water, towers); and into c, the light
+ * caches it lacks. */
+static unsigned scene_needs(struct cs_cuda_scene *c, const struct cs_scene *sc)
 {
 	unsigned need = sc->effects;
 	need |= sc->fog_beta_per_m > 0.0 ? (unsigned)CS_FX_FOG : 0u;
 	need |= sc->terrain ? (unsigned)CS_FX_TERRAIN : 0u;
 	need |= sc->terrain && sc->terrain_water ? (unsigned)CS_FX_WATER : 0u;
+	c->no_sun_cache = c->no_column_cache = 0;
+	c->deck_layers = sc->deck.on && sc->nlayers > 0;
 	for (int i = 0; i < sc->nlayers; i++) {
 		if (sc->deck.on && sc->deck.tilt_weight[i] > 0.0)
 			need |= CS_BUILT_TOWERS;
-		if (sc->light_cache[i].depth == NULL ||
-		    (sc->deck.on && sc->column_cache[i].depth == NULL))
-			need |= CS_BUILT_LIGHT_MARCH;
+		c->no_sun_cache |= sc->light_cache[i].depth == NULL;
+		/* the column is read under a deck only */
+		c->no_column_cache |= sc->deck.on && sc->column_cache[i].depth == NULL;
 	}
 	return need;
 }
@@ -484,16 +487,26 @@ static const struct kernel *kernel_for(const struct cs_cuda_scene *c,
 		return &kernels[NKERNELS - 1];
 	unsigned need = c->needs;
 	need |= s->source_every == 2 ? CS_BUILT_SOURCE_EVERY2 : 0u;
-	need |= CS_LIGHT_CACHED(s->light_march) ? 0u : CS_BUILT_LIGHT_MARCH;
+	/* the light marched: toward the key light (every such march is
+	 * under CS_FX_IS(sc, CS_FX_KEY)) and up the column (under a deck,
+	 * with the diffuse light), where the settings or a missing cache
+	 * ask for it */
+	int cached = CS_LIGHT_CACHED(s->light_march);
+	if ((c->needs & CS_FX_KEY) && (!cached || c->no_sun_cache))
+		need |= CS_BUILT_LIGHT_MARCH;
+	if (s->ambient && c->deck_layers && (!cached || c->no_column_cache))
+		need |= CS_BUILT_LIGHT_MARCH;
 	for (int k = 0; k < NKERNELS - 1; k++)
 		if ((need & ~kernels[k].built) == 0u)
 			return &kernels[k];
 	return &kernels[NKERNELS - 1];
 }
 
+/* The scene's struct on the device, pointing at the device arrays (each
+ * uploaded once for as long as the host's array stays the same). */
 static int scene_struct(struct cs_cuda_scene *c, const struct cs_scene *sc)
 {
-	c->needs = scene_needs(sc);
+	c->needs = scene_needs(c, sc);
 	cudaError_t e;
 	struct dev_scene *h = (struct dev_scene *)calloc(1, sizeof *h);
 	if (h == NULL)
