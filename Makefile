@@ -75,8 +75,9 @@ SANFLAGS  :=
 endif
 # The GPU renderer (lib/render/cuda/): only with CUDA=1, into build-cuda/.
 # Not by default although nvcc may be there: the unity build, compiled once
-# for every effect and once for each of CUDA_KERNELS, takes minutes of nvcc, its objects would link the CUDA runtime into every test program
-# (and under ASan and TSan), and CI has no GPU to run it.
+# for every effect and once for each of CUDA_KERNELS, takes minutes of nvcc,
+# its objects would link the CUDA runtime into every test program (and under
+# ASan and TSan), and CI has no GPU to run it.
 CUDA      ?= 0
 NVCC      ?= $(or $(shell command -v nvcc 2>/dev/null),$(wildcard /usr/local/cuda/bin/nvcc))
 NVCC_ARCH ?= -gencode arch=compute_90,code=sm_90 -gencode arch=compute_90,code=compute_90
@@ -153,21 +154,17 @@ $(B)/lib/%.o: lib/%.c
 # compiled as C++ would warn of every member left out),
 # but 20091 (a CS_CONST table read in the host copy of a CS_HD function: that
 # copy is never called, the CPU renders with the C objects)
+NVCC_FLAGS = -std=c++17 -O3 $(NVCC_ARCH) -D_POSIX_C_SOURCE=200809L -DCS_VERSION='"$(VERSION)"' \
+	     -I lib -Werror all-warnings -diag-suppress 20091 -Xcompiler -Wall
 $(B)/lib/render/cuda/render_cuda.o: lib/render/cuda/render_cuda.cu
 	@mkdir -p $(@D)
-	$(NVCC) -std=c++17 -O3 $(NVCC_ARCH) -D_POSIX_C_SOURCE=200809L -DCS_VERSION='"$(VERSION)"' \
-		-I lib -Werror all-warnings -diag-suppress 20091 -Xcompiler -Wall \
-		-MMD -MP -MT $@ -MF $(@:.o=.d) \
-		-c $< -o $@.tmp
-	objcopy $(CUDA_API:%=-G %) -G cs_cuda_texture_all -G cs_cuda_launch_all $@.tmp $@
+	$(NVCC) $(NVCC_FLAGS) -MMD -MP -MT $@ -MF $(@:.o=.d) -c $< -o $@.tmp
+	objcopy $(CUDA_API:%=-G %) $@.tmp $@
 	@rm -f $@.tmp
 $(CUDA_KERNELS:%=$(B)/lib/render/cuda/render_cuda_%.o): $(B)/lib/render/cuda/render_cuda_%.o: \
 		lib/render/cuda/render_cuda.cu
 	@mkdir -p $(@D)
-	$(NVCC) -std=c++17 -O3 $(NVCC_ARCH) -D_POSIX_C_SOURCE=200809L -DCS_VERSION='"$(VERSION)"' \
-		-DCS_CUDA_KERNEL=$* -I lib -Werror all-warnings -diag-suppress 20091 -Xcompiler -Wall \
-		-MMD -MP -MT $@ -MF $(@:.o=.d) \
-		-c $< -o $@.tmp
+	$(NVCC) $(NVCC_FLAGS) -DCS_CUDA_KERNEL=$* -MMD -MP -MT $@ -MF $(@:.o=.d) -c $< -o $@.tmp
 	objcopy -G cs_cuda_texture_$* -G cs_cuda_launch_$* $@.tmp $@
 	@rm -f $@.tmp
 # lib/render/cpu/kernel.c three times: -O3, no contraction (the same bits as

@@ -77,9 +77,10 @@ extern "C" {
  * density itself near the threshold, left the cumulonimbus 8.3e-4 off
  * (1080p low and medium 87 and 60 frames/s on an H200 with both, 70.5
  * and 48.6 with the detail alone, 53.1 and 36.2 with neither).  Halves
- * hold noisebake's volumes exactly.  One handle for the device: each
- * launch sets its scene's (launch()); 0: the loads below.  (Halves read
- * by the loads instead, not the texture unit, were 4 % slower, above.) */
+ * hold noisebake's volumes exactly.  One handle a kernel's module (each
+ * compiled unit has its own): each launch sets its scene's (launch());
+ * 0: the loads below.  (Halves read by the loads instead, not the texture
+ * unit, were 4 % slower, above.) */
 __constant__ unsigned long long dev_noise_tex;
 
 struct dev_corners {
@@ -453,11 +454,11 @@ static int noise_texture(struct cs_cuda_scene *c, const struct cs_volume *v)
 	return CS_OK;
 }
 
-/* What of CS_FX_BUILT the scene's frame needs of a kernel, its settings
- * aside (kernel_for): its effects and what the per-sample code reads
- * from its state (fog, terrain, water, towers); and into c, the light
- * caches it lacks. */
-static unsigned scene_needs(struct cs_cuda_scene *c, const struct cs_scene *sc)
+/* What of CS_FX_BUILT a frame of sc needs of a kernel, its settings aside
+ * (kernel_for), into c: its effects and what the per-sample code reads
+ * from its state (fog, terrain, water, towers), and the light caches it
+ * lacks. */
+static void scene_needs(struct cs_cuda_scene *c, const struct cs_scene *sc)
 {
 	unsigned need = sc->effects;
 	need |= sc->fog_beta_per_m > 0.0 ? (unsigned)CS_FX_FOG : 0u;
@@ -472,7 +473,7 @@ static unsigned scene_needs(struct cs_cuda_scene *c, const struct cs_scene *sc)
 		/* the column is read under a deck only */
 		c->no_column_cache |= sc->deck.on && sc->column_cache[i].depth == NULL;
 	}
-	return need;
+	c->needs = need;
 }
 
 /* The first kernel built for all a frame of scene c with settings s
@@ -506,7 +507,7 @@ static const struct kernel *kernel_for(const struct cs_cuda_scene *c,
  * uploaded once for as long as the host's array stays the same). */
 static int scene_struct(struct cs_cuda_scene *c, const struct cs_scene *sc)
 {
-	c->needs = scene_needs(c, sc);
+	scene_needs(c, sc);
 	cudaError_t e;
 	struct dev_scene *h = (struct dev_scene *)calloc(1, sizeof *h);
 	if (h == NULL)
@@ -677,10 +678,10 @@ static int launch(struct cs_cuda_scene *c, const struct cs_camera *cam,
 		return rc;
 	if ((rc = frame_alloc(c, cam)) != CS_OK)
 		return rc;
-	/* the device's one texture handle is this scene's, set by every
-	 * launch (the only place a kernel starts, and it waits for the kernel
-	 * to end): another scene may have set it, or destroyed its texture,
-	 * since; 0 without a noise texture: the loads */
+	/* the kernel's module's one texture handle is this scene's, set by
+	 * every launch (the only place a kernel starts, and it waits for the
+	 * kernel to end): another scene may have set it, or destroyed its
+	 * texture, since; 0 without a noise texture: the loads */
 	const struct kernel *k = kernel_for(c, s);
 	unsigned long long tex = (unsigned long long)c->noise_tex;
 	cudaError_t e = (cudaError_t)k->texture(tex);
