@@ -15,7 +15,9 @@
  * haze with the crepuscular rays of a low sun, the deck's light, the
  * light from the light cache at every sample (the low and medium presets
  * on a GPU).
- * "terrain": the same over a heightfield, with its water. */
+ * "terrain": the same over a heightfield, with its water.
+ * "weather": the same with fog, rain, snow and the halo.
+ * "storm": the same with a cumulonimbus's towers. */
 #ifndef CS_CUDA_KERNELS_H
 #define CS_CUDA_KERNELS_H
 
@@ -26,8 +28,11 @@
 	(CS_FX_SUN | CS_FX_SKY | CS_FX_CLOUDS | CS_FX_GROUND | CS_FX_HAZE | CS_FX_CLOUD_SHADOWS | \
 	 CS_FX_DECK | CS_FX_SHAFTS)
 #define CS_CUDA_FX_terrain (CS_CUDA_FX_plain | CS_FX_TERRAIN | CS_FX_WATER)
+#define CS_CUDA_FX_weather                                                                    \
+	(CS_CUDA_FX_terrain | CS_FX_FOG | CS_FX_RAIN | CS_FX_SNOW | CS_FX_HALO)
+#define CS_CUDA_FX_storm (CS_CUDA_FX_weather | CS_BUILT_TOWERS)
 
 /* X(name) for each, in the order they are tried */
-#define CS_CUDA_KERNELS(X) X(plain) X(terrain)
+#define CS_CUDA_KERNELS(X) X(plain) X(terrain) X(weather) X(storm)
 
 #endif
