@@ -88,7 +88,7 @@ CUDA_API  := cs_device_available cs_cuda_scene_new cs_cuda_scene_update cs_cuda_
 	     cs_cuda_kernel_name
 # the kernels for a set of effects (lib/render/cuda/kernels.h names the same):
 # render_cuda.cu compiled again for each, its launch kept global
-CUDA_KERNELS := plain terrain weather storm
+CUDA_KERNELS := plain terrain weather
 ifeq ($(CUDA),1)
 ifeq ($(NVCC),)
 $(error CUDA=1 but nvcc is not on the PATH nor at /usr/local/cuda/bin/nvcc: give NVCC=)
