@@ -58,6 +58,7 @@ struct cs_cloudrender_opts {
 	double min_transmittance; /* < 0 keeps the preset's */
 	int march, light_march;   /* -1 keep the preset's (CS_MARCH_*, CS_LIGHT_*) */
 	int source_every;         /* 0 keeps the preset's; 1 or 2 */
+	double tower_cell_m;      /* < 0 keeps the preset's; 0: none */
 	int no_ambient, no_jitter;
 	long long seed;
 	/* the reference integrator (render/reference.h) instead of the march:

@@ -125,7 +125,7 @@ int cs_render_image(const struct cs_scene *sc, const struct cs_camera *cam,
 	/* the light caches: built on a copy of the scene, for this frame */
 	struct cs_scene *cached = NULL;
 	uint64_t cache_evaluations = 0;
-	if (CS_LIGHT_CACHED(s->light_march)) {
+	if (cs_frame_volumes_needed(sc, s)) {
 		cached = malloc(sizeof *cached);
 		if (cached == NULL) {
 			free(job);

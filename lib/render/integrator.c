@@ -4,6 +4,7 @@
  * octaves), then the aerial perspective and the background (ground, sky,
  * sun disk) behind what the clouds let through. */
 #include "render/march.h"
+#include "core/color.h"
 
 #include "core/sphere.h"
 #include "terrain/heightfield.h"
@@ -563,6 +564,29 @@ CS_HD CS_SHARED static double tilt_light(const struct ray_ctx *c, cs_v3 p, int l
 	return ts * td + (1.0 - ts) * up;
 }
 
+/* A cumulonimbus's diffuse light A at p (layer li) raised to the
+ * towers' diffused light (tower_light.c) where that is more: the
+ * fluence's radiance phi / (4 pi) times the key light, in luminance, in
+ * A's colour (the march's mix of the sky's, the ground's and the sun's
+ * light; the field is solved in the green channel).  Against the path
+ * tracer at high (tests/scenes' side view and low sun; held out, 64^3
+ * noise: noon, backlit and 12 % cover), mean luminance -18.9, -5.6,
+ * -2.9, -8.3, -9.2 % without it; relative MSE 0.156, 0.098, 0.060, 0.041,
+ * 0.196 (the figures with it: cloudrender(1), QUALITY). */
+CS_HD static void tower_diffused(const struct cs_scene *sc, int li, cs_v3 p, double alt,
+				 double ts, double A[3])
+{
+	double phi = cs_cached_depth(&sc->layers[li], &sc->tower_light[li], p.x, p.y, alt);
+	const double *E = sc->sun_illuminance;
+	double y = cs_luminance(E[0], E[1], E[2]) * phi / (4.0 * CS_PI);
+	double ya = cs_luminance(A[0], A[1], A[2]);
+	if (!(y > ya))
+		return;
+	y = ya + ts * (y - ya);
+	for (int k = 0; k < 3; k++)
+		A[k] = ya > 0.0 ? A[k] * (y / ya) : ts * E[k] * phi / (4.0 * CS_PI);
+}
+
 /* The light scattered toward the eye per unit length at a cloud sample of
  * scattering coefficient ss: the sun through the light march, with the
  * multiple-scattering octaves (Wrenninge 2013: scattering a^k, extinction
@@ -647,6 +671,8 @@ CS_HD static void sample_source(const struct ray_ctx *c, cs_v3 p, double alt,
 		if (ts > 0.0)
 			for (int k = 0; k < 3; k++)
 				A[k] += L[k];
+		if (ts > 0.0 && sc->tower_light[li].depth != NULL)
+			tower_diffused(sc, li, p, alt, ts, A);
 		if (field >= 0) { /* and the column under it, for its fields */
 			double tau_below, F[3];
 			if (vc != NULL) { /* the whole column less the part above */

@@ -50,10 +50,11 @@ static const struct {
 	const char *name;
 	struct cs_render_settings s;
 } presets[] = {
-	{"low", {24, 96, 8, 2, 1, 1.0, 0, 0.02, 8, CS_MARCH_STANDARD, CS_LIGHT_AUTO, 2}},
-	{"medium", {24, 192, 12, 3, 1, 1.0, 0, 0.01, 16, CS_MARCH_STANDARD, CS_LIGHT_AUTO, 2}},
-	{"high", {48, 384, 16, 3, 1, 1.0, 0, 0.005, 32, CS_MARCH_STANDARD, CS_LIGHT_GEOMETRIC, 2}},
-	{"reference", {384, 1536, 24, 4, 1, 1.0, 0, 0.0005, 128, CS_MARCH_STANDARD, CS_LIGHT_GEOMETRIC, 1}},
+	{"low", {24, 96, 8, 2, 1, 1.0, 0, 0.02, 8, CS_MARCH_STANDARD, CS_LIGHT_AUTO, 2, 800.0}},
+	{"medium", {24, 192, 12, 3, 1, 1.0, 0, 0.01, 16, CS_MARCH_STANDARD, CS_LIGHT_AUTO, 2, 800.0}},
+	{"high", {48, 384, 16, 3, 1, 1.0, 0, 0.005, 32, CS_MARCH_STANDARD, CS_LIGHT_GEOMETRIC, 2, 400.0}},
+	{"reference",
+	 {384, 1536, 24, 4, 1, 1.0, 0, 0.0005, 128, CS_MARCH_STANDARD, CS_LIGHT_GEOMETRIC, 1, 400.0}},
 };
 
 int cs_render_quality(const char *name, struct cs_render_settings *s)
@@ -90,6 +91,9 @@ int cs_render_settings_check(const struct cs_render_settings *s)
 				s->source_every);
 	if (s->haze_steps < 0 || s->haze_steps > 10000)
 		return cs_error(CS_EINVAL, "haze steps must be 0..10000, not %d", s->haze_steps);
+	if (!(s->tower_cell_m == 0.0 || (s->tower_cell_m >= 50.0 && s->tower_cell_m <= 5000.0)))
+		return cs_error(CS_EINVAL, "the towers' cell must be 0 or 50..5000 m, not %g",
+				s->tower_cell_m);
 	if (!(s->min_transmittance >= 0.0 && s->min_transmittance < 1.0))
 		return cs_error(CS_EINVAL, "minimum transmittance must be in [0, 1)");
 	return CS_OK;

@@ -49,6 +49,9 @@ struct cs_render_settings {
 				  one between taking the mean of its
 				  neighbours' (the presets but the
 				  reference); 0 or 1: at each */
+	double tower_cell_m;   /* the towers' diffused light (tower_light.c):
+				  its lattice's spacing, m, 50..5000; 0:
+				  none (the march's model alone) */
 };
 
 /* The view march (cs_render_settings.march). */
@@ -410,6 +413,10 @@ struct cs_scene {
 	 * column above a sample that its diffuse light takes) */
 	struct cs_light_cache light_cache[CS_SCENE_MAX_LAYERS];
 	struct cs_light_cache column_cache[CS_SCENE_MAX_LAYERS];
+	/* the key light's diffused light in a cumulonimbus's towers, per
+	 * unit irradiance facing it (tower_light.c): the fluence, W/m^2 per
+	 * W/m^2, on an unsheared lattice; depth NULL where none */
+	struct cs_light_cache tower_light[CS_SCENE_MAX_LAYERS];
 };
 
 /* Optical extinction (1/m) of rain falling at rate_mm_h, from the
@@ -609,6 +616,36 @@ int cs_light_cache_build(struct cs_scene *sc, const struct cs_render_settings *s
 int cs_light_cache_volumes(const struct cs_scene *sc);
 /* Frees sc's light caches (none: nothing). */
 void cs_light_cache_free(struct cs_scene *sc);
+
+/* Whether a frame of sc with settings s reads volumes built for it
+ * (cs_light_cache_build): the light caches, or the towers' diffused light
+ * (sc->tower_light: a cumulonimbus with tilted columns, deck.tilt_weight,
+ * under a key light, with the diffuse light on and s->tower_cell_m > 0). */
+int cs_frame_volumes_needed(const struct cs_scene *sc, const struct cs_render_settings *s);
+
+/* The towers' diffused light (tower_light.c): whether a frame of sc with
+ * settings s reads it, and its build into sc->tower_light for each
+ * cumulonimbus layer with tilted columns, lattice cells about cell_m (the
+ * fluence per unit irradiance of the key light facing it), the lattice's
+ * extinction on nthreads of the CPU pool.  CS_OK, CS_ENOMEM, the pool's
+ * error, or CS_EINVAL for a lattice of more than 2e7 nodes. */
+int cs_tower_light_wanted(const struct cs_scene *sc, const struct cs_render_settings *s);
+int cs_tower_light_build(struct cs_scene *sc, double cell_m, int nthreads, uint64_t *evaluations);
+
+/* The diffusion equation -div(D grad phi) + sigma_a phi = source in the
+ * nodes of cloud (sigma_tr > 0) of a lattice of nu x nv x nk nodes,
+ * periodic along u and v, node (i, j, k) at index (j nu + i) nk + k;
+ * D = 1 / (3 sigma_tr) (1/m); source in watts a node's volume (half a
+ * level at k = 0 and nk - 1).  At a face of cloud toward clear air or
+ * out of the layer (k = 0, nk - 1), Marshak's condition with the light
+ * coming in, W/m^2: j_in[0] from above, ground_in[j nu + i] from below
+ * (j_in[1] everywhere where ground_in is NULL), on a wall half each.
+ * phi gets the fluence, W/m^2 (a clear node the mean of its cloud
+ * neighbours', or 2 (j_in[0] + j_in[1])); *iterations the conjugate
+ * gradients' count.  CS_OK or CS_ENOMEM. */
+int cs_diffusion_solve(int nu, int nv, int nk, double du_m, double dv_m, double dh_m,
+		       const float *sigma_tr, const float *sigma_a, const double *source,
+		       const double j_in[2], const double *ground_in, float *phi, int *iterations);
 
 /* The build of the per-pixel code cs_render_image runs on this CPU
  * (cpu/kernel.c, -O3): "avx512" where the CPU has x86-64-v4, else "avx2"

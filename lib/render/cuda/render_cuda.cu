@@ -272,9 +272,10 @@ struct cs_cuda_scene {
 	struct dev_scene *d;       /* device */
 	void *arrays[5];           /* device: noise, heights, block maxima, water, colour */
 	const void *src[5];        /* the host arrays they were copied from */
-	float *cache[2 * CS_SCENE_MAX_LAYERS]; /* device: the layers' light caches,
-						  toward the sun and the columns' */
-	size_t cache_n[2 * CS_SCENE_MAX_LAYERS]; /* their sizes, bytes */
+	float *cache[3 * CS_SCENE_MAX_LAYERS]; /* device: the layers' light caches,
+						  toward the sun, the columns' and
+						  the towers' diffused light */
+	size_t cache_n[3 * CS_SCENE_MAX_LAYERS]; /* their sizes, bytes */
 	unsigned long long *stats; /* device: NSTATS counters */
 	float *frame;              /* device: 5 floats a pixel */
 	size_t frame_px;
@@ -556,9 +557,11 @@ static int scene_struct(struct cs_cuda_scene *c, const struct cs_scene *sc)
 	/* the light caches (CS_LIGHT_CACHE), built on the host for this
 	 * frame: copied every frame, into the same device memory while their
 	 * size stays */
-	for (int n = 0; rc == CS_OK && n < 2 * CS_SCENE_MAX_LAYERS; n++) {
-		int col = n >= CS_SCENE_MAX_LAYERS, li = n - col * CS_SCENE_MAX_LAYERS;
-		const struct cs_light_cache *lc = col ? &sc->column_cache[li] : &sc->light_cache[li];
+	for (int n = 0; rc == CS_OK && n < 3 * CS_SCENE_MAX_LAYERS; n++) {
+		int kind = n / CS_SCENE_MAX_LAYERS, li = n % CS_SCENE_MAX_LAYERS;
+		const struct cs_light_cache *lc = kind == 0   ? &sc->light_cache[li]
+						  : kind == 1 ? &sc->column_cache[li]
+							      : &sc->tower_light[li];
 		if (lc->depth == NULL)
 			continue;
 		size_t bytes = (size_t)lc->nu * lc->nv * (lc->nh + 1) * sizeof(float);
@@ -576,10 +579,10 @@ static int scene_struct(struct cs_cuda_scene *c, const struct cs_scene *sc)
 		}
 		if ((e = cudaMemcpy(c->cache[n], lc->depth, bytes, cudaMemcpyHostToDevice)) != cudaSuccess)
 			rc = cuda_error(e, "uploading the light cache");
-		if (col)
-			h->sc.column_cache[li].depth = c->cache[n];
-		else
-			h->sc.light_cache[li].depth = c->cache[n];
+		(kind == 0   ? h->sc.light_cache
+		 : kind == 1 ? h->sc.column_cache
+			     : h->sc.tower_light)[li]
+			.depth = c->cache[n];
 	}
 	if (rc == CS_OK && (e = cudaMemcpy(c->d, h, sizeof *h, cudaMemcpyHostToDevice)) != cudaSuccess)
 		rc = cuda_error(e, "uploading the scene");
@@ -635,7 +638,7 @@ extern "C" void cs_cuda_scene_free(struct cs_cuda_scene *c)
 		return;
 	for (int k = 0; k < 5; k++)
 		cudaFree(c->arrays[k]);
-	for (int n = 0; n < 2 * CS_SCENE_MAX_LAYERS; n++)
+	for (int n = 0; n < 3 * CS_SCENE_MAX_LAYERS; n++)
 		cudaFree(c->cache[n]);
 	if (c->noise_tex)
 		cudaDestroyTextureObject(c->noise_tex);
