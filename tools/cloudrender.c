@@ -213,8 +213,9 @@ static void usage(void)
 	       "                         every one\n"
 	       "      --tower-cell M     a cumulonimbus's towers: the spacing of the\n"
 	       "                         lattice their diffused light is solved on, m,\n"
-	       "                         50..5000 (low and medium 800, high and reference\n"
-	       "                         400); 0: none, the march's model alone\n"
+	       "                         50..5000 (the presets 400; coarsened to keep the\n"
+	       "                         lattice within 2e7 nodes); 0: none, the march's\n"
+	       "                         model alone\n"
 	       "      --haze-steps N     samples of the clouds' shadows in the haze over\n"
 	       "                         the first 20 km (crepuscular rays), 0..10000;\n"
 	       "                         0: their area mean only\n"
@@ -422,9 +423,11 @@ static void describe(void *user, const struct cs_cloudrender_result *r)
 
 static void report_times(const struct cs_cloudrender_opts *o, const struct cs_cloudrender_result *r)
 {
-	if (!o->reference && CS_LIGHT_CACHED(r->settings.light_march)) {
+	if (!o->reference && (CS_LIGHT_CACHED(r->settings.light_march) || r->stats.cache_volumes > 0)) {
 		char rule[80] = "cache";
-		if (r->settings.light_march == CS_LIGHT_AUTO)
+		if (!CS_LIGHT_CACHED(r->settings.light_march))
+			snprintf(rule, sizeof rule, "the towers' diffused light");
+		else if (r->settings.light_march == CS_LIGHT_AUTO)
 			snprintf(rule, sizeof rule, "auto: built where the frame has a pixel for %.0f cells",
 				 CS_AUTO_CELLS_PER_PIXEL);
 		cli_err("light cache: %d volume%s, %.2f million cells (%s)", r->stats.cache_volumes,

@@ -15,8 +15,10 @@
  *
  * sigma_tr = (1 - g) sigma_t the transport extinction (the similarity
  * relation: the forward share g of each scattering counted as not
- * scattered), Q the power a volume that the beam, attenuated by the same
- * transport depth, gives up to scattering.  The diffusion holds in cloud
+ * scattered), Q the power a volume that the beam (what reaches the
+ * layer's top through the layers above, deck.sun_top), attenuated by the
+ * same transport depth, gives up to scattering (all of it: the clouds'
+ * albedo is 1 to within 1e-5).  The diffusion holds in cloud
  * only: clear air is not part of the problem.  A face of cloud toward
  * clear air, or at the layer's base or top, takes Marshak's condition
  * with the light J (W/m^2) that comes in there: the outward flux is
@@ -37,7 +39,8 @@
  * middle (trilinear weights), so that the field receives what the beam
  * loses.  The lattice is struct cs_light_cache's without shear, node
  * (i, j, k) at index (j nu + i) (nh + 1) + k, so that cs_cached_depth
- * reads it. */
+ * reads it; the march reads the fluence and its gradient (the flux's
+ * part of the radiance: integrator.c, tower_diffused). */
 #include "render/render.h"
 
 #include "core/err.h"
@@ -52,6 +55,13 @@
 #define TAU_CELL_MIN 0.3 /* the least transport depth across a node's cell of cloud */
 #define CG_TOL 1e-5      /* relative residual */
 #define CG_MAX_ITER 2000
+/* A key light lower than this lights no field: its beam would cross the
+ * flat, periodic layer's 40 km periods many times over (5 deg: 126 km
+ * through an 11 km layer, the light march's paths are capped at 150). */
+#define SUN_MIN_SIN 0.0871557427 /* sin 5 deg */
+/* The most nodes a layer's lattice takes (80 MB of the solver's
+ * doubles): a finer cell is coarsened to fit */
+#define MAX_NODES 2e7
 
 #define IDX(i, j, k) (((size_t)(j) * (size_t)nu + (size_t)(i)) * (size_t)nk + (size_t)(k))
 
@@ -107,10 +117,11 @@ int cs_diffusion_solve(int nu, int nv, int nk, double du_m, double dv_m, double 
 	double *b = buf + 5 * n;
 	/* Between two nodes of cloud the conductance of the face, D (the
 	 * harmonic mean: two resistances in series) times its area over the
-	 * distance; a face toward clear air, the conductance a / (2 a + 1)
-	 * an area (a = 2 D over the distance to the face, half the nodes';
-	 * at the layer's base and top, where the node is, 1/2) to the
-	 * fluence 4 J of the light coming in. */
+	 * distance.  A face toward clear air, half the nodes' distance d / 2
+	 * away: the flux D (phi - phi_f) / (d / 2) through it is Marshak's
+	 * phi_f / 2 - 2 J, so a / (2 a + 1) (phi - 4 J) an area, a = 2 D / d:
+	 * the conductance a / (2 a + 1) to the fluence 4 J of the light
+	 * coming in; at the layer's base and top, where the node is, 1/2. */
 	for (int j = 0; j < nv; j++)
 		for (int i = 0; i < nu; i++)
 			for (int k = 0; k < nk; k++) {
@@ -138,7 +149,7 @@ int cs_diffusion_solve(int nu, int nv, int nk, double du_m, double dv_m, double 
 						if (f % 2 == 0)
 							g[4 * m + (size_t)f / 2] = c;
 					} else {
-						double a = 4.0 * D / dist[f];
+						double a = 2.0 * D / dist[f];
 						double c = area[f] * (nb[f] < n ? a / (2.0 * a + 1.0) : 0.5);
 						diag += c;
 						b[m] += c * 4.0 * J[f];
@@ -195,7 +206,9 @@ int cs_diffusion_solve(int nu, int nv, int nk, double du_m, double dv_m, double 
 						sum += x[nb[f]] > 0.0 ? x[nb[f]] : 0.0;
 						cnt++;
 					}
-				phi[m] = (float)(cnt > 0 ? sum / cnt : 2.0 * (j_in[0] + j_in[1]));
+				double up = ground_in != NULL ? ground_in[(size_t)j * (size_t)nu + (size_t)i]
+							      : j_in[1];
+				phi[m] = (float)(cnt > 0 ? sum / cnt : 2.0 * (j_in[0] + up));
 			}
 	*iterations = it;
 	free(buf);
@@ -252,7 +265,7 @@ static void splat_columns(double *T, double *wsum, int nu, int nv, double fu, do
 int cs_tower_light_wanted(const struct cs_scene *sc, const struct cs_render_settings *s)
 {
 	if (!(s->tower_cell_m > 0.0) || !s->ambient || !sc->deck.on || !(sc->effects & CS_FX_KEY) ||
-	    !(sc->sun_dir.z > 0.0))
+	    !(sc->sun_dir.z >= SUN_MIN_SIN))
 		return 0;
 	for (int i = 0; i < sc->nlayers; i++)
 		if (sc->deck.tilt_weight[i] > 0.0)
@@ -349,14 +362,16 @@ static int build_layer(const struct cs_scene *sc, int li, double cell_m, int nth
 	const struct cs_cloud_layer *l = &sc->layers[li];
 	*out = (struct cs_light_cache){0};
 	double pa, pc, th = l->top_m - l->base_m;
-	if (l->nfar > 0 || !(th > 0.0) || !cs_cloud_periods(l, &pa, &pc))
+	if (l->nfar > 0 || !(l->coverage > 0.0) || !(th > 0.0) || !cs_cloud_periods(l, &pa, &pc))
 		return CS_OK;
+	double least = cbrt(pa * pc * th / MAX_NODES) * 1.02;
+	cell_m = cell_m > least ? cell_m : least;
 	int nh = (int)ceil(th / cell_m);
 	nh = nh < 4 ? 4 : nh > 256 ? 256 : nh;
 	int nk = nh + 1, nu = (int)ceil(pa / cell_m), nv = (int)ceil(pc / cell_m);
 	nu = nu < 4 ? 4 : nu;
 	nv = nv < 4 ? 4 : nv;
-	if ((double)nu * nv * nk > 2e7)
+	if ((double)nu * nv * nk > MAX_NODES)
 		return cs_error(CS_EINVAL, "the towers' light: %d x %d x %d nodes at %g m is too many",
 				nu, nv, nk, cell_m);
 	double du = pa / nu, dv = pc / nv, dh = th / nh;
@@ -390,7 +405,12 @@ static int build_layer(const struct cs_scene *sc, int li, double cell_m, int nth
 		goto done;
 	}
 	rc = cs_pool_run(nv, nthreads, beam_row, &beam, NULL, NULL, NULL);
-	double step = dh / SUB_STEPS, power = sun.z * du * dv;
+	/* the beam that reaches the layer's top through the layers above
+	 * (deck.sun_top), of a unit irradiance facing the key light */
+	double E = sc->sun_illuminance[1] > 0.0 ? sc->sun_illuminance[1] : 1.0;
+	double above = sc->deck.sun_top[li][1] / (E * sun.z);
+	above = above > 0.0 ? (above < 1.0 ? above : 1.0) : 0.0;
+	double step = dh / SUB_STEPS, power = above * sun.z * du * dv;
 	double below = l->base_m - sc->ground_alt_m;
 	below = below > 0.0 ? below : 0.0;
 	for (int j = 0; j < nv && rc == CS_OK; j++)
@@ -417,11 +437,10 @@ static int build_layer(const struct cs_scene *sc, int li, double cell_m, int nth
 	 * ground's from below (its albedo times the beam left under each
 	 * column and the diffuse light under the layers), in the green
 	 * channel, the luminance's most */
-	double E = sc->sun_illuminance[1] > 0.0 ? sc->sun_illuminance[1] : 1.0;
 	double j_in[2] = {sc->deck.dif_top[li][1] / E, CS_PI * sc->deck.ground_below[1] / E};
 	for (size_t m = 0; m < cols; m++) {
 		double Tg = gT[cols + m] > 0.0 ? gT[m] / gT[cols + m] : 1.0;
-		gT[m] = sc->ground_albedo[1] * (sun.z * Tg + CS_PI * sc->deck.sky_below[1] / E);
+		gT[m] = sc->ground_albedo[1] * (above * sun.z * Tg + CS_PI * sc->deck.sky_below[1] / E);
 	}
 	int iterations;
 	rc = cs_diffusion_solve(nu, nv, nk, du, dv, dh, st, sa, src, j_in, gT, phi, &iterations);

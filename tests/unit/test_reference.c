@@ -531,6 +531,11 @@ static void middle_cover_matches_the_reference(void)
  * -0.9 %, -2.9 % before; -10 % against the mean of four seeds, which
  * scatter by 6 % at 128 paths, when it measured -2.5 %); towers of 35 %
  * cover under the low sun within 15 % (measured +7.5 %, -2.3 % before).
+ * The anvil and the 35 % cover are measured against the mean of four
+ * seeds of 128 paths (one seed's scatter was 8 %): with the towers'
+ * diffused light (tower_light.c, its fluence and flux) the walls
+ * measured +4.9 %, the anvil +3.7 %, the 35 % cover +10.8 %; without it
+ * +1.7, -8.5 and +3.2 %.
  * The towers take the sun's diffuse light from their tilted columns
  * (cs_deck_tilt_source), 0.6 of it at their walls (integrator.c's
  * TILT_WALL), all of it up to 20 % cover and none from 50 %
@@ -550,12 +555,12 @@ static void cumulonimbus_matches_the_reference(void)
 					100.0, 10.0, 60.0, 8, 5, "high", 256),
 		   1.0, 0.10);
 	one_layer(&wx, "2021-06-14T15:00:00Z", CS_CUMULONIMBUS, 0.12, 1200.0, 11000.0, 40000.0);
-	CHECK_NEAR(march_over_reference("cumulonimbus anvil from below", &wx, noise32(), 0.0, 150.0,
-					10.0, 60.0, 8, 5, "high", 128),
+	CHECK_NEAR(march_over_references("cumulonimbus anvil from below", &wx, noise32(), 0.0,
+					 150.0, 10.0, 60.0, 8, 5, "high", 128, 4),
 		   1.0, 0.20);
 	one_layer(&wx, "2021-06-14T18:00:00Z", CS_CUMULONIMBUS, 0.35, 1200.0, 11000.0, 40000.0);
-	CHECK_NEAR(march_over_reference("cumulonimbus of 35 % cover under a low sun", &wx, noise32(),
-					0.0, 100.0, 10.0, 60.0, 8, 5, "high", 128),
+	CHECK_NEAR(march_over_references("cumulonimbus of 35 % cover under a low sun", &wx,
+					 noise32(), 0.0, 100.0, 10.0, 60.0, 8, 5, "high", 128, 4),
 		   1.0, 0.15);
 }
 
