@@ -571,12 +571,16 @@ CS_HD CS_SHARED static double tilt_light(const struct ray_ctx *c, cs_v3 p, int l
  * green channel).  The light is the diffusion's (P1): the radiance
  * phi / (4 pi) + 3 F.w / (4 pi) in direction w, F = -D grad phi the flux
  * (Fick's law, D = 1 / (3 (1 - g) sigma) of the sample's own extinction
- * sigma = ss), whose scattering toward the eye, along -d, is
+ * sigma = ss, not the lattice's cell mean: a thin sample's flux comes out
+ * large and is clamped, on 1 % of the side view's cloud samples, almost
+ * none weighted by their extinction), whose scattering toward the eye,
+ * along -d, is
  * (phi + 3 g F.(-d)) / (4 pi) (the phase function's first moment g),
  * kept within 0 and 2 phi.  Near a face the flux leaves by, the light
  * that leaves toward the eye is the brighter: a tower's base seen from
  * below.  The gradient: central differences half a lattice cell apart
- * (six lookups, counted as light samples).  Against the path tracer at
+ * (six lookups, counted as light samples), the vertical one kept within
+ * the layer.  Against the path tracer at
  * high (tests/scenes' side view and low sun; held out, 64^3 noise: noon,
  * backlit and 12 % cover) the mean luminance was -18.9, -5.6, -2.9, -8.3
  * and -9.2 % without the field, -11.9, -3.1, -1.3, -6.7 and -5.3 % with
@@ -601,9 +605,14 @@ CS_HD static void tower_diffused(const struct cs_scene *sc, int li, cs_v3 p, dou
 	double va = (cs_cached_depth(l, tl, p.x - hv * l->wind_y, p.y + hv * l->wind_x, alt) -
 		     cs_cached_depth(l, tl, p.x + hv * l->wind_y, p.y - hv * l->wind_x, alt)) /
 		    (2.0 * hv);
-	double gz = (cs_cached_depth(l, tl, p.x, p.y, alt + hh) -
-		     cs_cached_depth(l, tl, p.x, p.y, alt - hh)) /
-		    (2.0 * hh);
+	/* (up and down within the layer: above its top the lookup reads 0,
+	 * below its base the base's value) */
+	double hi = alt + hh < l->top_m - 1e-3 * hh ? alt + hh : l->top_m - 1e-3 * hh;
+	double lo = alt - hh > l->base_m ? alt - hh : l->base_m;
+	double gz = hi > lo ? (cs_cached_depth(l, tl, p.x, p.y, hi) -
+			       cs_cached_depth(l, tl, p.x, p.y, lo)) /
+				      (hi - lo)
+			    : 0.0;
 	st->light_samples += 6;
 	double gx = ua * l->wind_x - va * l->wind_y, gy = ua * l->wind_y + va * l->wind_x;
 	double g = sc->w_forward * sc->g_forward + (1.0 - sc->w_forward) * sc->g_back;

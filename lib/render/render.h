@@ -627,8 +627,9 @@ int cs_frame_volumes_needed(const struct cs_scene *sc, const struct cs_render_se
  * settings s reads it, and its build into sc->tower_light for each
  * cumulonimbus layer with tilted columns, lattice cells about cell_m (the
  * fluence per unit irradiance of the key light facing it), the lattice's
- * extinction on nthreads of the CPU pool.  CS_OK, CS_ENOMEM, the pool's
- * error, or CS_EINVAL for a lattice of more than 2e7 nodes. */
+ * extinction on nthreads of the CPU pool; a cell that would make more
+ * than 2e7 nodes is grown until they fit.  CS_OK, CS_ENOMEM or the pool's
+ * error. */
 int cs_tower_light_wanted(const struct cs_scene *sc, const struct cs_render_settings *s);
 int cs_tower_light_build(struct cs_scene *sc, double cell_m, int nthreads, uint64_t *evaluations);
 

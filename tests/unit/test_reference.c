@@ -524,18 +524,15 @@ static void middle_cover_matches_the_reference(void)
 
 /* Cumulonimbus towers of 12 % cover from the ground, the march at "high"
  * against the reference path tracer: under a low evening sun looking at
- * their sunlit walls within 10 % (measured +1.7 %, -4.3 % before the sky
- * and the ground were let in through the face the eye sees; the
- * reference's own scatter between seeds about 3 % at 256 paths a pixel),
- * and under an afternoon sun looking up at an anvil within 20 % (measured
- * -0.9 %, -2.9 % before; -10 % against the mean of four seeds, which
- * scatter by 6 % at 128 paths, when it measured -2.5 %); towers of 35 %
- * cover under the low sun within 15 % (measured +7.5 %, -2.3 % before).
- * The anvil and the 35 % cover are measured against the mean of four
- * seeds of 128 paths (one seed's scatter was 8 %): with the towers'
- * diffused light (tower_light.c, its fluence and flux) the walls
- * measured +4.9 %, the anvil +3.7 %, the 35 % cover +10.8 %; without it
- * +1.7, -8.5 and +3.2 %.
+ * their sunlit walls within 10 % (measured +4.9 %; +1.7 % without the
+ * towers' diffused light, tower_light.c, and -4.3 % before the sky and
+ * the ground were let in through the face the eye sees; the reference's
+ * own scatter between seeds about 3 % at 256 paths a pixel), and under
+ * an afternoon sun looking up at an anvil within 20 % (measured +3.7 %,
+ * -8.5 % without the diffused light), towers of 35 % cover under the low
+ * sun within 15 % (measured +10.8 %, +3.2 % without it, -2.3 % before
+ * the face).  The anvil and the 35 % cover are measured against the
+ * mean of four seeds of 128 paths: one seed's scatter is 6 to 8 %.
  * The towers take the sun's diffuse light from their tilted columns
  * (cs_deck_tilt_source), 0.6 of it at their walls (integrator.c's
  * TILT_WALL), all of it up to 20 % cover and none from 50 %
@@ -569,7 +566,8 @@ static void cumulonimbus_matches_the_reference(void)
  * looking 10 deg up away from the sun (azimuth 50 deg), the march at
  * "high" against the mean of four references (seeds 1 to 4, 256 paths a
  * pixel each; one seed's mean luminance scatters by 7 % here) within
- * 11 % (measured -6.9 %; -8.2 % against four of 1024 paths).  The walls
+ * 11 % (measured -2.6 %; -6.9 % without the towers' diffused light,
+ * tower_light.c, then -8.2 % against four of 1024 paths).  The walls
  * the eye sees there face away from the sun and are lit by the sky and
  * the ground they face: their light comes in through the face the eye
  * sees, its normal the way the extinction falls (integrator.c's
