@@ -89,7 +89,8 @@ static void tile_depths(const struct cs_scene *sc, int l, double scale, double *
 		for (int i = 0; i < CS_BEAM_FIT_N; i++) {
 			double a = ((i + 0.5) / CS_BEAM_FIT_N - 0.5) * along_m;
 			double c = ((j + 0.5) / CS_BEAM_FIT_N - 0.5) * across_m;
-			double x = a * ly->wind_x - c * ly->wind_y, y = a * ly->wind_y + c * ly->wind_x;
+			double x, y;
+			cs_cloud_axes_to_en(ly, a, c, &x, &y);
 			cs_v3 p = v3(x, y, sqrt((R + h) * (R + h) - x * x - y * y) - R);
 			double d = cs_layer_depth(sc, &s, l, p, sc->sun_dir, &st) * scale;
 			t[j * CS_BEAM_FIT_N + i] = d > 0.0 ? d : 0.0; /* NaN: none; +inf stays */

@@ -117,6 +117,16 @@ void cs_cloud_layer_drift(struct cs_cloud_layer *l, double east_m, double north_
  * homogeneous layer, tiles not its genus's). */
 int cs_cloud_periods(const struct cs_cloud_layer *l, double *along_m, double *across_m);
 
+/* A vector of along_m and across_m on layer l's axes (along the wind and
+ * across it, as cs_cloud_extinction takes them) in east and north: the
+ * rotation only (the field's offsets are the caller's). */
+CS_HD static inline void cs_cloud_axes_to_en(const struct cs_cloud_layer *l, double along_m,
+					     double across_m, double *east_m, double *north_m)
+{
+	*east_m = along_m * l->wind_x - across_m * l->wind_y;
+	*north_m = along_m * l->wind_y + across_m * l->wind_x;
+}
+
 /* The wind-aloft factor at height_m above the ground: (height / 10 m)^(1/7),
  * at least 1 and at most 3. */
 double cs_cloud_aloft_factor(double height_m);

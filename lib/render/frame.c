@@ -122,7 +122,8 @@ int cs_render_image(const struct cs_scene *sc, const struct cs_camera *cam,
 	struct frame_job *job = aligned_alloc(64, size);
 	if (job == NULL)
 		return cs_error(CS_ENOMEM, "out of memory");
-	/* the light caches: built on a copy of the scene, for this frame */
+	/* the light caches and the towers' light: built on a copy of the
+	 * scene, for this frame */
 	struct cs_scene *cached = NULL;
 	uint64_t cache_evaluations = 0;
 	if (cs_frame_volumes_needed(sc, s)) {

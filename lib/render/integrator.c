@@ -4,8 +4,8 @@
  * octaves), then the aerial perspective and the background (ground, sky,
  * sun disk) behind what the clouds let through. */
 #include "render/march.h"
-#include "core/color.h"
 
+#include "core/color.h"
 #include "core/sphere.h"
 #include "terrain/heightfield.h"
 
@@ -596,14 +596,16 @@ CS_HD static void tower_diffused(const struct cs_scene *sc, int li, cs_v3 p, dou
 	const struct cs_cloud_layer *l = &sc->layers[li];
 	const struct cs_light_cache *tl = &sc->tower_light[li];
 	double phi = cs_cached_depth(l, tl, p.x, p.y, alt);
-	double hu = 0.5 * tl->du_m, hv = 0.5 * tl->dv_m, hh = 0.5 * tl->dh_m;
+	double hu = 0.5 * tl->du_m, hv = 0.5 * tl->dv_m, hh = 0.5 * tl->dh_m, ex, ey;
 	/* the gradient along the wind's axes (the lattice's), back to east
 	 * and north */
-	double ua = (cs_cached_depth(l, tl, p.x + hu * l->wind_x, p.y + hu * l->wind_y, alt) -
-		     cs_cached_depth(l, tl, p.x - hu * l->wind_x, p.y - hu * l->wind_y, alt)) /
+	cs_cloud_axes_to_en(l, hu, 0.0, &ex, &ey);
+	double ua = (cs_cached_depth(l, tl, p.x + ex, p.y + ey, alt) -
+		     cs_cached_depth(l, tl, p.x - ex, p.y - ey, alt)) /
 		    (2.0 * hu);
-	double va = (cs_cached_depth(l, tl, p.x - hv * l->wind_y, p.y + hv * l->wind_x, alt) -
-		     cs_cached_depth(l, tl, p.x + hv * l->wind_y, p.y - hv * l->wind_x, alt)) /
+	cs_cloud_axes_to_en(l, 0.0, hv, &ex, &ey);
+	double va = (cs_cached_depth(l, tl, p.x + ex, p.y + ey, alt) -
+		     cs_cached_depth(l, tl, p.x - ex, p.y - ey, alt)) /
 		    (2.0 * hv);
 	/* (up and down within the layer: above its top the lookup reads 0,
 	 * below its base the base's value) */
@@ -614,8 +616,8 @@ CS_HD static void tower_diffused(const struct cs_scene *sc, int li, cs_v3 p, dou
 				      (hi - lo)
 			    : 0.0;
 	st->light_samples += 6;
-	double gx = ua * l->wind_x - va * l->wind_y, gy = ua * l->wind_y + va * l->wind_x;
-	double g = sc->w_forward * sc->g_forward + (1.0 - sc->w_forward) * sc->g_back;
+	double gx, gy, g = sc->deck.g;
+	cs_cloud_axes_to_en(l, ua, va, &gx, &gy);
 	double D = 1.0 / (3.0 * (1.0 - g) * (ss > 1e-9 ? ss : 1e-9));
 	/* F.(-d) = D grad phi . d */
 	double toward = 3.0 * g * D * (gx * d.x + gy * d.y + gz * d.z);

@@ -1,7 +1,7 @@
 /* light_cache.c - CS_LIGHT_CACHE: each layer's optical depth toward the
  * sun, one period of it (struct cs_light_cache), built once a frame on
- * the CPU pool (with the towers' diffused light, tower_light.c), so that a cloudy sample looks its light up instead of
- * marching toward the sun (on a GPU too: cuda/render_cuda.cu copies the
+ * the CPU pool (with the towers' diffused light, tower_light.c), so that
+ * a cloudy sample looks its light up instead of marching toward the sun (on a GPU too: cuda/render_cuda.cu copies the
  * volumes with the scene). */
 #include "render/render.h"
 
@@ -52,8 +52,7 @@ static void build_row(void *user, int j, int worker)
 			 * back to east and north */
 			double a = i * lc->du_m + rise * lc->shear_u + l->offset_along_m;
 			double c = j * lc->dv_m + rise * lc->shear_v + l->offset_across_m;
-			xyz[3 * k] = a * l->wind_x - c * l->wind_y;
-			xyz[3 * k + 1] = a * l->wind_y + c * l->wind_x;
+			cs_cloud_axes_to_en(l, a, c, &xyz[3 * k], &xyz[3 * k + 1]);
 			xyz[3 * k + 2] = l->base_m + rise;
 		}
 		cs_render_extinction(l, job->sc->noise, lc->nh, xyz, e);

@@ -102,6 +102,13 @@ static void apply(const double *g, int nu, int nv, int nk, const double *in, dou
 			}
 }
 
+/* The light coming in from below under column (i, j): ground_in's, or
+ * j_in[1] everywhere. */
+static double light_up(const double j_in[2], const double *ground_in, int nu, int i, int j)
+{
+	return ground_in != NULL ? ground_in[(size_t)j * (size_t)nu + (size_t)i] : j_in[1];
+}
+
 /* (render.h) */
 int cs_diffusion_solve(int nu, int nv, int nk, double du_m, double dv_m, double dh_m,
 		       const float *sigma_tr, const float *sigma_a, const double *source,
@@ -134,8 +141,7 @@ int cs_diffusion_solve(int nu, int nv, int nk, double du_m, double dv_m, double 
 				neighbours(nu, nv, nk, i, j, k, nb);
 				double h = k == 0 || k == nk - 1 ? 0.5 : 1.0; /* the volume's height */
 				double D = 1.0 / (3.0 * sigma_tr[m]);
-				double up = ground_in != NULL ? ground_in[(size_t)j * (size_t)nu + (size_t)i]
-							      : j_in[1];
+				double up = light_up(j_in, ground_in, nu, i, j);
 				double wall = 0.5 * (j_in[0] + up);
 				double area[6] = {dv_m * dh_m * h, dv_m * dh_m * h, du_m * dh_m * h,
 						  du_m * dh_m * h, du_m * dv_m,      du_m * dv_m};
@@ -207,9 +213,8 @@ int cs_diffusion_solve(int nu, int nv, int nk, double du_m, double dv_m, double 
 						sum += x[nb[f]] > 0.0 ? x[nb[f]] : 0.0;
 						cnt++;
 					}
-				double up = ground_in != NULL ? ground_in[(size_t)j * (size_t)nu + (size_t)i]
-							      : j_in[1];
-				phi[m] = (float)(cnt > 0 ? sum / cnt : 2.0 * (j_in[0] + up));
+				phi[m] = (float)(cnt > 0 ? sum / cnt
+							 : 2.0 * (j_in[0] + light_up(j_in, ground_in, nu, i, j)));
 			}
 	*iterations = it;
 	free(buf);
@@ -303,8 +308,7 @@ static void extinction_row(void *user, int j, int worker)
 				double c = (j + ((s & 2) ? 0.25 : -0.25)) * dv + l->offset_across_m;
 				double kk = k + ((s & 4) ? 0.25 : -0.25);
 				kk = kk < 0.0 ? 0.25 : kk > nh ? nh - 0.25 : kk;
-				xyz[3 * s] = a * l->wind_x - c * l->wind_y;
-				xyz[3 * s + 1] = a * l->wind_y + c * l->wind_x;
+				cs_cloud_axes_to_en(l, a, c, &xyz[3 * s], &xyz[3 * s + 1]);
 				xyz[3 * s + 2] = l->base_m + kk * dh;
 			}
 			cs_render_extinction(l, job->sc->noise, 8, xyz, e);
@@ -343,8 +347,7 @@ static void beam_row(void *user, int j, int worker)
 				double down = (s0 + q + 0.5) * job->step;
 				double a = i * job->du - down * job->shu + l->offset_along_m;
 				double c = j * job->dv - down * job->shv + l->offset_across_m;
-				xyz[3 * q] = a * l->wind_x - c * l->wind_y;
-				xyz[3 * q + 1] = a * l->wind_y + c * l->wind_x;
+				cs_cloud_axes_to_en(l, a, c, &xyz[3 * q], &xyz[3 * q + 1]);
 				xyz[3 * q + 2] = l->top_m - down;
 			}
 			cs_render_extinction(l, job->sc->noise, cnt, xyz, e);
@@ -388,7 +391,7 @@ static int build_layer(const struct cs_scene *sc, int li, double cell_m, int nth
 		rc = cs_error(CS_ENOMEM, "out of memory for the towers' light (%zu nodes)", n);
 		goto done;
 	}
-	double g = sc->w_forward * sc->g_forward + (1.0 - sc->w_forward) * sc->g_back;
+	double g = sc->deck.g; /* (the deck is on: cs_tower_light_wanted) */
 	/* each node's extinction (extinction_row) */
 	struct extinction_job job = {sc, l, nu, nk, du, dv, dh, 1.0 - g, st, sa};
 	rc = cs_pool_run(nv, nthreads, extinction_row, &job, NULL, NULL, NULL);

@@ -558,10 +558,11 @@ static int scene_struct(struct cs_cuda_scene *c, const struct cs_scene *sc)
 	 * frame: copied every frame, into the same device memory while their
 	 * size stays */
 	for (int n = 0; rc == CS_OK && n < 3 * CS_SCENE_MAX_LAYERS; n++) {
+		/* h's copy of the volume: the host's array, then the device's */
 		int kind = n / CS_SCENE_MAX_LAYERS, li = n % CS_SCENE_MAX_LAYERS;
-		const struct cs_light_cache *lc = kind == 0   ? &sc->light_cache[li]
-						  : kind == 1 ? &sc->column_cache[li]
-							      : &sc->tower_light[li];
+		struct cs_light_cache *lc = kind == 0   ? &h->sc.light_cache[li]
+					    : kind == 1 ? &h->sc.column_cache[li]
+							: &h->sc.tower_light[li];
 		if (lc->depth == NULL)
 			continue;
 		size_t bytes = (size_t)lc->nu * lc->nv * (lc->nh + 1) * sizeof(float);
@@ -579,10 +580,7 @@ static int scene_struct(struct cs_cuda_scene *c, const struct cs_scene *sc)
 		}
 		if ((e = cudaMemcpy(c->cache[n], lc->depth, bytes, cudaMemcpyHostToDevice)) != cudaSuccess)
 			rc = cuda_error(e, "uploading the light cache");
-		(kind == 0   ? h->sc.light_cache
-		 : kind == 1 ? h->sc.column_cache
-			     : h->sc.tower_light)[li]
-			.depth = c->cache[n];
+		lc->depth = c->cache[n];
 	}
 	if (rc == CS_OK && (e = cudaMemcpy(c->d, h, sizeof *h, cudaMemcpyHostToDevice)) != cudaSuccess)
 		rc = cuda_error(e, "uploading the scene");
