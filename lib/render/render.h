@@ -640,13 +640,18 @@ int cs_tower_light_build(struct cs_scene *sc, double cell_m, int nthreads, uint6
  * level at k = 0 and nk - 1).  At a face of cloud toward clear air or
  * out of the layer (k = 0, nk - 1), Marshak's condition with the light
  * coming in, W/m^2: j_in[0] from above, ground_in[j nu + i] from below
- * (j_in[1] everywhere where ground_in is NULL), on a wall half each.
- * phi gets the fluence, W/m^2 (a clear node the mean of its cloud
- * neighbours', or 2 (j_in[0] + j_in[1])); *iterations the conjugate
- * gradients' count.  CS_OK or CS_ENOMEM. */
+ * (j_in[1] everywhere where ground_in is NULL), on a wall half each;
+ * with exchange, at a face toward a clear node of the lattice, what that
+ * node sees instead (the sky, the ground, and the light leaving the other
+ * faces of cloud its rays meet from their third cell on; its rays traced
+ * on nthreads of the CPU pool).  phi gets the
+ * fluence, W/m^2 (a clear node the mean of its cloud neighbours', or
+ * 2 (j_in[0] + j_in[1])); *iterations BiCGSTAB's count.  CS_OK or
+ * CS_ENOMEM. */
 int cs_diffusion_solve(int nu, int nv, int nk, double du_m, double dv_m, double dh_m,
 		       const float *sigma_tr, const float *sigma_a, const double *source,
-		       const double j_in[2], const double *ground_in, float *phi, int *iterations);
+		       const double j_in[2], const double *ground_in, int exchange, int nthreads,
+		       float *phi, int *iterations);
 
 /* The build of the per-pixel code cs_render_image runs on this CPU
  * (cpu/kernel.c, -O3): "avx512" where the CPU has x86-64-v4, else "avx2"

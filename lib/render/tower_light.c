@@ -24,16 +24,18 @@
  * with the light J (W/m^2) that comes in there: the outward flux is
  * phi_face / 2 - 2 J.  From above comes the sky's diffuse light, from
  * below the ground's (its albedo times the beam that reaches it under
- * the towers, plus the diffuse light), on a wall half of each.  Light
- * that leaves the cloud leaves the problem: the exchange between towers
- * is left out.  Along the wind and across it the field repeats, as the
- * clouds do.
+ * the towers, plus the diffuse light), on a wall half of each; at a face
+ * toward clear air inside the layer, what the clear air there sees: the
+ * sky, the ground and the light that leaves other faces of cloud (the
+ * exchange between towers and across the gaps in one, struct exchange).
+ * Along the wind and across it the field repeats, as the clouds do.
  *
  * Discretised on a lattice of nodes (finite volumes around each node,
  * half a level at the base and the top; a node is cloud where the mean
- * extinction of its volume is more than 0), the system is symmetric
- * positive definite: conjugate gradients with the diagonal as
- * preconditioner solve it.  The source: the beam is followed down a
+ * extinction of its volume is more than 0), with the light coming in at
+ * each face toward clear air as an unknown of its own, the system is
+ * linear but not symmetric: BiCGSTAB with the diagonal as preconditioner
+ * solves it.  The source: the beam is followed down a
  * sheared column from each top node (SUB_STEPS samples a level), and the
  * power each step loses is shared out among the nodes around the step's
  * middle (trilinear weights), so that the field receives what the beam
@@ -49,12 +51,13 @@
 #include "render/march.h"
 
 #include <math.h>
+#include <stdint.h>
 #include <stdlib.h>
 
 #define SUB_STEPS 4      /* the beam's samples a level */
 #define TAU_CELL_MIN 0.3 /* the least transport depth across a node's cell of cloud */
-#define CG_TOL 1e-5      /* relative residual */
-#define CG_MAX_ITER 2000 /* (the study's cumulonimbus: 25, 49 and 94 at 800, 400, 200 m) */
+#define SOLVE_TOL 1e-5      /* relative residual */
+#define SOLVE_MAX_ITER 2000 /* (the study's cumulonimbus: 25, 49 and 94 at 800, 400, 200 m) */
 /* A key light lower than this lights no field: its beam would cross the
  * flat, periodic layer's 40 km periods many times over (5 deg: 112 km
  * through a cumulonimbus 9.8 km thick; the light march's paths are capped
@@ -79,11 +82,319 @@ static void neighbours(int nu, int nv, int nk, int i, int j, int k, size_t nb[6]
 	nb[5] = k > 0 ? m - 1 : n;
 }
 
-/* out = A in: the diagonal, and the conductances to the next node along
- * u, v and k (g[4 m + 3], g[4 m + 0..2]) counted both ways. */
-static void apply(const double *g, int nu, int nv, int nk, const double *in, double *out)
+/* The light coming in from below under column (i, j): ground_in's, or
+ * j_in[1] everywhere. */
+static double light_up(const double j_in[2], const double *ground_in, int nu, int i, int j)
 {
-	size_t n = (size_t)nu * (size_t)nv * (size_t)nk;
+	return ground_in != NULL ? ground_in[(size_t)j * (size_t)nu + (size_t)i] : j_in[1];
+}
+
+/* The wrapped index along an axis of n. */
+static int wrap(long i, int n)
+{
+	long w = i % n;
+	return (int)(w < 0 ? w + n : w);
+}
+
+/* The light from the other cloud around: directions from a clear node
+ * (a spherical Fibonacci set), the most cells a ray of them crosses
+ * before it is taken to see the horizon.  Cloud a ray meets in its first
+ * EXCHANGE_MIN_CELLS cells is taken as the horizon too: at cells of
+ * hundreds of metres that is mostly the staircase the lattice makes of a
+ * slanted wall, which the wall does not see (the study's cumulonimbus
+ * scenes against the path tracer: counting it, the 12 % cover seen from
+ * under it went from +0.3 % to +17.8 % in mean luminance, relative MSE
+ * 0.110 to 0.123; leaving out the first cell only, +7.4 %, 0.098; the
+ * first two, +5.0 %, 0.099). */
+#define GATHER_DIRS 48
+#define GATHER_CELLS 256
+#define EXCHANGE_MIN_CELLS 2
+
+struct lattice {
+	int nu, nv, nk;
+	double d[3]; /* the cells' size along u, v and k, m */
+	const float *st;
+	const double *j_in, *ground_in;
+};
+
+/* What a ray from a clear node meets (struct exchange's targets): a face
+ * of cloud, 6 h + f (node h's face f, the side the ray came from); the
+ * ground under column c, TO_GROUND | c; the sky; the horizon. */
+#define TO_GROUND 0x80000000u
+#define TO_SKY 0xffffffffu
+#define TO_HORIZON 0xfffffffeu
+
+/* The first thing a ray from clear node (i, j, k) along dir (metres)
+ * meets: the first node of cloud it enters (from its EXCHANGE_MIN_CELLS
+ * + 1st cell on), the sky above the layer's top, the ground below its
+ * base, or the horizon.  The cells are the nodes' boxes; along k, half a box at the
+ * base and the top. */
+static uint32_t trace(const struct lattice *lt, int i, int j, int k, const double dir[3])
+{
+	int nu = lt->nu, nk = lt->nk, nh = nk - 1, idx[3] = {i, j, k}, step[3];
+	double tmax[3], tdelta[3];
+	for (int a = 0; a < 3; a++) {
+		step[a] = dir[a] > 0.0 ? 1 : -1;
+		double v = fabs(dir[a]);
+		tdelta[a] = v > 0.0 ? lt->d[a] / v : HUGE_VAL;
+		double half = 0.5 * lt->d[a];
+		if (a == 2 && ((k == nh && step[2] > 0) || (k == 0 && step[2] < 0)))
+			half = 0.0; /* the layer's top or base is the box's face */
+		tmax[a] = v > 0.0 ? half / v : HUGE_VAL;
+	}
+	for (int c = 0; c < GATHER_CELLS; c++) {
+		int a = tmax[0] < tmax[1] ? (tmax[0] < tmax[2] ? 0 : 2) : (tmax[1] < tmax[2] ? 1 : 2);
+		if (a == 2 && ((idx[2] == nh && step[2] > 0) || (idx[2] == 0 && step[2] < 0)))
+			return step[2] > 0 ? TO_SKY
+					   : TO_GROUND | (uint32_t)((size_t)idx[1] * (size_t)nu +
+								    (size_t)idx[0]);
+		idx[a] += step[a];
+		if (a < 2)
+			idx[a] = wrap(idx[a], a == 0 ? lt->nu : lt->nv);
+		tmax[a] += tdelta[a];
+		if (a == 2 && ((idx[2] == nh && step[2] > 0) || (idx[2] == 0 && step[2] < 0)))
+			tmax[2] -= 0.5 * tdelta[2]; /* the last box is half a level */
+		size_t h = IDX(idx[0], idx[1], idx[2]);
+		if (lt->st[h] > 0.0)
+			return c < EXCHANGE_MIN_CELLS
+				       ? TO_HORIZON
+				       : (uint32_t)(6 * h + (size_t)(2 * a + (step[a] > 0 ? 1 : 0)));
+	}
+	return TO_HORIZON;
+}
+
+/* The light sent from cloud to cloud through clear air.  Each face of
+ * cloud toward a clear node c of the layer has its own unknown, the light
+ * J coming in there, numbered 6 (c's place among the clear nodes next to
+ * cloud) + (the side of c the cloud is on).  It is what c sees over the
+ * half of the directions away from the face, J = pi sum L (d . n) /
+ * sum (d . n) over GATHER_DIRS rays from c (a spherical Fibonacci set), n
+ * the face's normal, so that a uniform radiance L gives pi L.  A ray meets
+ * the sky (pi L = J_top), the ground (its light), the horizon (half each)
+ * or another face of cloud, whose outgoing light is Marshak's
+ * pi L = phi_f / 2 - J = J + gamma (phi - 4 J), gamma = a / (2 a + 1),
+ * a = 2 D / d (the node's fluence phi at d / 2 from the face). */
+struct exchange {
+	size_t count;    /* clear nodes next to cloud */
+	uint32_t *node;  /* [count] their indices, ascending */
+	uint32_t *cloud; /* [6 count] the node of cloud of each face; n: none */
+	double *gamma;   /* [6 count] its gamma, and its conductance (area gamma, W per W/m^2) */
+	double *cond;
+	double *fixed;   /* [6 count] what the sky, the ground and the horizon give its J */
+	double *out;     /* [6 count] scratch: the light leaving each face, pi L */
+	/* what each face gathers from the faces of cloud its rays meet: the
+	 * sparse rows [row[id], row[id + 1]) of (face, share of the rays) */
+	uint32_t *row, *col;
+	double *share;
+	size_t nnz;
+	double dir[GATHER_DIRS][3];
+	double w[6][GATHER_DIRS]; /* ray q's share of the J of the face on side f: (d . n) / sum (d . n) */
+};
+
+static void exchange_free(struct exchange *ex)
+{
+	free(ex->node);
+	free(ex->cloud);
+	free(ex->gamma);
+	free(ex->row);
+	free(ex->col);
+	free(ex->share);
+	*ex = (struct exchange){0};
+}
+
+/* Whether node m is clear and next to cloud (nb: its neighbours). */
+static int next_to_cloud(const struct lattice *lt, size_t m, size_t nb[6])
+{
+	size_t n = (size_t)lt->nu * (size_t)lt->nv * (size_t)lt->nk, col = m / (size_t)lt->nk;
+	if (lt->st[m] > 0.0)
+		return 0;
+	neighbours(lt->nu, lt->nv, lt->nk, (int)(col % (size_t)lt->nu), (int)(col / (size_t)lt->nu),
+		   (int)(m % (size_t)lt->nk), nb);
+	for (int f = 0; f < 6; f++)
+		if (nb[f] < n && lt->st[nb[f]] > 0.0)
+			return 1;
+	return 0;
+}
+
+static int by_node(const void *a, const void *b)
+{
+	uint32_t x = *(const uint32_t *)a, y = *(const uint32_t *)b;
+	return (x > y) - (x < y);
+}
+
+/* The rays of a task's TRACE_BATCH clear nodes (on the CPU pool): what
+ * each meets, a face's unknown (the clear node before the face, and the
+ * side) or TO_*. */
+#define TRACE_BATCH 256
+struct trace_job {
+	const struct lattice *lt;
+	const struct exchange *ex;
+	uint32_t *target; /* [count * GATHER_DIRS] */
+};
+
+static void trace_batch(void *user, int task, int worker)
+{
+	(void)worker;
+	const struct trace_job *job = user;
+	const struct lattice *lt = job->lt;
+	const struct exchange *ex = job->ex;
+	size_t end = ((size_t)task + 1) * TRACE_BATCH;
+	end = end < ex->count ? end : ex->count;
+	for (size_t c = (size_t)task * TRACE_BATCH; c < end; c++) {
+		size_t m = ex->node[c], col = m / (size_t)lt->nk;
+		int i = (int)(col % (size_t)lt->nu), j = (int)(col / (size_t)lt->nu);
+		for (int q = 0; q < GATHER_DIRS; q++) {
+			uint32_t t = trace(lt, i, j, (int)(m % (size_t)lt->nk), ex->dir[q]);
+			if (!(t & TO_GROUND)) { /* face f of node h: the clear node before it */
+				size_t h = t / 6, hc = h / (size_t)lt->nk, back[6];
+				int f = (int)(t % 6);
+				neighbours(lt->nu, lt->nv, lt->nk, (int)(hc % (size_t)lt->nu),
+					   (int)(hc / (size_t)lt->nu), (int)(h % (size_t)lt->nk), back);
+				uint32_t key = (uint32_t)back[f];
+				const uint32_t *at = bsearch(&key, ex->node, ex->count, sizeof key, by_node);
+				t = at != NULL ? (uint32_t)(6 * (size_t)(at - ex->node) + (size_t)(f ^ 1))
+					       : TO_HORIZON; /* (none: a ray from inside cloud) */
+			}
+			job->target[c * GATHER_DIRS + (size_t)q] = t;
+		}
+	}
+}
+
+/* The clear nodes next to cloud, their faces' unknowns, the rays (on
+ * nthreads of the CPU pool) and the rows of what each face gathers. */
+static int exchange_setup(const struct lattice *lt, int nthreads, struct exchange *ex)
+{
+	size_t n = (size_t)lt->nu * (size_t)lt->nv * (size_t)lt->nk, nb[6];
+	*ex = (struct exchange){0};
+	/* the face on side f of a clear node faces along -e_f */
+	double norm[6] = {0};
+	for (int q = 0; q < GATHER_DIRS; q++) {
+		double z = 1.0 - (2.0 * q + 1.0) / GATHER_DIRS, r = sqrt(1.0 - z * z);
+		double phi = q * 2.39996322972865332; /* the golden angle */
+		ex->dir[q][0] = r * cos(phi), ex->dir[q][1] = r * sin(phi), ex->dir[q][2] = z;
+		for (int f = 0; f < 6; f++) {
+			double c = (f % 2 ? 1.0 : -1.0) * ex->dir[q][f / 2];
+			ex->w[f][q] = c > 0.0 ? c : 0.0;
+			norm[f] += ex->w[f][q];
+		}
+	}
+	for (int f = 0; f < 6; f++)
+		for (int q = 0; q < GATHER_DIRS; q++)
+			ex->w[f][q] /= norm[f];
+	for (size_t m = 0; m < n; m++)
+		ex->count += (size_t)next_to_cloud(lt, m, nb);
+	if (ex->count == 0)
+		return CS_OK;
+	size_t nf = 6 * ex->count, cap = nf * 8;
+	uint32_t *target = malloc(ex->count * GATHER_DIRS * sizeof *target);
+	ex->node = malloc(ex->count * sizeof *ex->node);
+	ex->cloud = malloc(nf * sizeof *ex->cloud);
+	ex->gamma = malloc(4 * nf * sizeof *ex->gamma);
+	ex->row = malloc((nf + 1) * sizeof *ex->row);
+	ex->col = malloc(cap * sizeof *ex->col);
+	ex->share = malloc(cap * sizeof *ex->share);
+	int rc = CS_OK;
+	if (target == NULL || ex->node == NULL || ex->cloud == NULL || ex->gamma == NULL ||
+	    ex->row == NULL || ex->col == NULL || ex->share == NULL || 6 * n >= TO_GROUND) {
+		rc = cs_error(CS_ENOMEM, "out of memory for the towers' light (%zu nodes)", n);
+		goto done;
+	}
+	ex->cond = ex->gamma + nf, ex->fixed = ex->gamma + 2 * nf, ex->out = ex->gamma + 3 * nf;
+	size_t c = 0;
+	for (size_t m = 0; m < n; m++)
+		if (next_to_cloud(lt, m, nb))
+			ex->node[c++] = (uint32_t)m;
+	struct trace_job job = {lt, ex, target};
+	rc = cs_pool_run((int)((ex->count + TRACE_BATCH - 1) / TRACE_BATCH), nthreads, trace_batch, &job,
+			 NULL, NULL, NULL);
+	if (rc != CS_OK)
+		goto done;
+	ex->row[0] = 0;
+	for (c = 0; c < ex->count; c++) {
+		size_t m = ex->node[c], col = m / (size_t)lt->nk;
+		int i = (int)(col % (size_t)lt->nu), j = (int)(col / (size_t)lt->nu);
+		const uint32_t *t = target + c * GATHER_DIRS;
+		double up = light_up(lt->j_in, lt->ground_in, lt->nu, i, j), R[GATHER_DIRS];
+		for (int q = 0; q < GATHER_DIRS; q++) /* pi L of the sky, the ground, the horizon */
+			R[q] = t[q] == TO_SKY ? lt->j_in[0]
+			     : t[q] == TO_HORIZON ? 0.5 * (lt->j_in[0] + up)
+			     : t[q] & TO_GROUND
+				     ? light_up(lt->j_in, lt->ground_in, lt->nu,
+						(int)((t[q] & ~TO_GROUND) % (size_t)lt->nu),
+						(int)((t[q] & ~TO_GROUND) / (size_t)lt->nu))
+				     : -1.0;
+		next_to_cloud(lt, m, nb);
+		for (int f = 0; f < 6; f++) {
+			size_t id = 6 * c + (size_t)f, h = nb[f];
+			ex->cloud[id] = (uint32_t)n;
+			ex->fixed[id] = 0.0;
+			ex->row[id + 1] = ex->row[id];
+			if (!(h < n && lt->st[h] > 0.0))
+				continue;
+			/* the face of h toward this node: its cell's half depth */
+			double ka = 2.0 / (3.0 * lt->st[h] * lt->d[f / 2]);
+			size_t hk = h % (size_t)lt->nk;
+			double height = hk == 0 || hk + 1 == (size_t)lt->nk ? 0.5 : 1.0;
+			double area = f / 2 == 0 ? lt->d[1] * lt->d[2] * height
+				    : f / 2 == 1 ? lt->d[0] * lt->d[2] * height
+						 : lt->d[0] * lt->d[1];
+			ex->cloud[id] = (uint32_t)h;
+			ex->gamma[id] = ka / (2.0 * ka + 1.0);
+			ex->cond[id] = area * ex->gamma[id];
+			/* the row: each face met once, its rays' shares summed */
+			for (int q = 0; q < GATHER_DIRS; q++) {
+				double w = ex->w[f][q];
+				if (!(w > 0.0))
+					continue;
+				if (R[q] >= 0.0) {
+					ex->fixed[id] += w * R[q];
+					continue;
+				}
+				size_t e = ex->row[id];
+				while (e < ex->row[id + 1] && ex->col[e] != t[q])
+					e++;
+				if (e < ex->row[id + 1]) {
+					ex->share[e] += w;
+					continue;
+				}
+				if (e == cap) {
+					cap *= 2;
+					uint32_t *col2 = realloc(ex->col, cap * sizeof *col2);
+					if (col2 != NULL)
+						ex->col = col2;
+					double *share2 = realloc(ex->share, cap * sizeof *share2);
+					if (share2 != NULL)
+						ex->share = share2;
+					if (col2 == NULL || share2 == NULL) {
+						rc = cs_error(CS_ENOMEM, "out of memory for the towers' light "
+									 "(%zu nodes)",
+							      n);
+						goto done;
+					}
+				}
+				ex->col[e] = t[q];
+				ex->share[e] = w;
+				ex->row[id + 1]++;
+			}
+		}
+	}
+	ex->nnz = ex->row[nf];
+done:
+	free(target);
+	if (rc != CS_OK)
+		exchange_free(ex);
+	return rc;
+}
+
+/* out = A in over the nodes (in[0, n)) and the faces' unknowns (in[n, n +
+ * 6 count)): the nodes' diagonal and conductances to the next node along
+ * u, v and k (g[4 m + 3], g[4 m + 0..2]) counted both ways, less 4 times
+ * each face's conductance times its J; a face's J less what it gathers
+ * from the faces of cloud its rays meet. */
+static void apply(const double *g, const struct exchange *ex, int nu, int nv, int nk,
+		  const double *in, double *out)
+{
+	size_t n = (size_t)nu * (size_t)nv * (size_t)nk, nf = 6 * ex->count;
 	for (size_t m = 0; m < n; m++)
 		out[m] = g[4 * m + 3] * in[m];
 	for (int j = 0; j < nv; j++)
@@ -100,36 +411,53 @@ static void apply(const double *g, int nu, int nv, int nk, const double *in, dou
 					out[m + 1] -= g[4 * m + 2] * in[m];
 				}
 			}
-}
-
-/* The light coming in from below under column (i, j): ground_in's, or
- * j_in[1] everywhere. */
-static double light_up(const double j_in[2], const double *ground_in, int nu, int i, int j)
-{
-	return ground_in != NULL ? ground_in[(size_t)j * (size_t)nu + (size_t)i] : j_in[1];
+	const double *J = in + n;
+	for (size_t id = 0; id < nf; id++) /* the light leaving each face, pi L */
+		ex->out[id] = ex->cloud[id] < n ? (1.0 - 4.0 * ex->gamma[id]) * J[id] +
+							  ex->gamma[id] * in[ex->cloud[id]]
+						: 0.0;
+	for (size_t id = 0; id < nf; id++) {
+		double sum = 0.0;
+		for (size_t e = ex->row[id]; e < ex->row[id + 1]; e++)
+			sum += ex->share[e] * ex->out[ex->col[e]];
+		out[n + id] = J[id] - sum; /* (no face: J[id] = 0) */
+		if (ex->cloud[id] < n)
+			out[ex->cloud[id]] -= 4.0 * ex->cond[id] * J[id];
+	}
 }
 
 /* (render.h) */
 int cs_diffusion_solve(int nu, int nv, int nk, double du_m, double dv_m, double dh_m,
 		       const float *sigma_tr, const float *sigma_a, const double *source,
-		       const double j_in[2], const double *ground_in, float *phi, int *iterations)
+		       const double j_in[2], const double *ground_in, int exchange, int nthreads,
+		       float *phi, int *iterations)
 {
 	size_t n = (size_t)nu * (size_t)nv * (size_t)nk;
-	double *buf = calloc(6 * n, sizeof *buf), *g = calloc(4 * n, sizeof *g);
+	struct lattice lt = {nu, nv, nk, {du_m, dv_m, dh_m}, sigma_tr, j_in, ground_in};
+	struct exchange ex = {0};
+	int rc = exchange ? exchange_setup(&lt, nthreads, &ex) : CS_OK;
+	if (rc != CS_OK)
+		return rc;
+	size_t N = n + 6 * ex.count; /* the unknowns: the nodes' fluence, the faces' J */
+	double *buf = calloc(9 * N, sizeof *buf), *g = calloc(4 * n, sizeof *g);
 	if (buf == NULL || g == NULL) {
 		free(buf);
 		free(g);
+		exchange_free(&ex);
 		return cs_error(CS_ENOMEM, "out of memory for the towers' light (%zu nodes)", n);
 	}
-	double *x = buf, *r = buf + n, *z = buf + 2 * n, *p = buf + 3 * n, *q = buf + 4 * n;
-	double *b = buf + 5 * n;
+	double *x = buf, *b = buf + N, *r = buf + 2 * N, *r0 = buf + 3 * N, *p = buf + 4 * N;
+	double *v = buf + 5 * N, *y = buf + 6 * N, *t = buf + 7 * N, *inv = buf + 8 * N;
 	/* Between two nodes of cloud the conductance of the face, D (the
 	 * harmonic mean: two resistances in series) times its area over the
 	 * distance.  A face toward clear air, half the nodes' distance d / 2
 	 * away: the flux D (phi - phi_f) / (d / 2) through it is Marshak's
 	 * phi_f / 2 - 2 J, so a / (2 a + 1) (phi - 4 J) an area, a = 2 D / d:
 	 * the conductance a / (2 a + 1) to the fluence 4 J of the light
-	 * coming in; at the layer's base and top, where the node is, 1/2. */
+	 * coming in (the sky's from above, the ground's from below, on a wall
+	 * half each; toward a clear node of the layer with the exchange, the
+	 * face's own unknown); at the layer's base and top, where the node
+	 * is, 1/2. */
 	for (int j = 0; j < nv; j++)
 		for (int i = 0; i < nu; i++)
 			for (int k = 0; k < nk; k++) {
@@ -159,39 +487,59 @@ int cs_diffusion_solve(int nu, int nv, int nk, double du_m, double dv_m, double 
 						double a = 2.0 * D / dist[f];
 						double c = area[f] * (nb[f] < n ? a / (2.0 * a + 1.0) : 0.5);
 						diag += c;
-						b[m] += c * 4.0 * J[f];
+						b[m] += nb[f] < n && exchange ? 0.0 : c * 4.0 * J[f];
 					}
 				}
 				g[4 * m + 3] = diag;
 				b[m] += source[m];
 			}
-	double bb = 0.0, rz = 0.0;
-	for (size_t m = 0; m < n; m++) {
-		r[m] = b[m];
-		z[m] = r[m] / g[4 * m + 3];
-		p[m] = z[m];
+	for (size_t id = 0; id < 6 * ex.count; id++)
+		b[n + id] = ex.fixed[id];
+	for (size_t m = 0; m < N; m++)
+		inv[m] = m < n ? 1.0 / g[4 * m + 3] : 1.0;
+	/* BiCGSTAB (van der Vorst 1992; the exchange makes the system
+	 * unsymmetric) with the diagonal as preconditioner, from 0 */
+	double bb = 0.0, rho = 1.0, alpha = 1.0, omega = 1.0;
+	for (size_t m = 0; m < N; m++) {
+		r[m] = r0[m] = b[m];
 		bb += b[m] * b[m];
-		rz += r[m] * z[m];
 	}
 	int it = 0;
-	for (double rr = bb; it < CG_MAX_ITER && bb > 0.0 && rr > CG_TOL * CG_TOL * bb; it++) {
-		apply(g, nu, nv, nk, p, q);
-		double pq = 0.0, rz1 = 0.0;
-		for (size_t m = 0; m < n; m++)
-			pq += p[m] * q[m];
-		double alpha = rz / pq;
+	for (double rr = bb; it < SOLVE_MAX_ITER && bb > 0.0 && rr > SOLVE_TOL * SOLVE_TOL * bb; it++) {
+		double rho1 = 0.0;
+		for (size_t m = 0; m < N; m++)
+			rho1 += r0[m] * r[m];
+		double beta = rho1 / rho * (alpha / omega);
+		rho = rho1;
+		for (size_t m = 0; m < N; m++) { /* y: the preconditioned p */
+			p[m] = r[m] + beta * (p[m] - omega * v[m]);
+			y[m] = p[m] * inv[m];
+		}
+		apply(g, &ex, nu, nv, nk, y, v);
+		double r0v = 0.0;
+		for (size_t m = 0; m < N; m++)
+			r0v += r0[m] * v[m];
+		alpha = rho / r0v;
+		for (size_t m = 0; m < N; m++) { /* r: s = r - alpha v; x: half a step */
+			r[m] -= alpha * v[m];
+			x[m] += alpha * y[m];
+			y[m] = r[m] * inv[m]; /* the preconditioned s */
+		}
+		apply(g, &ex, nu, nv, nk, y, t);
+		double ts = 0.0, tt = 0.0;
+		for (size_t m = 0; m < N; m++) {
+			ts += t[m] * r[m];
+			tt += t[m] * t[m];
+		}
+		omega = tt > 0.0 ? ts / tt : 0.0;
 		rr = 0.0;
-		for (size_t m = 0; m < n; m++) {
-			x[m] += alpha * p[m];
-			r[m] -= alpha * q[m];
-			z[m] = r[m] / g[4 * m + 3];
-			rz1 += r[m] * z[m];
+		for (size_t m = 0; m < N; m++) {
+			x[m] += omega * y[m];
+			r[m] -= omega * t[m];
 			rr += r[m] * r[m];
 		}
-		double beta = rz1 / rz;
-		rz = rz1;
-		for (size_t m = 0; m < n; m++)
-			p[m] = z[m] + beta * p[m];
+		if (!(omega != 0.0))
+			break;
 	}
 	/* a clear node: its cloud neighbours' mean, so that a sample of
 	 * cloud between nodes reads the cloud's light; with none, the light
@@ -219,16 +567,11 @@ int cs_diffusion_solve(int nu, int nv, int nk, double du_m, double dv_m, double 
 	*iterations = it;
 	free(buf);
 	free(g);
+	exchange_free(&ex);
 	return CS_OK;
 }
 
 /* The wrapped index along an axis of n. */
-static int wrap(long i, int n)
-{
-	long w = i % n;
-	return (int)(w < 0 ? w + n : w);
-}
-
 /* Shares e among the 8 nodes around fractional position (fu, fv, fk),
  * only those of cloud (st > 0), by their trilinear weights; none: lost
  * (the light leaves into clear air). */
@@ -451,7 +794,8 @@ static int build_layer(const struct cs_scene *sc, int li, double cell_m, int nth
 		gT[m] = sc->ground_albedo[1] * (above * sun.z * Tg + CS_PI * sc->deck.sky_below[1] / E);
 	}
 	int iterations;
-	rc = cs_diffusion_solve(nu, nv, nk, du, dv, dh, st, sa, src, j_in, gT, phi, &iterations);
+	rc = cs_diffusion_solve(nu, nv, nk, du, dv, dh, st, sa, src, j_in, gT, 1, nthreads, phi,
+				&iterations);
 	if (rc == CS_OK) {
 		*out = (struct cs_light_cache){
 			.depth = phi, .nu = nu, .nv = nv, .nh = nh,
