@@ -57,7 +57,7 @@
 #define SUB_STEPS 4      /* the beam's samples a level */
 #define TAU_CELL_MIN 0.3 /* the least transport depth across a node's cell of cloud */
 #define SOLVE_TOL 1e-5      /* relative residual */
-#define SOLVE_MAX_ITER 2000 /* (the study's cumulonimbus: 25, 49 and 94 at 800, 400, 200 m) */
+#define SOLVE_MAX_ITER 2000 /* (the study's cumulonimbus: 17, 31 and 61 at 800, 400, 200 m) */
 /* A key light lower than this lights no field: its beam would cross the
  * flat, periodic layer's 40 km periods many times over (5 deg: 112 km
  * through a cumulonimbus 9.8 km thick; the light march's paths are capped
