@@ -41,11 +41,12 @@
  * tracer (0.01128 against 0.01144).  Every preset solves a
  * cumulonimbus's diffused light on a lattice 400 m apart (tower_cell_m,
  * tower_light.c): 800 m merged the towers' edges with the gaps and lit
- * the side view +4.1 % against the path tracer at high with relative
- * MSE 0.175, worse than none (0.156); 400 m -6.4 % and 0.083; 200 m
- * -8.2 % and 0.078 in twelve times the time (2.7 against 0.22 s a frame
+ * the side view +6.7 % against the path tracer at high with relative
+ * MSE 0.181, worse than none (0.156); 400 m -4.1 % and 0.081; 200 m
+ * -6.2 % and 0.073 in ten times the time (3.7 against 0.34 s a frame
  * on 2 threads); at medium 600 m was worse than 400 on all five
- * cumulonimbus scenes measured (cloudrender(1), REFERENCE). */
+ * cumulonimbus scenes measured, before the towers' faces exchanged their
+ * light (cloudrender(1), REFERENCE). */
 #include "render/render.h"
 
 #include "core/err.h"

@@ -627,7 +627,8 @@ int cs_frame_volumes_needed(const struct cs_scene *sc, const struct cs_render_se
  * settings s reads it, and its build into sc->tower_light for each
  * cumulonimbus layer with tilted columns, lattice cells about cell_m (the
  * fluence per unit irradiance of the key light facing it), the lattice's
- * extinction on nthreads of the CPU pool; a cell that would make more
+ * extinction, the beam and the exchange's rays on nthreads of the CPU
+ * pool; a cell that would make more
  * than 2e7 nodes is grown until they fit.  CS_OK, CS_ENOMEM or the pool's
  * error. */
 int cs_tower_light_wanted(const struct cs_scene *sc, const struct cs_render_settings *s);
@@ -642,9 +643,11 @@ int cs_tower_light_build(struct cs_scene *sc, double cell_m, int nthreads, uint6
  * coming in, W/m^2: j_in[0] from above, ground_in[j nu + i] from below
  * (j_in[1] everywhere where ground_in is NULL), on a wall half each;
  * with exchange, at a face toward a clear node of the lattice, what that
- * node sees instead (the sky, the ground, and the light leaving the other
- * faces of cloud its rays meet from their third cell on; its rays traced
- * on nthreads of the CPU pool).  phi gets the
+ * node sees instead over 48 directions: the sky, the ground, the horizon
+ * (half each: also where a direction meets cloud within its first two
+ * cells, so that a gap narrower than three cells exchanges nothing), and
+ * the light leaving the faces of cloud the directions meet; the
+ * directions traced on nthreads of the CPU pool.  phi gets the
  * fluence, W/m^2 (a clear node the mean of its cloud neighbours', or
  * 2 (j_in[0] + j_in[1])); *iterations BiCGSTAB's count.  CS_OK or
  * CS_ENOMEM. */

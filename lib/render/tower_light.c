@@ -63,8 +63,8 @@
  * through a cumulonimbus 9.8 km thick; the light march's paths are capped
  * at 150). */
 #define SUN_MIN_SIN 0.0871557427 /* sin 5 deg */
-/* The most nodes a layer's lattice takes (80 MB of the solver's
- * doubles): a finer cell is coarsened to fit */
+/* The most nodes a layer's lattice takes (the build and the solver take
+ * about 140 bytes a node: 2.8 GB): a finer cell is coarsened to fit */
 #define MAX_NODES 2e7
 
 #define IDX(i, j, k) (((size_t)(j) * (size_t)nu + (size_t)(i)) * (size_t)nk + (size_t)(k))
@@ -252,8 +252,10 @@ static void trace_batch(void *user, int task, int worker)
 					   (int)(hc / (size_t)lt->nu), (int)(h % (size_t)lt->nk), back);
 				uint32_t key = (uint32_t)back[f];
 				const uint32_t *at = bsearch(&key, ex->node, ex->count, sizeof key, by_node);
+				/* (the cell before a face of cloud is a clear node
+				 * next to it: found) */
 				t = at != NULL ? (uint32_t)(6 * (size_t)(at - ex->node) + (size_t)(f ^ 1))
-					       : TO_HORIZON; /* (none: a ray from inside cloud) */
+					       : TO_HORIZON;
 			}
 			job->target[c * GATHER_DIRS + (size_t)q] = t;
 		}
@@ -285,7 +287,9 @@ static int exchange_setup(const struct lattice *lt, int nthreads, struct exchang
 		ex->count += (size_t)next_to_cloud(lt, m, nb);
 	if (ex->count == 0)
 		return CS_OK;
-	size_t nf = 6 * ex->count, cap = nf * 8;
+	if (6 * n >= TO_GROUND) /* (MAX_NODES keeps a layer's lattice far below) */
+		return cs_error(CS_EINVAL, "the towers' lattice is too large (%zu nodes)", n);
+	size_t nf = 6 * ex->count, cap = nf;
 	uint32_t *target = malloc(ex->count * GATHER_DIRS * sizeof *target);
 	ex->node = malloc(ex->count * sizeof *ex->node);
 	ex->cloud = malloc(nf * sizeof *ex->cloud);
@@ -295,7 +299,7 @@ static int exchange_setup(const struct lattice *lt, int nthreads, struct exchang
 	ex->share = malloc(cap * sizeof *ex->share);
 	int rc = CS_OK;
 	if (target == NULL || ex->node == NULL || ex->cloud == NULL || ex->gamma == NULL ||
-	    ex->row == NULL || ex->col == NULL || ex->share == NULL || 6 * n >= TO_GROUND) {
+	    ex->row == NULL || ex->col == NULL || ex->share == NULL) {
 		rc = cs_error(CS_ENOMEM, "out of memory for the towers' light (%zu nodes)", n);
 		goto done;
 	}
@@ -322,7 +326,7 @@ static int exchange_setup(const struct lattice *lt, int nthreads, struct exchang
 				     ? light_up(lt->j_in, lt->ground_in, lt->nu,
 						(int)((t[q] & ~TO_GROUND) % (size_t)lt->nu),
 						(int)((t[q] & ~TO_GROUND) / (size_t)lt->nu))
-				     : -1.0;
+				     : 0.0;
 		next_to_cloud(lt, m, nb);
 		for (int f = 0; f < 6; f++) {
 			size_t id = 6 * c + (size_t)f, h = nb[f];
@@ -346,7 +350,7 @@ static int exchange_setup(const struct lattice *lt, int nthreads, struct exchang
 				double w = ex->w[f][q];
 				if (!(w > 0.0))
 					continue;
-				if (R[q] >= 0.0) {
+				if (t[q] == TO_SKY || t[q] & TO_GROUND) { /* (TO_HORIZON too) */
 					ex->fixed[id] += w * R[q];
 					continue;
 				}
@@ -509,6 +513,8 @@ int cs_diffusion_solve(int nu, int nv, int nk, double du_m, double dv_m, double 
 		double rho1 = 0.0;
 		for (size_t m = 0; m < N; m++)
 			rho1 += r0[m] * r[m];
+		if (!(rho1 != 0.0)) /* breakdown (or the residual's NaN): stop here */
+			break;
 		double beta = rho1 / rho * (alpha / omega);
 		rho = rho1;
 		for (size_t m = 0; m < N; m++) { /* y: the preconditioned p */
@@ -519,6 +525,8 @@ int cs_diffusion_solve(int nu, int nv, int nk, double du_m, double dv_m, double 
 		double r0v = 0.0;
 		for (size_t m = 0; m < N; m++)
 			r0v += r0[m] * v[m];
+		if (!(r0v != 0.0))
+			break;
 		alpha = rho / r0v;
 		for (size_t m = 0; m < N; m++) { /* r: s = r - alpha v; x: half a step */
 			r[m] -= alpha * v[m];
@@ -538,8 +546,10 @@ int cs_diffusion_solve(int nu, int nv, int nk, double du_m, double dv_m, double 
 			r[m] -= omega * t[m];
 			rr += r[m] * r[m];
 		}
-		if (!(omega != 0.0))
+		if (!(omega != 0.0)) {
+			it++;
 			break;
+		}
 	}
 	/* a clear node: its cloud neighbours' mean, so that a sample of
 	 * cloud between nodes reads the cloud's light; with none, the light
@@ -571,7 +581,6 @@ int cs_diffusion_solve(int nu, int nv, int nk, double du_m, double dv_m, double 
 	return CS_OK;
 }
 
-/* The wrapped index along an axis of n. */
 /* Shares e among the 8 nodes around fractional position (fu, fv, fk),
  * only those of cloud (st > 0), by their trilinear weights; none: lost
  * (the light leaves into clear air). */

@@ -13,6 +13,7 @@
 #include "weather/wx.h"
 
 #include <stdlib.h>
+#include <string.h>
 
 /* A slab nu x nv x nk of uniform transport extinction str (1/m),
  * conservative, lit at its top by a beam of unit irradiance at mu0 (its
@@ -209,20 +210,23 @@ static void diffusion_carries_the_light_across_a_gap(void)
  * J / pi from every direction). */
 static void diffusion_fills_with_the_light_around(void)
 {
-	enum { NU = 8, NV = 6, NK = 7 };
+	enum { NU = 12, NV = 10, NK = 9 };
 	size_t n = (size_t)NU * NV * NK;
 	static float st[NU * NV * NK], sa[NU * NV * NK], phi[NU * NV * NK];
 	static double src[NU * NV * NK];
 	for (size_t m = 0; m < n; m++) {
-		int k = (int)(m % NK), col = (int)(m / NK);
-		/* a block of cloud with a hole, clear air around it */
-		int cloud = col % NU > 1 && col % NU < 6 && k > 0 && k < 6 && !(col % NU == 3 && k == 3);
+		int k = (int)(m % NK), i = (int)(m / NK % NU), j = (int)(m / NK / NU);
+		/* a block of cloud, clear air around it, with a hole of 3 x 3 x 3
+		 * nodes whose faces exchange their light (across the hole, from
+		 * the third cell on) */
+		int hole = i >= 4 && i <= 6 && j >= 3 && j <= 5 && k >= 3 && k <= 5;
+		int cloud = i >= 1 && i <= 10 && k >= 1 && k <= 7 && !hole;
 		st[m] = cloud ? (float)(0.001 * (1 + (m % 5))) : 0.0f;
 		sa[m] = 0.0f;
 		src[m] = 0.0;
 	}
 	double j_in[2] = {0.25, 0.25};
-	for (int exchange = 0; exchange <= 1; exchange++) { /* the hole, too, at 4 J */
+	for (int exchange = 0; exchange <= 1; exchange++) {
 		int it;
 		CHECK(cs_diffusion_solve(NU, NV, NK, 300.0, 200.0, 250.0, st, sa, src, j_in, NULL,
 					 exchange, 2, phi, &it) == CS_OK);
@@ -230,6 +234,35 @@ static void diffusion_fills_with_the_light_around(void)
 			if (st[m] > 0.0f)
 				CHECK_NEAR(phi[m], 1.0, 1e-4);
 	}
+}
+
+/* The exchange's rays are traced on the CPU pool, TRACE_BATCH clear nodes
+ * a task: the fluence is the same to the bit on 1 and 3 threads (here
+ * 1341 clear nodes next to cloud, six tasks), with the ground's
+ * light varying under the columns. */
+static void exchange_is_the_same_on_any_number_of_threads(void)
+{
+	enum { NU = 24, NV = 20, NK = 12 };
+	size_t n = (size_t)NU * NV * NK;
+	static float st[NU * NV * NK], sa[NU * NV * NK], phi[2][NU * NV * NK];
+	static double src[NU * NV * NK], ground[NU * NV];
+	for (size_t m = 0; m < n; m++) {
+		int k = (int)(m % NK), i = (int)(m / NK % NU), j = (int)(m / NK / NU);
+		/* towers of a few nodes across, of uneven heights */
+		int di = i % 8 - 3, dj = j % 7 - 3, top = 4 + (i / 8 + 2 * (j / 7)) % 7;
+		int cloud = di * di + dj * dj <= 5 && k >= 1 && k <= top;
+		st[m] = cloud ? (float)(0.002 * (1 + (m % 3))) : 0.0f;
+		sa[m] = cloud ? 1e-6f : 0.0f;
+		src[m] = cloud && k == top ? 1e4 : 0.0;
+	}
+	for (int c = 0; c < NU * NV; c++)
+		ground[c] = 0.05 + 0.01 * (c % 7);
+	double j_in[2] = {0.3, 0.1};
+	int it[2];
+	for (int r = 0; r < 2; r++)
+		CHECK(cs_diffusion_solve(NU, NV, NK, 400.0, 400.0, 300.0, st, sa, src, j_in, ground, 1,
+					 r == 0 ? 1 : 3, phi[r], &it[r]) == CS_OK);
+	CHECK(it[0] == it[1] && memcmp(phi[0], phi[1], sizeof phi[0]) == 0);
 }
 
 /* The study's cumulonimbus side view (tests/scenes/cumulonimbus-side, on
@@ -289,6 +322,7 @@ static const struct t_case t_cases[] = {
 	CASE(diffusion_slab_in_clear_air_matches_the_closed_form),
 	CASE(diffusion_carries_the_light_across_a_gap),
 	CASE(diffusion_fills_with_the_light_around),
+	CASE(exchange_is_the_same_on_any_number_of_threads),
 	CASE(side_view_is_nearer_the_path_tracer_with_the_field),
 };
 
