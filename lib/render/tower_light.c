@@ -129,8 +129,8 @@ struct lattice {
 /* The first thing a ray from clear node (i, j, k) along dir (metres)
  * meets: the first node of cloud it enters (from its EXCHANGE_MIN_CELLS
  * + 1st cell on), the sky above the layer's top, the ground below its
- * base, or the horizon.  The cells are the nodes' boxes; along k, half a box at the
- * base and the top. */
+ * base, or the horizon.  The cells are the nodes' boxes; along k, half a
+ * box at the base and the top. */
 static uint32_t trace(const struct lattice *lt, int i, int j, int k, const double dir[3])
 {
 	int nu = lt->nu, nk = lt->nk, nh = nk - 1, idx[3] = {i, j, k}, step[3];

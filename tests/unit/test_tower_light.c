@@ -43,7 +43,8 @@ static void solve_slab(int nk, double H, double str, double mu0, double j_top, d
 	}
 	double j_in[2] = {j_top, j_bot};
 	int it = 0;
-	CHECK(cs_diffusion_solve(NU, NV, nk, du, du, dh, st, sa, src, j_in, NULL, 0, 1, phi, &it) == CS_OK);
+	CHECK(cs_diffusion_solve(NU, NV, nk, du, du, dh, st, sa, src, j_in, NULL, 0, 1, phi, &it) ==
+	      CS_OK);
 	CHECK(it > 0);
 	for (int lev = 0; lev < nk; lev++)
 		phi_k[lev] = phi[(size_t)(1 * NU + 1) * nk + lev];
