@@ -237,6 +237,70 @@ static void diffusion_fills_with_the_light_around(void)
 	}
 }
 
+/* One node of cloud alone in a layer, with no source: its fluence is
+ * 4 times the mean of the light J coming in at its six faces, weighted
+ * by their conductances c = area a / (2 a + 1), a = 2 D / d.  With the
+ * exchange each face's J is what the clear node beside it sees over the
+ * half of 48 directions (a spherical Fibonacci set) away from the face,
+ * weighted by the cosine: here only the sky (j_top) and the ground, whose
+ * light varies from column to column.  The column a direction reaches is
+ * computed here from the geometry (where the straight line from the clear
+ * node's centre crosses the layer's base, to the nearest column), not by
+ * the solver's walk from cell to cell; the node sits at the lattice's
+ * corner, so that directions wrap across both periods (nu != nv). */
+static void exchange_sees_the_ground_where_each_direction_meets_it(void)
+{
+	enum { NU = 40, NV = 30, NK = 6, K0 = 2 };
+	size_t n = (size_t)NU * NV * NK, m0 = K0; /* node (0, 0, K0) */
+	static float st[NU * NV * NK], sa[NU * NV * NK], phi[NU * NV * NK];
+	static double src[NU * NV * NK], ground[NU * NV];
+	double du = 100.0, dv = 80.0, dh = 50.0, sigma = 0.01, j_top = 0.3;
+	for (size_t m = 0; m < n; m++)
+		st[m] = m == m0 ? (float)sigma : 0.0f, sa[m] = 0.0f, src[m] = 0.0;
+	for (int c = 0; c < NU * NV; c++)
+		ground[c] = 0.05 + 0.02 * ((c * 7919) % 11);
+	double dir[48][3];
+	for (int q = 0; q < 48; q++) {
+		double z = 1.0 - (2.0 * q + 1.0) / 48, r = sqrt(1.0 - z * z), a = q * 2.39996322972865332;
+		dir[q][0] = r * cos(a), dir[q][1] = r * sin(a), dir[q][2] = z;
+	}
+	/* the faces +u, -u, +v, -v, +k, -k: the clear node beside each */
+	static const int e[6][3] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
+	double cell[3] = {du, dv, dh}, D = 1.0 / (3.0 * sigma), num[2] = {0, 0}, den = 0.0;
+	for (int f = 0; f < 6; f++) {
+		double x = e[f][0] * du, y = e[f][1] * dv, z = (K0 + e[f][2]) * dh;
+		double sum = 0.0, wsum = 0.0;
+		for (int q = 0; q < 48; q++) {
+			double w = e[f][0] * dir[q][0] + e[f][1] * dir[q][1] + e[f][2] * dir[q][2];
+			if (!(w > 0.0))
+				continue;
+			double R = j_top;
+			if (dir[q][2] < 0.0) { /* the ground where the line meets the base */
+				double t = z / -dir[q][2];
+				long i = lround((x + t * dir[q][0]) / du), j = lround((y + t * dir[q][1]) / dv);
+				i = ((i % NU) + NU) % NU, j = ((j % NV) + NV) % NV;
+				R = ground[j * NU + i];
+			}
+			sum += w * R, wsum += w;
+		}
+		double Jx = sum / wsum; /* with the exchange */
+		double up = ground[0], J0 = f < 4 ? 0.5 * (j_top + up) : f == 4 ? j_top : up;
+		double a = 2.0 * D / cell[f / 2];
+		double area = cell[0] * cell[1] * cell[2] / cell[f / 2];
+		double c = area * a / (2.0 * a + 1.0);
+		num[0] += c * 4.0 * J0, num[1] += c * 4.0 * Jx, den += c;
+	}
+	double j_in[2] = {j_top, 0.0};
+	for (int exchange = 0; exchange <= 1; exchange++) {
+		int it;
+		CHECK(cs_diffusion_solve(NU, NV, NK, du, dv, dh, st, sa, src, j_in, ground, exchange, 1,
+					 phi, &it) == CS_OK);
+		printf("  %s the exchange: fluence %.6f (from the geometry %.6f)\n",
+		       exchange ? "with" : "without", phi[m0], num[exchange] / den);
+		CHECK_NEAR(phi[m0], num[exchange] / den, 1e-5 * num[exchange] / den);
+	}
+}
+
 /* The exchange's rays are traced on the CPU pool, TRACE_BATCH clear nodes
  * a task: the fluence is the same to the bit on 1 and 3 threads (here
  * 1341 clear nodes next to cloud, six tasks), with the ground's
@@ -323,6 +387,7 @@ static const struct t_case t_cases[] = {
 	CASE(diffusion_slab_in_clear_air_matches_the_closed_form),
 	CASE(diffusion_carries_the_light_across_a_gap),
 	CASE(diffusion_fills_with_the_light_around),
+	CASE(exchange_sees_the_ground_where_each_direction_meets_it),
 	CASE(exchange_is_the_same_on_any_number_of_threads),
 	CASE(side_view_is_nearer_the_path_tracer_with_the_field),
 };
