@@ -149,10 +149,11 @@ void cs_cloud_layer_drift(struct cs_cloud_layer *l, double east_m, double north_
 	double factor = cs_cloud_aloft_factor(0.5 * (base + top) - ground_alt_m);
 	l->wind_x = sin(axis); /* a compass bearing: east is its sine */
 	l->wind_y = cos(axis);
-	double e = factor * east_m, n = factor * north_m;
+	double along, across;
 	/* the offsets in the field's axes, reduced by its periods there */
-	l->offset_along_m = reduce_period(e * l->wind_x + n * l->wind_y, wind_period_m(p));
-	l->offset_across_m = reduce_period(-e * l->wind_y + n * l->wind_x, across_period_m(p));
+	cs_cloud_en_to_axes(l, factor * east_m, factor * north_m, &along, &across);
+	l->offset_along_m = reduce_period(along, wind_period_m(p));
+	l->offset_across_m = reduce_period(across, across_period_m(p));
 }
 
 CS_HD static inline double smooth01(double x)
@@ -297,9 +298,10 @@ CS_HD CS_SHARED double cs_cloud_extinction(const struct cs_cloud_layer *l,
 	if (!site_threshold(l, x, y, &thr))
 		return 0.0;
 	/* coordinates along and across the wind, moved by it */
-	double along = x * l->wind_x + y * l->wind_y - l->offset_along_m;
-	double across = -x * l->wind_y + y * l->wind_x - l->offset_across_m;
-	return extinction_aw(l, noise, along, across, alt_m, h, thr);
+	double along, across;
+	cs_cloud_en_to_axes(l, x, y, &along, &across);
+	return extinction_aw(l, noise, along - l->offset_along_m, across - l->offset_across_m, alt_m,
+			     h, thr);
 }
 
 #if defined(__AVX2__) && !defined(__CUDA_ARCH__)

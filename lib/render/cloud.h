@@ -127,6 +127,14 @@ CS_HD static inline void cs_cloud_axes_to_en(const struct cs_cloud_layer *l, dou
 	*north_m = along_m * l->wind_y + across_m * l->wind_x;
 }
 
+/* The inverse: a vector of east_m and north_m on layer l's axes. */
+CS_HD static inline void cs_cloud_en_to_axes(const struct cs_cloud_layer *l, double east_m,
+					     double north_m, double *along_m, double *across_m)
+{
+	*along_m = east_m * l->wind_x + north_m * l->wind_y;
+	*across_m = -east_m * l->wind_y + north_m * l->wind_x;
+}
+
 /* The wind-aloft factor at height_m above the ground: (height / 10 m)^(1/7),
  * at least 1 and at most 3. */
 double cs_cloud_aloft_factor(double height_m);

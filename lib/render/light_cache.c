@@ -1,8 +1,9 @@
 /* light_cache.c - CS_LIGHT_CACHE: each layer's optical depth toward the
  * sun, one period of it (struct cs_light_cache), built once a frame on
  * the CPU pool (with the towers' diffused light, tower_light.c), so that
- * a cloudy sample looks its light up instead of marching toward the sun (on a GPU too: cuda/render_cuda.cu copies the
- * volumes with the scene). */
+ * a cloudy sample looks its light up instead of marching toward the sun
+ * (on a GPU too: cuda/render_cuda.cu copies the volumes with the
+ * scene). */
 #include "render/render.h"
 
 #include "core/err.h"
@@ -148,11 +149,11 @@ int cs_light_cache_build(struct cs_scene *sc, const struct cs_render_settings *s
 	int rc = CS_OK;
 	for (int n = 0; n < sc->nlayers && rc == CS_OK; n++) {
 		const struct cs_cloud_layer *l = &sc->layers[n];
+		double su, sv; /* the sun's direction on the layer's axes */
+		cs_cloud_en_to_axes(l, sun.x, sun.y, &su, &sv);
 		if (toward_sun)
-			rc = build_volume(sc, l, nthreads, dh_want, budget, most,
-					  (sun.x * l->wind_x + sun.y * l->wind_y) / sun.z,
-					  (-sun.x * l->wind_y + sun.y * l->wind_x) / sun.z, 1.0 / sun.z,
-					  &sc->light_cache[n], evaluations);
+			rc = build_volume(sc, l, nthreads, dh_want, budget, most, su / sun.z, sv / sun.z,
+					  1.0 / sun.z, &sc->light_cache[n], evaluations);
 		if (rc == CS_OK && columns)
 			rc = build_volume(sc, l, nthreads, dh_want, budget, most, 0.0, 0.0, 1.0,
 					  &sc->column_cache[n], evaluations);

@@ -173,8 +173,10 @@ CS_HD CS_SHARED double cs_cached_depth(const struct cs_cloud_layer *l, const str
 	if (alt_m >= l->top_m)
 		return 0.0;
 	double rise = alt_m - l->base_m; /* height above the base */
-	double along = x * l->wind_x + y * l->wind_y - l->offset_along_m - rise * lc->shear_u;
-	double across = -x * l->wind_y + y * l->wind_x - l->offset_across_m - rise * lc->shear_v;
+	double along, across;
+	cs_cloud_en_to_axes(l, x, y, &along, &across);
+	along = along - l->offset_along_m - rise * lc->shear_u;
+	across = across - l->offset_across_m - rise * lc->shear_v;
 	double fu = along / lc->du_m, fv = across / lc->dv_m;
 	double fk = rise > 0.0 ? rise / lc->dh_m : 0.0;
 	fu -= floor(fu / lc->nu) * lc->nu; /* into [0, nu] */

@@ -628,9 +628,8 @@ int cs_frame_volumes_needed(const struct cs_scene *sc, const struct cs_render_se
  * cumulonimbus layer with tilted columns, lattice cells about cell_m (the
  * fluence per unit irradiance of the key light facing it), the lattice's
  * extinction, the beam and the exchange's rays on nthreads of the CPU
- * pool; a cell that would make more
- * than 2e7 nodes is grown until they fit.  CS_OK, CS_ENOMEM or the pool's
- * error. */
+ * pool; a cell that would make more than 2e7 nodes is grown until they
+ * fit.  CS_OK, CS_ENOMEM or the pool's error. */
 int cs_tower_light_wanted(const struct cs_scene *sc, const struct cs_render_settings *s);
 int cs_tower_light_build(struct cs_scene *sc, double cell_m, int nthreads, uint64_t *evaluations);
 
@@ -649,8 +648,9 @@ int cs_tower_light_build(struct cs_scene *sc, double cell_m, int nthreads, uint6
  * the light leaving the faces of cloud the directions meet; the
  * directions traced on nthreads of the CPU pool.  phi gets the
  * fluence, W/m^2 (a clear node the mean of its cloud neighbours', or
- * 2 (j_in[0] + j_in[1])); *iterations BiCGSTAB's count.  CS_OK or
- * CS_ENOMEM. */
+ * 2 (j_in[0] + j_in[1])); *iterations BiCGSTAB's count.  CS_OK,
+ * CS_ENOMEM, the pool's error, or CS_EINVAL for a lattice whose faces
+ * outnumber 32-bit indices (6 nodes >= 2^31). */
 int cs_diffusion_solve(int nu, int nv, int nk, double du_m, double dv_m, double dh_m,
 		       const float *sigma_tr, const float *sigma_a, const double *source,
 		       const double j_in[2], const double *ground_in, int exchange, int nthreads,

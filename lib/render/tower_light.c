@@ -119,6 +119,25 @@ struct lattice {
 	const double *j_in, *ground_in;
 };
 
+/* The area (m^2) of node m's faces across axis a (0 u, 1 v, 2 k): half
+ * a level high at the layer's base and top. */
+static double face_area(const struct lattice *lt, size_t m, int a)
+{
+	size_t k = m % (size_t)lt->nk;
+	double h = k == 0 || k + 1 == (size_t)lt->nk ? 0.5 : 1.0;
+	return a == 0 ? lt->d[1] * lt->d[2] * h : a == 1 ? lt->d[0] * lt->d[2] * h : lt->d[0] * lt->d[1];
+}
+
+/* Marshak's condition at a face of cloud node m across axis a, toward
+ * clear air half a cell away: the flux D (phi - phi_f) / (d / 2) through
+ * it is phi_f / 2 - 2 J, so gamma (phi - 4 J) an area, gamma =
+ * a' / (2 a' + 1), a' = 2 D / d. */
+static double marshak_gamma(const struct lattice *lt, size_t m, int a)
+{
+	double D = 1.0 / (3.0 * lt->st[m]), ka = 2.0 * D / lt->d[a];
+	return ka / (2.0 * ka + 1.0);
+}
+
 /* What a ray from a clear node meets (struct exchange's targets): a face
  * of cloud, 6 h + f (node h's face f, the side the ray came from); the
  * ground under column c, TO_GROUND | c; the sky; the horizon. */
@@ -188,7 +207,6 @@ struct exchange {
 	 * sparse rows [row[id], row[id + 1]) of (face, share of the rays) */
 	uint32_t *row, *col;
 	double *share;
-	size_t nnz;
 	double dir[GATHER_DIRS][3];
 	double w[6][GATHER_DIRS]; /* ray q's share of the J of the face on side f: (d . n) / sum (d . n) */
 };
@@ -337,16 +355,10 @@ static int exchange_setup(const struct lattice *lt, int nthreads, struct exchang
 			ex->row[id + 1] = ex->row[id];
 			if (!(h < n && lt->st[h] > 0.0))
 				continue;
-			/* the face of h toward this node: its cell's half depth */
-			double ka = 2.0 / (3.0 * lt->st[h] * lt->d[f / 2]);
-			size_t hk = h % (size_t)lt->nk;
-			double height = hk == 0 || hk + 1 == (size_t)lt->nk ? 0.5 : 1.0;
-			double area = f / 2 == 0 ? lt->d[1] * lt->d[2] * height
-				    : f / 2 == 1 ? lt->d[0] * lt->d[2] * height
-						 : lt->d[0] * lt->d[1];
+			/* the face of h toward this node */
 			ex->cloud[id] = (uint32_t)h;
-			ex->gamma[id] = ka / (2.0 * ka + 1.0);
-			ex->cond[id] = area * ex->gamma[id];
+			ex->gamma[id] = marshak_gamma(lt, h, f / 2);
+			ex->cond[id] = face_area(lt, h, f / 2) * ex->gamma[id];
 			/* the row: each face met once, its rays' shares summed */
 			for (int q = 0; q < GATHER_DIRS; q++) {
 				double w = ex->w[f][q];
@@ -384,7 +396,6 @@ static int exchange_setup(const struct lattice *lt, int nthreads, struct exchang
 			}
 		}
 	}
-	ex->nnz = ex->row[nf];
 done:
 	free(target);
 	if (rc != CS_OK)
@@ -456,14 +467,12 @@ int cs_diffusion_solve(int nu, int nv, int nk, double du_m, double dv_m, double 
 	double *v = buf + 5 * N, *y = buf + 6 * N, *t = buf + 7 * N, *inv = buf + 8 * N;
 	/* Between two nodes of cloud the conductance of the face, D (the
 	 * harmonic mean: two resistances in series) times its area over the
-	 * distance.  A face toward clear air, half the nodes' distance d / 2
-	 * away: the flux D (phi - phi_f) / (d / 2) through it is Marshak's
-	 * phi_f / 2 - 2 J, so a / (2 a + 1) (phi - 4 J) an area, a = 2 D / d:
-	 * the conductance a / (2 a + 1) to the fluence 4 J of the light
-	 * coming in (the sky's from above, the ground's from below, on a wall
-	 * half each; toward a clear node of the layer with the exchange, the
-	 * face's own unknown); at the layer's base and top, where the node
-	 * is, 1/2. */
+	 * distance.  A face toward clear air, half the nodes' distance away:
+	 * the conductance gamma an area (marshak_gamma) to the fluence 4 J of
+	 * the light coming in (the sky's from above, the ground's from below,
+	 * on a wall half each; toward a clear node of the layer with the
+	 * exchange, the face's own unknown); at the layer's base and top,
+	 * where the node is, 1/2. */
 	for (int j = 0; j < nv; j++)
 		for (int i = 0; i < nu; i++)
 			for (int k = 0; k < nk; k++) {
@@ -473,25 +482,22 @@ int cs_diffusion_solve(int nu, int nv, int nk, double du_m, double dv_m, double 
 					continue;
 				}
 				neighbours(nu, nv, nk, i, j, k, nb);
-				double h = k == 0 || k == nk - 1 ? 0.5 : 1.0; /* the volume's height */
 				double D = 1.0 / (3.0 * sigma_tr[m]);
 				double up = light_up(j_in, ground_in, nu, i, j);
 				double wall = 0.5 * (j_in[0] + up);
-				double area[6] = {dv_m * dh_m * h, dv_m * dh_m * h, du_m * dh_m * h,
-						  du_m * dh_m * h, du_m * dv_m,      du_m * dv_m};
-				double dist[6] = {du_m, du_m, dv_m, dv_m, dh_m, dh_m};
 				double J[6] = {wall, wall, wall, wall, j_in[0], up};
-				double diag = sigma_a[m] * du_m * dv_m * dh_m * h;
+				/* (the volume: its u face's area times du) */
+				double diag = sigma_a[m] * face_area(&lt, m, 0) * du_m;
 				for (int f = 0; f < 6; f++) {
+					double area = face_area(&lt, m, f / 2);
 					if (nb[f] < n && sigma_tr[nb[f]] > 0.0) {
 						double Dn = 1.0 / (3.0 * sigma_tr[nb[f]]);
-						double c = area[f] * 2.0 * D * Dn / (D + Dn) / dist[f];
+						double c = area * 2.0 * D * Dn / (D + Dn) / lt.d[f / 2];
 						diag += c;
 						if (f % 2 == 0)
 							g[4 * m + (size_t)f / 2] = c;
 					} else {
-						double a = 2.0 * D / dist[f];
-						double c = area[f] * (nb[f] < n ? a / (2.0 * a + 1.0) : 0.5);
+						double c = area * (nb[f] < n ? marshak_gamma(&lt, m, f / 2) : 0.5);
 						diag += c;
 						b[m] += nb[f] < n && exchange ? 0.0 : c * 4.0 * J[f];
 					}
@@ -758,9 +764,9 @@ static int build_layer(const struct cs_scene *sc, int li, double cell_m, int nth
 	 * where the column meets the ground, the share of the beam left */
 	cs_v3 sun = sc->sun_dir;
 	int steps = nh * SUB_STEPS;
-	struct beam_job beam = {sc, l, nu, steps, du, dv, dh / SUB_STEPS,
-				(sun.x * l->wind_x + sun.y * l->wind_y) / sun.z,
-				(-sun.x * l->wind_y + sun.y * l->wind_x) / sun.z, NULL};
+	double su, sv; /* the sun's direction on the layer's axes */
+	cs_cloud_en_to_axes(l, sun.x, sun.y, &su, &sv);
+	struct beam_job beam = {sc, l, nu, steps, du, dv, dh / SUB_STEPS, su / sun.z, sv / sun.z, NULL};
 	beam.ext = malloc(cols * (size_t)steps * sizeof *beam.ext);
 	if (beam.ext == NULL) {
 		rc = cs_error(CS_ENOMEM, "out of memory for the towers' light (%zu nodes)", n);
