@@ -43,7 +43,7 @@
  * tower_light.c): 800 m merged the towers' edges with the gaps and lit
  * the side view +6.7 % against the path tracer at high with relative
  * MSE 0.181, worse than none (0.156); 400 m -4.1 % and 0.081; 200 m
- * -6.2 % and 0.073 in ten times the time (3.7 against 0.34 s a frame
+ * -6.2 % and 0.073 in 7 times the time (1.2 against 0.16 s a frame
  * on 2 threads); at medium 600 m was worse than 400 on all five
  * cumulonimbus scenes measured, before the towers' faces exchanged their
  * light (cloudrender(1), REFERENCE). */
