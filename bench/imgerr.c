@@ -9,7 +9,10 @@
  * With two references A and B of independent noise, E[(f - A)(f - B)] is
  * (f - mu)^2 exactly: the squared error without the references' own
  * variance.  relMSE = sum over pixels and channels of (f - A)(f - B) over
- * the sum of A B (the mean square of the true image). */
+ * the sum of A B (the mean square of the true image).  With IMGERR_KINDS
+ * set, the bias per kind of pixel (sky, ground, cloud); with
+ * IMGERR_BLOCKS=CXxCY, the test's mean luminance over the references' in
+ * CX x CY blocks, a line per row of blocks. */
 #include "core/color.h"
 #include "core/fileio.h"
 #include "io/exr.h"
@@ -78,6 +81,27 @@ int main(int argc, char **argv)
 			printf(" %s %.4f", k == 0 ? "sky" : k == 1 ? "ground" : "cloud",
 			       cr[k] > 0 ? cf[k] / cr[k] - 1.0 : 0.0);
 	printf("\n");
+	/* IMGERR_BLOCKS=CXxCY: the test's mean luminance over the
+	 * references' in CX x CY blocks, a row of blocks a line, top first */
+	const char *bl = getenv("IMGERR_BLOCKS");
+	int cx, cy;
+	if (bl != NULL && sscanf(bl, "%dx%d", &cx, &cy) == 2 && cx > 0 && cy > 0 && cx <= w[0] &&
+	    cy <= h[0]) {
+		for (int by = 0; by < cy; by++) {
+			for (int bx = 0; bx < cx; bx++) {
+				double sf = 0.0, sr = 0.0;
+				for (int y = by * h[0] / cy; y < (by + 1) * h[0] / cy; y++)
+					for (int x = bx * w[0] / cx; x < (bx + 1) * w[0] / cx; x++) {
+						size_t i = (size_t)y * w[0] + x;
+						sf += cs_luminance(f[i * 3], f[i * 3 + 1], f[i * 3 + 2]);
+						sr += 0.5 * (cs_luminance(a[i * 3], a[i * 3 + 1], a[i * 3 + 2]) +
+							     cs_luminance(b[i * 3], b[i * 3 + 1], b[i * 3 + 2]));
+					}
+				printf(bx ? " %5.2f" : "%5.2f", sr > 0.0 ? sf / sr : 0.0);
+			}
+			printf("\n");
+		}
+	}
 	free(f), free(a), free(b), free(z);
 	return 0;
 }
