@@ -177,10 +177,10 @@ static void hazy_default_view_still_shows_the_nearest_clouds(void)
 	free(y1), free(y0), free(z1), free(z0), free(f1), free(f0), free(g1), free(g0);
 }
 
-/* The presets' light on a GPU (cloudrender --source-every): low and
- * medium, whose light is cached, find a cloudy sample's light at every
+/* The presets' light on a GPU (cloudrender --source-every): low, medium
+ * and high, whose light is cached, find a cloudy sample's light at every
  * sample there (faster on a GPU, no less accurate), at every other on the
- * CPU; high, which marches its light, and any explicit --source-every
+ * CPU; a preset told to march its light and any explicit --source-every
  * keep theirs; the reference is at every sample everywhere. */
 static void a_gpus_presets_find_the_light_at_every_sample(void)
 {
@@ -192,11 +192,12 @@ static void a_gpus_presets_find_the_light_at_every_sample(void)
 		{"low", CS_DEVICE_CUDA, -1, 0, 1},
 		{"medium", CS_DEVICE_CPU, -1, 0, 2},
 		{"medium", CS_DEVICE_CUDA, -1, 0, 1},
-		{"high", CS_DEVICE_CUDA, -1, 0, 2},
+		{"high", CS_DEVICE_CUDA, -1, 0, 1},
+		{"high", CS_DEVICE_CPU, -1, 0, 2},
 		{"reference", CS_DEVICE_CUDA, -1, 0, 1},
 		{"low", CS_DEVICE_CUDA, -1, 2, 2},
 		{"medium", CS_DEVICE_CUDA, CS_LIGHT_GEOMETRIC, 0, 2},
-		{"high", CS_DEVICE_CUDA, CS_LIGHT_CACHE, 0, 1},
+		{"high", CS_DEVICE_CUDA, CS_LIGHT_GEOMETRIC, 0, 2},
 	};
 	for (size_t i = 0; i < sizeof c / sizeof c[0]; i++) {
 		struct cs_cloudrender_opts o;
