@@ -38,8 +38,8 @@
  * study at 320x180 (scripts/accuracy-study --size 320x180 --spp 32,
  * whose frames the cache pays for) put it off the front: there the
  * geometric march took 7.14 s for the 13 scenes at a relative MSE of
- * 0.01151, the cache where it pays 4.52 s and 0.01137 (one thread each, 2
- * at once); the default 1280x720 scene 2.46 -> 1.49 s.  The cache's
+ * 0.01151, the cache where it pays 4.52 s and 0.01137 (one run, one
+ * thread a render, 2 at once); the default 1280x720 scene 2.46 -> 1.49 s.  The cache's
  * volume, 120 m between its columns, holds high 4.5 dB further from the
  * converged march (50.5 against 55.0 dB, quality-study 640x360), but not
  * further from the path tracer, which the study measures.  The reference

@@ -63,10 +63,11 @@
  * through a cumulonimbus 9.8 km thick; the light march's paths are capped
  * at 150). */
 #define SUN_MIN_SIN 0.0871557427 /* sin 5 deg */
-/* The most nodes a layer's lattice takes (the build and the solver take
- * about 65 bytes a node: cloudrender measured 1.3 GB and 17 s a frame on
- * 2 threads for the study's cumulonimbus): a finer cell is coarsened to
- * fit */
+/* The most nodes a layer's lattice takes (the build and the solver
+ * allocate about 110 bytes a node, and touch the solver's pages of the
+ * nodes of cloud only: cloudrender measured 1.3 GB and 17 s a frame on 2
+ * threads for the study's cumulonimbus, a cloudier layer takes more): a
+ * finer cell is coarsened to fit */
 #define MAX_NODES 2e7
 
 #define IDX(i, j, k) (((size_t)(j) * (size_t)nu + (size_t)(i)) * (size_t)nk + (size_t)(k))
@@ -511,7 +512,13 @@ int cs_diffusion_solve(int nu, int nv, int nk, double du_m, double dv_m, double 
 	for (size_t id = 0; id < 6 * ex.count; id++)
 		b[n + id] = ex.fixed[id];
 	/* the unknowns that take part (apply): the nodes of cloud, then the
-	 * faces that have one */
+	 * faces that have one, their indices in 32 bits */
+	if (N > UINT32_MAX) {
+		free(buf);
+		free(g);
+		exchange_free(&ex);
+		return cs_error(CS_EINVAL, "the towers' lattice is too large (%zu nodes)", n);
+	}
 	size_t na = 0, ncl = 0;
 	for (size_t m = 0; m < n; m++)
 		ncl += sigma_tr[m] > 0.0;

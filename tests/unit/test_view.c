@@ -198,6 +198,7 @@ static void a_gpus_presets_find_the_light_at_every_sample(void)
 		{"low", CS_DEVICE_CUDA, -1, 2, 2},
 		{"medium", CS_DEVICE_CUDA, CS_LIGHT_GEOMETRIC, 0, 2},
 		{"high", CS_DEVICE_CUDA, CS_LIGHT_GEOMETRIC, 0, 2},
+		{"high", CS_DEVICE_CUDA, CS_LIGHT_CACHE, 0, 1},
 	};
 	for (size_t i = 0; i < sizeof c / sizeof c[0]; i++) {
 		struct cs_cloudrender_opts o;

@@ -13,8 +13,8 @@
  * "plain": sun, sky, clouds of any genus but cumulonimbus towers lit
  * through their tilted columns, flat ground with the clouds' shadows,
  * haze with the crepuscular rays of a low sun, the deck's light, the
- * light from the light cache at every sample (the low and medium presets
- * on a GPU).
+ * light from the light cache at every sample (the low, medium and high
+ * presets on a GPU).
  * "terrain": the same over a heightfield, with its water.
  * "weather": the same with fog, rain, snow and the halo.
  * (A kernel with a cumulonimbus's towers too, 999 KB of machine code
