@@ -353,6 +353,7 @@ static int exchange_setup(const struct lattice *lt, int nthreads, struct exchang
 			size_t id = 6 * c + (size_t)f, h = nb[f];
 			ex->cloud[id] = (uint32_t)n;
 			ex->fixed[id] = 0.0;
+			ex->out[id] = 0.0;
 			ex->row[id + 1] = ex->row[id];
 			if (!(h < n && lt->st[h] > 0.0))
 				continue;
@@ -460,10 +461,24 @@ int cs_diffusion_solve(int nu, int nv, int nk, double du_m, double dv_m, double 
 	if (rc != CS_OK)
 		return rc;
 	size_t N = n + 6 * ex.count; /* the unknowns: the nodes' fluence, the faces' J */
+	if (N > UINT32_MAX) { /* (act's indices) */
+		exchange_free(&ex);
+		return cs_error(CS_EINVAL, "the towers' lattice is too large (%zu nodes)", n);
+	}
+	/* the unknowns that take part (apply), ascending: the nodes of cloud,
+	 * then the faces that have one */
+	size_t ncl = 0, nact = 0, na = 0; /* (na: those in act so far) */
+	for (size_t m = 0; m < n; m++)
+		ncl += sigma_tr[m] > 0.0;
+	for (size_t id = 0; id < 6 * ex.count; id++)
+		nact += ex.cloud[id] < n;
+	nact += ncl;
 	double *buf = calloc(9 * N, sizeof *buf), *g = calloc(4 * n, sizeof *g);
-	if (buf == NULL || g == NULL) {
+	uint32_t *act = malloc((nact > 0 ? nact : 1) * sizeof *act);
+	if (buf == NULL || g == NULL || act == NULL) {
 		free(buf);
 		free(g);
+		free(act);
 		exchange_free(&ex);
 		return cs_error(CS_ENOMEM, "out of memory for the towers' light (%zu nodes)", n);
 	}
@@ -481,10 +496,9 @@ int cs_diffusion_solve(int nu, int nv, int nk, double du_m, double dv_m, double 
 		for (int i = 0; i < nu; i++)
 			for (int k = 0; k < nk; k++) {
 				size_t m = IDX(i, j, k), nb[6];
-				if (!(sigma_tr[m] > 0.0)) {
-					g[4 * m + 3] = 1.0; /* clear: no unknown (phi 0 here) */
-					continue;
-				}
+				if (!(sigma_tr[m] > 0.0))
+					continue; /* clear: no unknown (phi 0 here) */
+				act[na++] = (uint32_t)m; /* (m ascending) */
 				neighbours(nu, nv, nk, i, j, k, nb);
 				double D = 1.0 / (3.0 * sigma_tr[m]);
 				double up = light_up(j_in, ground_in, nu, i, j);
@@ -509,38 +523,11 @@ int cs_diffusion_solve(int nu, int nv, int nk, double du_m, double dv_m, double 
 				g[4 * m + 3] = diag;
 				b[m] += source[m];
 			}
-	for (size_t id = 0; id < 6 * ex.count; id++)
-		b[n + id] = ex.fixed[id];
-	/* the unknowns that take part (apply): the nodes of cloud, then the
-	 * faces that have one, their indices in 32 bits */
-	if (N > UINT32_MAX) {
-		free(buf);
-		free(g);
-		exchange_free(&ex);
-		return cs_error(CS_EINVAL, "the towers' lattice is too large (%zu nodes)", n);
-	}
-	size_t na = 0, ncl = 0;
-	for (size_t m = 0; m < n; m++)
-		ncl += sigma_tr[m] > 0.0;
-	na = ncl;
 	for (size_t id = 0; id < 6 * ex.count; id++) {
-		na += ex.cloud[id] < n;
-		ex.out[id] = 0.0;
-	}
-	uint32_t *act = malloc((na > 0 ? na : 1) * sizeof *act);
-	if (act == NULL) {
-		free(buf);
-		free(g);
-		exchange_free(&ex);
-		return cs_error(CS_ENOMEM, "out of memory for the towers' light (%zu nodes)", n);
-	}
-	na = 0;
-	for (size_t m = 0; m < n; m++)
-		if (sigma_tr[m] > 0.0)
-			act[na++] = (uint32_t)m;
-	for (size_t id = 0; id < 6 * ex.count; id++)
+		b[n + id] = ex.fixed[id];
 		if (ex.cloud[id] < n)
 			act[na++] = (uint32_t)(n + id);
+	}
 	for (size_t a = 0; a < na; a++)
 		inv[act[a]] = act[a] < n ? 1.0 / g[4 * (size_t)act[a] + 3] : 1.0;
 	/* BiCGSTAB (van der Vorst 1992; the exchange makes the system
