@@ -541,7 +541,6 @@ CS_HD CS_SHARED static double tilt_light(const struct ray_ctx *c, cs_v3 p, int l
 {
 	const struct cs_scene *sc = c->sc;
 	double tau_away = cs_heap_depth(sc, c->s, li, p, v3_scale(sc->sun_dir, -1.0), c->st);
-	double tau_eye = cs_heap_depth(sc, c->s, li, p, v3_scale(c->d, -1.0), c->st);
 	cs_deck_tilt_source(&sc->deck, tau_sun, tau_away, -c->cos_sun, L);
 	for (int k = 0; k < 3; k++)
 		L[k] = ts * (L[k] * TILT_WALL);
@@ -553,9 +552,17 @@ CS_HD CS_SHARED static double tilt_light(const struct ray_ctx *c, cs_v3 p, int l
 	td = away_face > td ? away_face : td;
 	/* the face the eye sees, the sky in its upper share and the ground in
 	 * its lower (the normal only where the face could let in more than
-	 * the other faces, or the column under the point, 1 - hb) */
-	double eye_td = cs_slab_diffuse_transmittance(tau_eye);
+	 * the other faces, or the column under the point, 1 - hb); a tower's
+	 * only: the heaps of cumulus, a few optical depths through, measured
+	 * the same without it against the path tracer (the study's five
+	 * cumulus scenes at high, 320x180: geometric mean relative MSE
+	 * 0.03597 against 0.03591, each bias within 0.1 %), and its march
+	 * cost fair cumulus at 1280x720 0.9 s of 3.3 */
 	*ground_face = 0.0;
+	if (sc->layers[li].genus != CS_CUMULONIMBUS)
+		return ts * td + (1.0 - ts) * up;
+	double tau_eye = cs_heap_depth(sc, c->s, li, p, v3_scale(c->d, -1.0), c->st);
+	double eye_td = cs_slab_diffuse_transmittance(tau_eye);
 	if (eye_td > td || eye_td > 1.0 - hb) {
 		double sky = cs_face_sky_share(heap_normal_z(sc, li, p, c->d, c->st));
 		td = sky * eye_td > td ? sky * eye_td : td;

@@ -143,7 +143,8 @@ enum {
  * CS_FX_IS(sc, fx): the scene has one of the effects fx and their code is
  * built; CS_BUILT(fx): the code for fx is built, where the per-sample
  * code reads an effect from the scene's state instead of its flags (the
- * fog's extinction, the terrain, its water, a cumulonimbus's towers). */
+ * fog's extinction, the terrain, its water, the towers of cumulonimbus
+ * and cumulus). */
 #ifndef CS_FX_BUILT
 #define CS_FX_BUILT 0xffffffffu
 #endif
@@ -269,7 +270,7 @@ double cs_fog_phase_mean(double mu, double nu, double g_forward, double g_back,
 #define CS_DECK_DEPTHS 4 /* light fields a layer: optical depths tau_in / 16, / 4, 1, 2 */
 #define CS_DECK_FIELD_TAU_MAX 128.0 /* and at most this (the solution's time grows with it) */
 #define CS_DECK_TILT_TAU0 2.0 /* the tilted columns' thinnest field: 2, 8, 32, 128 */
-#define CS_DECK_TILT_FULL 0.2 /* a cumulonimbus of this cover or less is lit by them alone */
+#define CS_DECK_TILT_FULL 0.2 /* a cumulonimbus or cumulus of this cover or less is lit by them alone */
 #define CS_DECK_TILT_NONE 0.5 /* and one of this cover or more not at all */
 struct cs_deck {
 	int on;                      /* 0: the clear-sky ambient everywhere */
@@ -329,8 +330,9 @@ struct cs_deck {
 	/* Tilted columns (cs_deck_tilt_source): the light fields of slabs
 	 * facing the key light, lit by its beam square on and by nothing
 	 * else, of optical depths tilt_tau (CS_DECK_TILT_TAU0 times 4^k),
-	 * from which the towers of cumulonimbus take their sun's diffuse
-	 * light, for the share tilt_weight[i] of layer i's: 1 up to
+	 * from which the towers of cumulonimbus and the heaps of cumulus
+	 * take their sun's diffuse light, for the share tilt_weight[i] of
+	 * layer i's: 1 up to
 	 * CS_DECK_TILT_FULL cover, falling linearly to 0 at
 	 * CS_DECK_TILT_NONE (the rest the march's model, and above half
 	 * cover the layer's own fields); 0 for every other genus, and for
@@ -413,7 +415,8 @@ struct cs_scene {
 	 * column above a sample that its diffuse light takes) */
 	struct cs_light_cache light_cache[CS_SCENE_MAX_LAYERS];
 	struct cs_light_cache column_cache[CS_SCENE_MAX_LAYERS];
-	/* the key light's diffused light in a cumulonimbus's towers, per
+	/* the key light's diffused light in the towers of a cumulonimbus or
+	 * the heaps of a cumulus (tilt_weight > 0), per
 	 * unit irradiance facing it (tower_light.c): the fluence, W/m^2 per
 	 * W/m^2, on an unsheared lattice; depth NULL where none */
 	struct cs_light_cache tower_light[CS_SCENE_MAX_LAYERS];
@@ -485,7 +488,7 @@ void cs_scene_deck_light(struct cs_scene *sc, int nthreads);
 
 /* The light fields of the scene's layers of at least half cover (fog.c:
  * sc->deck.field, field_of), from the deck's light at their tops, and,
- * with a cumulonimbus, the tilted columns' (sc->deck.tilt) (call at the
+ * with a cumulonimbus or cumulus, the tilted columns' (sc->deck.tilt) (call at the
  * end of cs_scene_deck_light, which does); a layer whose field cannot be
  * made (out of memory) keeps the march's model of the diffuse light. */
 void cs_scene_deck_fields(struct cs_scene *sc, int nthreads);
@@ -619,13 +622,13 @@ void cs_light_cache_free(struct cs_scene *sc);
 
 /* Whether a frame of sc with settings s reads volumes built for it
  * (cs_light_cache_build): the light caches, or the towers' diffused light
- * (sc->tower_light: a cumulonimbus with tilted columns, deck.tilt_weight,
+ * (sc->tower_light: a cumulonimbus or cumulus with tilted columns, deck.tilt_weight,
  * under a key light, with the diffuse light on and s->tower_cell_m > 0). */
 int cs_frame_volumes_needed(const struct cs_scene *sc, const struct cs_render_settings *s);
 
 /* The towers' diffused light (tower_light.c): whether a frame of sc with
  * settings s reads it, and its build into sc->tower_light for each
- * cumulonimbus layer with tilted columns, lattice cells about cell_m (the
+ * cumulonimbus or cumulus layer with tilted columns, lattice cells about cell_m (the
  * fluence per unit irradiance of the key light facing it), the lattice's
  * extinction, the beam and the exchange's rays on nthreads of the CPU
  * pool; a cell that would make more than 2e7 nodes is grown until they

@@ -1,5 +1,6 @@
 /* tower_light.c - the key light's light deep inside a cumulonimbus's
- * towers: the diffusion approximation of radiative transfer solved over
+ * towers (and a cumulus's heaps: any layer with tilted columns,
+ * deck.tilt_weight): the diffusion approximation of radiative transfer solved over
  * one period of the layer, built once a frame with the light caches
  * (light_cache.c), read by the march (integrator.c, sample_source).
  *

@@ -382,6 +382,71 @@ static void side_view_is_nearer_the_path_tracer_with_the_field(void)
 	cs_volume_free(&noise);
 }
 
+/* Heaps of cumulus (35 % cover, 1.7 km thick) under a morning sun 32 deg
+ * up behind the eye, which sees their sunlit faces: the mean luminance of
+ * the cloud's pixels against the path tracer's (16 paths a pixel), with
+ * the towers' light (their tilted columns and diffused light) within 7 %
+ * (measured -5.4 %) and at least 3 points nearer than without it (-10.1
+ * %: a column's slab does not send the light of a face the sun lights
+ * back toward the sun).  At 160x90 on the accuracy study's noise the
+ * scene's clouds went from -18 % to -10 % (tests/scenes/
+ * cumulus-sun-behind). */
+static void heaps_with_the_sun_behind_the_eye_take_the_towers_light(void)
+{
+	static struct cs_volume noise;
+	CHECK(cs_volume_new(&noise, 128, 128) == CS_OK && cs_volume_bake(&noise, 0, NULL, NULL) == CS_OK);
+	struct cs_wx wx;
+	cs_wx_default(&wx);
+	CHECK(cs_time_parse("2021-06-14T07:00:00Z", &wx.time_utc) == CS_OK);
+	wx.nlayers = 1;
+	wx.layers[0].genus = CS_CUMULUS;
+	wx.layers[0].coverage = 0.35;
+	wx.layers[0].base_m = 1600.0, wx.layers[0].top_m = 3300.0;
+	wx.precipitation_mm_h = 0.0;
+	wx.visibility_m = 40000.0;
+	static struct cs_scene sc;
+	CHECK(cs_scene_build(&sc, &wx, wx.time_utc, &noise) == CS_OK);
+	sc.haze_beta0_per_m = 0.0;
+	CHECK(sc.deck.tilt_weight[0] > 0.0);
+	struct cs_camera cam;
+	enum { W = 64, H = 36 };
+	CHECK(cs_camera_init(&cam, &sc, v3(0, 0, wx.site.alt_m), wx.site.lat_deg, 250.0, 15.0, 70.0, W,
+			     H) == CS_OK);
+	static float img[W * H * 5];
+	static unsigned char cloud[W * H];
+	struct cs_render_stats st;
+	double y[2];
+	double weight = sc.deck.tilt_weight[0];
+	for (int with = 1; with >= 0; with--) {
+		struct cs_render_settings s;
+		CHECK(cs_render_quality("high", &s) == CS_OK);
+		sc.deck.tilt_weight[0] = with ? weight : 0.0;
+		CHECK(cs_render_image(&sc, &cam, &s, 2, NULL, NULL, img, &st) == CS_OK);
+		y[with] = 0.0;
+		for (int i = 0; i < W * H; i++) {
+			cloud[i] |= img[5 * i + 3] >= 0.5f; /* (the same with and without) */
+			y[with] += cloud[i] ? cs_luminance(img[5 * i], img[5 * i + 1], img[5 * i + 2]) : 0.0;
+		}
+	}
+	sc.deck.tilt_weight[0] = weight;
+	struct cs_reference_settings rs = {16, 1, 0};
+	CHECK(cs_render_reference(&sc, &cam, &rs, 2, NULL, NULL, img, NULL, &st) == CS_OK);
+	double yr = 0.0;
+	int n = 0;
+	for (int i = 0; i < W * H; i++) {
+		yr += cloud[i] ? cs_luminance(img[5 * i], img[5 * i + 1], img[5 * i + 2]) : 0.0;
+		n += cloud[i];
+	}
+	CHECK(n > W * H / 4);
+	printf("  heaps (%d of %d pixels), the sun behind the eye: march without the towers' light "
+	       "%.3f (%+.1f %%), with %.3f (%+.1f %%), path tracer %.3f kcd/m^2\n",
+	       n, W * H, y[0] / n, 100.0 * (y[0] / yr - 1.0), y[1] / n, 100.0 * (y[1] / yr - 1.0),
+	       yr / n);
+	CHECK_NEAR(y[1] / yr, 1.0, 0.07);
+	CHECK(fabs(y[0] / yr - 1.0) > fabs(y[1] / yr - 1.0) + 0.03);
+	cs_volume_free(&noise);
+}
+
 static const struct t_case t_cases[] = {
 	CASE(diffusion_matches_the_slab_closed_form),
 	CASE(diffusion_slab_in_clear_air_matches_the_closed_form),
@@ -390,6 +455,7 @@ static const struct t_case t_cases[] = {
 	CASE(exchange_sees_the_ground_where_each_direction_meets_it),
 	CASE(exchange_is_the_same_on_any_number_of_threads),
 	CASE(side_view_is_nearer_the_path_tracer_with_the_field),
+	CASE(heaps_with_the_sun_behind_the_eye_take_the_towers_light),
 };
 
 int main(void)
