@@ -216,6 +216,10 @@ static void usage(void)
 	       "                         is solved on, m, 50..5000 (the presets 400;\n"
 	       "                         coarsened to keep the lattice within 2e7\n"
 	       "                         nodes); 0: none, the march's model alone\n"
+	       "      --heap-towers on|off  the heaps of cumulus lit as towers (their\n"
+	       "                         tilted columns and diffused light) or as the\n"
+	       "                         columns of a slab (high and reference on, low\n"
+	       "                         and medium off)\n"
 	       "      --haze-steps N     samples of the clouds' shadows in the haze over\n"
 	       "                         the first 20 km (crepuscular rays), 0..10000;\n"
 	       "                         0: their area mean only\n"
@@ -416,8 +420,9 @@ static void describe(void *user, const struct cs_cloudrender_result *r)
 					      cs_effect_name(1u << b));
 	cli_err("effects: %s", fx);
 	cli_err("quality %s: %d steps, %d light steps, %d multiple-scattering octaves, "
-		"%d haze steps%s%s", o->quality, r->settings.steps, r->settings.light_steps,
+		"%d haze steps%s%s%s", o->quality, r->settings.steps, r->settings.light_steps,
 		r->settings.ms_octaves, r->settings.haze_steps,
+		r->settings.heap_towers ? ", heaps lit as towers" : "",
 		r->settings.ambient ? "" : ", no ambient", r->settings.jitter > 0 ? "" : ", no jitter");
 }
 
@@ -549,7 +554,7 @@ enum {
 	OPT_LIGHT_STEPS, OPT_MS, OPT_NO_AMBIENT, OPT_NO_JITTER, OPT_SEED,
 	OPT_EXPOSURE, OPT_STATS, OPT_VERSION, OPT_TERRAIN, OPT_TERRAIN_COLOR,
 	OPT_PROJECTION, OPT_HAZE_STEPS, OPT_TERRAIN_CPT, OPT_INTEGRATOR, OPT_SPP, OPT_MAX_BOUNCES,
-	OPT_NO_HAZE, OPT_MARCH, OPT_LIGHT_MARCH, OPT_SOURCE_EVERY, OPT_TOWER_CELL, OPT_MAX_STEPS, OPT_MIN_T, OPT_OUTPUT_FORMAT,
+	OPT_NO_HAZE, OPT_MARCH, OPT_LIGHT_MARCH, OPT_SOURCE_EVERY, OPT_TOWER_CELL, OPT_HEAP_TOWERS, OPT_MAX_STEPS, OPT_MIN_T, OPT_OUTPUT_FORMAT,
 	OPT_PNG16, OPT_FLOAT, OPT_JPEG_QUALITY, OPT_NO_CLOBBER,
 	OPT_DEVICE, OPT_DEVICE_BENCH, /* the GPU renderer */
 	OPT_CLOUD_DEPTH,
@@ -611,6 +616,7 @@ int main(int argc, char **argv)
 		{"light-march", required_argument, NULL, OPT_LIGHT_MARCH},
 		{"source-every", required_argument, NULL, OPT_SOURCE_EVERY},
 		{"tower-cell", required_argument, NULL, OPT_TOWER_CELL},
+		{"heap-towers", required_argument, NULL, OPT_HEAP_TOWERS},
 		{"max-steps", required_argument, NULL, OPT_MAX_STEPS},
 		{"min-transmittance", required_argument, NULL, OPT_MIN_T},
 		{"max-bounces", required_argument, NULL, OPT_MAX_BOUNCES},
@@ -796,6 +802,11 @@ int main(int argc, char **argv)
 			if (o.tower_cell_m > 0.0 && o.tower_cell_m < 50.0)
 				cli_usage_error("--tower-cell: 0 or 50 to 5000 m, not %s", optarg);
 			break;
+		case OPT_HEAP_TOWERS: {
+			static const char *const names[] = {"off", "on", NULL};
+			o.heap_towers = cli_choice("--heap-towers", optarg, names);
+			break;
+		}
 		case OPT_SOURCE_EVERY:
 			o.source_every = (int)cli_long("--source-every", optarg, 1, 2);
 			break;

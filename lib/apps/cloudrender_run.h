@@ -59,6 +59,7 @@ struct cs_cloudrender_opts {
 	int march, light_march;   /* -1 keep the preset's (CS_MARCH_*, CS_LIGHT_*) */
 	int source_every;         /* 0 keeps the preset's; 1 or 2 */
 	double tower_cell_m;      /* < 0 keeps the preset's; 0: none */
+	int heap_towers;          /* < 0 keeps the preset's; 0 off, 1 on */
 	int no_ambient, no_jitter;
 	long long seed;
 	/* the reference integrator (render/reference.h) instead of the march:

@@ -99,6 +99,13 @@ CS_HD double cs_face_sky_share(double nz)
 	return 0.5 * (1.0 + nz);
 }
 
+CS_HD double cs_tower_share(const struct cs_scene *sc, const struct cs_render_settings *s, int li)
+{
+	if (!sc->deck.on || (sc->layers[li].genus == CS_CUMULUS && !s->heap_towers))
+		return 0.0;
+	return sc->deck.tilt_weight[li];
+}
+
 CS_HD CS_COLD void cs_slab_transmittances(double tau, double mu0, double *beam, double *diffuse)
 {
 	if (!(tau > 0.0)) {

@@ -669,8 +669,7 @@ CS_HD static void sample_source(const struct ray_ctx *c, cs_v3 p, double alt,
 	/* a cumulonimbus's towers: the sun's multiply scattered light from
 	 * their tilted columns for the share ts (deck.tilt_weight), from the
 	 * octaves and cloud_ambient for the rest */
-	double ts = CS_BUILT(CS_BUILT_TOWERS) && sc->deck.on && c->s->ambient ? sc->deck.tilt_weight[li]
-									    : 0.0;
+	double ts = CS_BUILT(CS_BUILT_TOWERS) && c->s->ambient ? cs_tower_share(sc, c->s, li) : 0.0;
 	if (CS_FX_IS(sc, CS_FX_KEY)) {
 		double tau = cs_light_depth(sc, c->s, p, mask, c->st);
 		tau_sun = tau;

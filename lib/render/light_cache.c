@@ -160,7 +160,7 @@ int cs_light_cache_build(struct cs_scene *sc, const struct cs_render_settings *s
 	}
 	if (rc == CS_OK && cs_tower_light_wanted(sc, s)) {
 		uint64_t tower = 0;
-		rc = cs_tower_light_build(sc, s->tower_cell_m, nthreads, &tower);
+		rc = cs_tower_light_build(sc, s, nthreads, &tower);
 		*evaluations += tower;
 	}
 	if (rc != CS_OK) {

@@ -63,11 +63,11 @@ static const struct {
 	const char *name;
 	struct cs_render_settings s;
 } presets[] = {
-	{"low", {24, 96, 8, 2, 1, 1.0, 0, 0.02, 8, CS_MARCH_STANDARD, CS_LIGHT_AUTO, 2, 400.0}},
-	{"medium", {24, 192, 12, 3, 1, 1.0, 0, 0.01, 16, CS_MARCH_STANDARD, CS_LIGHT_AUTO, 2, 400.0}},
-	{"high", {48, 384, 16, 3, 1, 1.0, 0, 0.005, 32, CS_MARCH_STANDARD, CS_LIGHT_AUTO, 2, 400.0}},
+	{"low", {24, 96, 8, 2, 1, 1.0, 0, 0.02, 8, CS_MARCH_STANDARD, CS_LIGHT_AUTO, 2, 400.0, 0}},
+	{"medium", {24, 192, 12, 3, 1, 1.0, 0, 0.01, 16, CS_MARCH_STANDARD, CS_LIGHT_AUTO, 2, 400.0, 0}},
+	{"high", {48, 384, 16, 3, 1, 1.0, 0, 0.005, 32, CS_MARCH_STANDARD, CS_LIGHT_AUTO, 2, 400.0, 1}},
 	{"reference",
-	 {384, 1536, 24, 4, 1, 1.0, 0, 0.0005, 128, CS_MARCH_STANDARD, CS_LIGHT_GEOMETRIC, 1, 400.0}},
+	 {384, 1536, 24, 4, 1, 1.0, 0, 0.0005, 128, CS_MARCH_STANDARD, CS_LIGHT_GEOMETRIC, 1, 400.0, 1}},
 };
 
 int cs_render_quality(const char *name, struct cs_render_settings *s)

@@ -52,6 +52,9 @@ struct cs_render_settings {
 	double tower_cell_m;   /* the towers' diffused light (tower_light.c):
 				  its lattice's spacing, m, 50..5000; 0:
 				  none (the march's model alone) */
+	int heap_towers;       /* 1: the heaps of cumulus take the towers'
+				  light too (cs_tower_share); 0: the
+				  march's model of them alone */
 };
 
 /* The view march (cs_render_settings.march). */
@@ -479,6 +482,10 @@ CS_HD double cs_slab_escape(double mu);
  * its view factor of the upper hemisphere, (1 + nz) / 2; the ground below
  * the horizon sends it the rest.  nz is clamped to [-1, 1]. */
 CS_HD double cs_face_sky_share(double nz);
+/* The share of layer li's diffuse light that its towers' light gives (its
+ * tilted columns and diffused light) in a frame of settings s:
+ * deck.tilt_weight[li], but 0 for cumulus unless s->heap_towers. */
+CS_HD double cs_tower_share(const struct cs_scene *sc, const struct cs_render_settings *s, int li);
 
 /* Fills sc->deck from the scene's layers, sun and clear-sky ambient (call
  * after those are set); sets CS_FX_DECK when there are layers.  Its light
@@ -634,7 +641,8 @@ int cs_frame_volumes_needed(const struct cs_scene *sc, const struct cs_render_se
  * pool; a cell that would make more than 2e7 nodes is grown until they
  * fit.  CS_OK, CS_ENOMEM or the pool's error. */
 int cs_tower_light_wanted(const struct cs_scene *sc, const struct cs_render_settings *s);
-int cs_tower_light_build(struct cs_scene *sc, double cell_m, int nthreads, uint64_t *evaluations);
+int cs_tower_light_build(struct cs_scene *sc, const struct cs_render_settings *s, int nthreads,
+			 uint64_t *evaluations);
 
 /* The diffusion equation -div(D grad phi) + sigma_a phi = source in the
  * nodes of cloud (sigma_tr > 0) of a lattice of nu x nv x nk nodes,

@@ -662,7 +662,7 @@ int cs_tower_light_wanted(const struct cs_scene *sc, const struct cs_render_sett
 	    !(sc->sun_dir.z >= SUN_MIN_SIN))
 		return 0;
 	for (int i = 0; i < sc->nlayers; i++)
-		if (sc->deck.tilt_weight[i] > 0.0)
+		if (cs_tower_share(sc, s, i) > 0.0)
 			return 1;
 	return 0;
 }
@@ -859,13 +859,15 @@ done:
 	return rc;
 }
 
-int cs_tower_light_build(struct cs_scene *sc, double cell_m, int nthreads, uint64_t *evaluations)
+int cs_tower_light_build(struct cs_scene *sc, const struct cs_render_settings *s, int nthreads,
+			 uint64_t *evaluations)
 {
 	for (int n = 0; n < CS_SCENE_MAX_LAYERS; n++)
 		sc->tower_light[n] = (struct cs_light_cache){0};
 	int rc = CS_OK;
 	for (int li = 0; li < sc->nlayers && rc == CS_OK; li++)
-		if (sc->deck.tilt_weight[li] > 0.0)
-			rc = build_layer(sc, li, cell_m, nthreads, &sc->tower_light[li], evaluations);
+		if (cs_tower_share(sc, s, li) > 0.0)
+			rc = build_layer(sc, li, s->tower_cell_m, nthreads, &sc->tower_light[li],
+					 evaluations);
 	return rc;
 }

@@ -1,7 +1,7 @@
 # cloudrender -v (what it renders, the time of each phase), the progress
 # bar's elapsed time and ETA on a terminal, and the default view.
 . "$TOP/tests/tools/lib.sh"
-plan 5
+plan 6
 CR="$BIN/cloudrender"
 WX="$BIN/wxinterp"
 FAST="--quality low --noise-size 32 --size 64x36"
@@ -30,20 +30,35 @@ end
 
 # --light-march auto (low's): a layer's volume only for a frame of a pixel
 # for every 32 of its cells (low's volumes: 8 x 83333 cells at most, a
-# tenth more for whole columns), the layer marched in a smaller one; the
-# heaps' diffused light (a volume of its own, at any size) off
+# tenth more for whole columns), the layer marched in a smaller one
 begin cloudrender_light_cache_auto_builds_only_what_the_frame_pays_for
 volumes() { sed -n 's/^cloudrender: light cache: \([0-9]*\) volumes*, \([0-9.]*\) million.*/\1 \2/p' "$T/err"; }
-run "$CR" -v $FAST --tower-cell 0 --light-march cache -o "$T/c.png"; expect_rc 0
+run "$CR" -v $FAST --light-march cache -o "$T/c.png"; expect_rc 0
 set -- $(volumes)
 [ "${1:-0}" -ge 2 ] && [ "$(echo "${2:-0} > 0.5" | bc)" -eq 1 ] ||
 	bad "--light-march cache at 64x36 built '$(volumes)' (volumes, million cells)"
 all=${1:-0}
-run "$CR" -v $FAST --tower-cell 0 -o "$T/a.png"; expect_rc 0
+run "$CR" -v $FAST -o "$T/a.png"; expect_rc 0
 [ "$(volumes)" = "0 0.00" ] || bad "auto at 64x36 (2304 pixels) built '$(volumes)'"
-run "$CR" -v $FAST --tower-cell 0 --size 320x180 -o "$T/a.png"; expect_rc 0
+run "$CR" -v $FAST --size 320x180 -o "$T/a.png"; expect_rc 0
 set -- $(volumes)
 [ "${1:-0}" -eq "$all" ] || bad "auto at 320x180 built '$(volumes)', expected all $all volumes"
+end
+
+# --heap-towers: the built-in cumulus (35 % cover) takes the towers' light
+# at high, and its lattice with it (a volume at any size), not at medium
+# or with it off; -v says which
+begin cloudrender_heap_towers_follow_the_preset_and_the_option
+heaps() { grep -c "heaps lit as towers" "$T/err"; }
+for q in "high:1 1" "high --heap-towers off:0 0" "medium:0 0" "medium --heap-towers on:1 1"; do
+	opts=${q%%:*} want=${q#*:}
+	# shellcheck disable=SC2086
+	run "$CR" -v --quality $opts --noise-size 32 --size 64x36 --light-march geometric \
+		-o "$T/h.png"; expect_rc 0
+	set -- $(volumes)
+	[ "${1:-0} $(heaps)" = "$want" ] ||
+		bad "--quality $opts: '${1:-0}' volumes, '$(heaps)' heaps as towers, expected '$want'"
+done
 end
 
 begin cloudrender_progress_shows_elapsed_and_eta_on_a_terminal

@@ -416,11 +416,11 @@ static void heaps_with_the_sun_behind_the_eye_take_the_towers_light(void)
 	static unsigned char cloud[W * H];
 	struct cs_render_stats st;
 	double y[2];
-	double weight = sc.deck.tilt_weight[0];
 	for (int with = 1; with >= 0; with--) {
 		struct cs_render_settings s;
 		CHECK(cs_render_quality("high", &s) == CS_OK);
-		sc.deck.tilt_weight[0] = with ? weight : 0.0;
+		CHECK(s.heap_towers == 1); /* (high's) */
+		s.heap_towers = with;
 		CHECK(cs_render_image(&sc, &cam, &s, 2, NULL, NULL, img, &st) == CS_OK);
 		y[with] = 0.0;
 		for (int i = 0; i < W * H; i++) {
@@ -428,7 +428,6 @@ static void heaps_with_the_sun_behind_the_eye_take_the_towers_light(void)
 			y[with] += cloud[i] ? cs_luminance(img[5 * i], img[5 * i + 1], img[5 * i + 2]) : 0.0;
 		}
 	}
-	sc.deck.tilt_weight[0] = weight;
 	struct cs_reference_settings rs = {16, 1, 0};
 	CHECK(cs_render_reference(&sc, &cam, &rs, 2, NULL, NULL, img, NULL, &st) == CS_OK);
 	double yr = 0.0;

@@ -288,6 +288,9 @@ struct cs_cuda_scene {
 	int no_sun_cache;          /* a layer has no light cache toward the sun */
 	int no_column_cache;       /* under a deck, a layer has none up the column */
 	int deck_layers;           /* layers under a deck: their columns are read */
+	int heap_towers;           /* a cumulus layer has a towers' share: the
+				      towers' code where the settings give
+				      heaps their light (heap_towers) */
 };
 
 static int cuda_error(cudaError_t e, const char *what)
@@ -465,11 +468,13 @@ static void scene_needs(struct cs_cuda_scene *c, const struct cs_scene *sc)
 	need |= sc->fog_beta_per_m > 0.0 ? (unsigned)CS_FX_FOG : 0u;
 	need |= sc->terrain ? (unsigned)CS_FX_TERRAIN : 0u;
 	need |= sc->terrain && sc->terrain_water ? (unsigned)CS_FX_WATER : 0u;
-	c->no_sun_cache = c->no_column_cache = 0;
+	c->no_sun_cache = c->no_column_cache = c->heap_towers = 0;
 	c->deck_layers = sc->deck.on && sc->nlayers > 0;
 	for (int i = 0; i < sc->nlayers; i++) {
-		if (sc->deck.on && sc->deck.tilt_weight[i] > 0.0)
+		if (sc->deck.on && sc->deck.tilt_weight[i] > 0.0 && sc->layers[i].genus != CS_CUMULUS)
 			need |= CS_BUILT_TOWERS;
+		c->heap_towers |= sc->deck.on && sc->deck.tilt_weight[i] > 0.0 &&
+				  sc->layers[i].genus == CS_CUMULUS;
 		c->no_sun_cache |= sc->light_cache[i].depth == NULL;
 		/* the column is read under a deck only */
 		c->no_column_cache |= sc->deck.on && sc->column_cache[i].depth == NULL;
@@ -489,6 +494,7 @@ static const struct kernel *kernel_for(const struct cs_cuda_scene *c,
 		return &kernels[NKERNELS - 1];
 	unsigned need = c->needs;
 	need |= s->source_every == 2 ? CS_BUILT_SOURCE_EVERY2 : 0u;
+	need |= c->heap_towers && s->heap_towers ? (unsigned)CS_BUILT_TOWERS : 0u;
 	/* the light marched: toward the key light (every such march is
 	 * under CS_FX_IS(sc, CS_FX_KEY)) and up the column (under a deck,
 	 * with the diffuse light), where the settings or a missing cache
