@@ -48,6 +48,7 @@ _cloudscape_values()
 	cloudrender:--march) echo standard naive skip adaptive ;;
 	cloudrender:--light-march) echo auto cache geometric uniform quadratic cone ;;
 	cloudrender:--integrator) echo march reference ;;
+	cloudrender:--heap-towers) echo on off ;;
 	cloudrender:--device) echo cpu cuda ;;
 	terrainprep:-f | terrainprep:--format) echo exr r16 tif ;;
 	terrainprep:-r | terrainprep:--resampling)

@@ -53,7 +53,8 @@ static void put_quality(FILE *f, const struct cs_cloudrender_opts *o,
 		(unsigned)s->light_march < sizeof light / sizeof light[0] ? light[s->light_march]
 									: "?",
 		s->source_every > 1 ? s->source_every : 1, N(s->tower_cell_m, 1),
-		s->heap_towers ? "true" : "false", s->ambient ? "true" : "false", N(s->jitter, 3), (unsigned)s->seed,
+		s->heap_towers ? "true" : "false", s->ambient ? "true" : "false", N(s->jitter, 3),
+		(unsigned)s->seed,
 		o->no_haze ? "false" : "true", N(r->exposure_ev, 3));
 }
 

@@ -825,6 +825,9 @@ static int frame_scene(struct cs_cr_session *s, const struct cs_cloudrender_opts
 	if (rc != CS_OK)
 		return rc;
 	r->scene = sc;
+	/* the heaps' tilted columns where the settings light them as towers
+	 * (for the irradiance too, which reads the scene itself) */
+	cs_scene_tilt_fields(sc, &r->settings, o->threads);
 	if (r->settings.haze_steps == 0) /* asked for their mean only */
 		sc->effects &= ~(unsigned)CS_FX_SHAFTS;
 	if (o->no_haze) { /* the air clear; the fog stays */

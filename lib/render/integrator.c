@@ -508,7 +508,8 @@ CS_HD static double heap_normal_z(const struct cs_scene *sc, int li, cs_v3 p, cs
 	return g > 0.0 ? -gz / g : -d.z;
 }
 
-/* A cumulonimbus's point p in layer li, tau_above under the top and
+/* A tower's point p in layer li (a cumulonimbus, or a cumulus whose heaps
+ * are lit as towers: cs_tower_share), tau_above under the top and
  * tau_sun from the sun, whose tilted columns give the share ts of its
  * diffuse light (deck.tilt_weight): their light for the eye, into L (ts
  * TILT_WALL of it), and the share of the sky's light that reaches it,
@@ -571,7 +572,7 @@ CS_HD CS_SHARED static double tilt_light(const struct ray_ctx *c, cs_v3 p, int l
 	return ts * td + (1.0 - ts) * up;
 }
 
-/* A cumulonimbus's diffuse light A at p (layer li) raised to the
+/* A tower's diffuse light A at p (layer li, as tilt_light's) raised to the
  * towers' diffused light (tower_light.c) where that is more, for the
  * towers' share ts: in luminance, in A's colour (the march's mix of the
  * sky's, the ground's and the sun's light; the field is solved in the
@@ -666,9 +667,10 @@ CS_HD static void sample_source(const struct ray_ctx *c, cs_v3 p, double alt,
 	 * cloud_ambient (all of it in layers without fields) */
 	int field = sc->deck.on ? sc->deck.field_of[li] : -1;
 	double wf = field >= 0 ? sc->deck.field_weight[li] : 0.0;
-	/* a cumulonimbus's towers: the sun's multiply scattered light from
-	 * their tilted columns for the share ts (deck.tilt_weight), from the
-	 * octaves and cloud_ambient for the rest */
+	/* a cumulonimbus's towers (or a cumulus's heaps, heap_towers): the
+	 * sun's multiply scattered light from their tilted columns for the
+	 * share ts (cs_tower_share), from the octaves and cloud_ambient for
+	 * the rest */
 	double ts = CS_BUILT(CS_BUILT_TOWERS) && c->s->ambient ? cs_tower_share(sc, c->s, li) : 0.0;
 	if (CS_FX_IS(sc, CS_FX_KEY)) {
 		double tau = cs_light_depth(sc, c->s, p, mask, c->st);

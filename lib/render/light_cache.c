@@ -129,6 +129,8 @@ int cs_light_cache_build(struct cs_scene *sc, const struct cs_render_settings *s
 		sc->column_cache[n] = (struct cs_light_cache){0};
 		sc->tower_light[n] = (struct cs_light_cache){0};
 	}
+	/* the heaps' tilted columns where the settings light them so */
+	cs_scene_tilt_fields(sc, s, nthreads);
 	cs_v3 sun = sc->sun_dir;
 	int toward_sun = (sc->effects & CS_FX_KEY) && sun.z >= CACHE_MIN_SUN_SIN;
 	/* the column above a sample (and below it, for the light fields):
@@ -172,7 +174,8 @@ int cs_light_cache_build(struct cs_scene *sc, const struct cs_render_settings *s
 
 int cs_frame_volumes_needed(const struct cs_scene *sc, const struct cs_render_settings *s)
 {
-	return CS_LIGHT_CACHED(s->light_march) || cs_tower_light_wanted(sc, s);
+	return CS_LIGHT_CACHED(s->light_march) || cs_tower_light_wanted(sc, s) ||
+	       cs_scene_tilt_wanted(sc, s);
 }
 
 int cs_light_cache_volumes(const struct cs_scene *sc)

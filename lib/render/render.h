@@ -339,7 +339,8 @@ struct cs_deck {
 	 * CS_DECK_TILT_FULL cover, falling linearly to 0 at
 	 * CS_DECK_TILT_NONE (the rest the march's model, and above half
 	 * cover the layer's own fields); 0 for every other genus, and for
-	 * every layer without a key light up or the deck */
+	 * every layer without a key light up or the deck (a frame reads
+	 * cs_tower_share, which keeps a cumulus's for heap_towers) */
 	struct cs_fog_field tilt[CS_DECK_DEPTHS];
 	double tilt_tau[CS_DECK_DEPTHS];
 	double tilt_weight[CS_SCENE_MAX_LAYERS];
@@ -419,7 +420,7 @@ struct cs_scene {
 	struct cs_light_cache light_cache[CS_SCENE_MAX_LAYERS];
 	struct cs_light_cache column_cache[CS_SCENE_MAX_LAYERS];
 	/* the key light's diffused light in the towers of a cumulonimbus or
-	 * the heaps of a cumulus (tilt_weight > 0), per
+	 * the heaps of a cumulus (cs_tower_share > 0), per
 	 * unit irradiance facing it (tower_light.c): the fluence, W/m^2 per
 	 * W/m^2, on an unsheared lattice; depth NULL where none */
 	struct cs_light_cache tower_light[CS_SCENE_MAX_LAYERS];
@@ -499,6 +500,15 @@ void cs_scene_deck_light(struct cs_scene *sc, int nthreads);
  * end of cs_scene_deck_light, which does); a layer whose field cannot be
  * made (out of memory) keeps the march's model of the diffuse light. */
 void cs_scene_deck_fields(struct cs_scene *sc, int nthreads);
+/* The tilted columns' fields that the heaps of cumulus take where a
+ * frame's settings light them as towers (cs_tower_share) and that the
+ * scene's build left unsolved (it solves them for cumulonimbus only):
+ * whether they are wanted, and their solution into sc (where it fails,
+ * out of memory, no layer keeps a towers' share).  cs_light_cache_build
+ * solves them into its copy; call cs_scene_tilt_fields before reading
+ * the scene's light outside a frame (cs_irradiance_at). */
+int cs_scene_tilt_wanted(const struct cs_scene *sc, const struct cs_render_settings *s);
+void cs_scene_tilt_fields(struct cs_scene *sc, const struct cs_render_settings *s, int nthreads);
 
 /* Fills sc->fog (fog.c) from the scene's fog, sky, sun, deck and ground
  * (call after those are set; cleared without fog), solved on nthreads as
@@ -629,14 +639,15 @@ void cs_light_cache_free(struct cs_scene *sc);
 
 /* Whether a frame of sc with settings s reads volumes built for it
  * (cs_light_cache_build): the light caches, or the towers' diffused light
- * (sc->tower_light: a cumulonimbus or cumulus with tilted columns, deck.tilt_weight,
- * under a key light, with the diffuse light on and s->tower_cell_m > 0). */
+ * (sc->tower_light: a layer with a towers' share, cs_tower_share, under a
+ * key light, with the diffuse light on and s->tower_cell_m > 0). */
 int cs_frame_volumes_needed(const struct cs_scene *sc, const struct cs_render_settings *s);
 
 /* The towers' diffused light (tower_light.c): whether a frame of sc with
- * settings s reads it, and its build into sc->tower_light for each
- * cumulonimbus or cumulus layer with tilted columns, lattice cells about cell_m (the
- * fluence per unit irradiance of the key light facing it), the lattice's
+ * settings s reads it, and its build into sc->tower_light for each layer
+ * with a towers' share (cs_tower_share), lattice cells about
+ * s->tower_cell_m (the fluence per unit irradiance of the key light
+ * facing it), the lattice's
  * extinction, the beam and the exchange's rays on nthreads of the CPU
  * pool; a cell that would make more than 2e7 nodes is grown until they
  * fit.  CS_OK, CS_ENOMEM or the pool's error. */

@@ -6,6 +6,8 @@ CR="$BIN/cloudrender"
 WX="$BIN/wxinterp"
 FAST="--quality low --noise-size 32 --size 64x36"
 MB="${DATA:-}/weather/meteoblue-basic-clouds-solar-1h.json"
+# the light caches -v reports: "volumes million-cells"
+volumes() { sed -n 's/^cloudrender: light cache: \([0-9]*\) volumes*, \([0-9.]*\) million.*/\1 \2/p' "$T/err"; }
 
 begin cloudrender_verbose_says_what_it_renders
 run "$CR" -v $FAST -o "$T/a.png"; expect_rc 0
@@ -32,7 +34,6 @@ end
 # for every 32 of its cells (low's volumes: 8 x 83333 cells at most, a
 # tenth more for whole columns), the layer marched in a smaller one
 begin cloudrender_light_cache_auto_builds_only_what_the_frame_pays_for
-volumes() { sed -n 's/^cloudrender: light cache: \([0-9]*\) volumes*, \([0-9.]*\) million.*/\1 \2/p' "$T/err"; }
 run "$CR" -v $FAST --light-march cache -o "$T/c.png"; expect_rc 0
 set -- $(volumes)
 [ "${1:-0}" -ge 2 ] && [ "$(echo "${2:-0} > 0.5" | bc)" -eq 1 ] ||
@@ -47,7 +48,8 @@ end
 
 # --heap-towers: the built-in cumulus (35 % cover) takes the towers' light
 # at high, and its lattice with it (a volume at any size), not at medium
-# or with it off; -v says which
+# or with it off; -v says which; a cumulonimbus alone renders the same
+# bytes either way
 begin cloudrender_heap_towers_follow_the_preset_and_the_option
 heaps() { grep -c "heaps lit as towers" "$T/err"; }
 for q in "high:1 1" "high --heap-towers off:0 0" "medium:0 0" "medium --heap-towers on:1 1"; do
@@ -59,6 +61,13 @@ for q in "high:1 1" "high --heap-towers off:0 0" "medium:0 0" "medium --heap-tow
 	[ "${1:-0} $(heaps)" = "$want" ] ||
 		bad "--quality $opts: '${1:-0}' volumes, '$(heaps)' heaps as towers, expected '$want'"
 done
+CB="--wx $TOP/tests/scenes/cumulonimbus-side.json $(cat "$TOP/tests/scenes/cumulonimbus-side.args")"
+for h in on off; do
+	# shellcheck disable=SC2086
+	run "$CR" $CB --quality high --heap-towers $h --noise-size 32 --size 48x27 -o "$T/cb-$h.exr"
+	expect_rc 0
+done
+same_pixels "$T/cb-on.exr" "$T/cb-off.exr" || bad "--heap-towers changed the pixels of a scene without cumulus"
 end
 
 begin cloudrender_progress_shows_elapsed_and_eta_on_a_terminal

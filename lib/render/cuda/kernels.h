@@ -10,8 +10,9 @@
  * compiler drops their code, and the common scenes run faster
  * (cloudrender(1), GPU, has the figures).
  *
- * "plain": sun, sky, clouds of any genus but cumulonimbus towers lit
- * through their tilted columns, flat ground with the clouds' shadows,
+ * "plain": sun, sky, clouds of any genus but cumulonimbus towers (and
+ * cumulus heaps with cs_render_settings.heap_towers) lit through their
+ * tilted columns, flat ground with the clouds' shadows,
  * haze with the crepuscular rays of a low sun, the deck's light, the
  * light from the light cache at every sample (the low, medium and high
  * presets on a GPU).

@@ -471,10 +471,11 @@ static void scene_needs(struct cs_cuda_scene *c, const struct cs_scene *sc)
 	c->no_sun_cache = c->no_column_cache = c->heap_towers = 0;
 	c->deck_layers = sc->deck.on && sc->nlayers > 0;
 	for (int i = 0; i < sc->nlayers; i++) {
-		if (sc->deck.on && sc->deck.tilt_weight[i] > 0.0 && sc->layers[i].genus != CS_CUMULUS)
-			need |= CS_BUILT_TOWERS;
-		c->heap_towers |= sc->deck.on && sc->deck.tilt_weight[i] > 0.0 &&
-				  sc->layers[i].genus == CS_CUMULUS;
+		/* (a cumulus's share only where the settings ask: kernel_for) */
+		int share = sc->deck.on && sc->deck.tilt_weight[i] > 0.0;
+		int heaps = sc->layers[i].genus == CS_CUMULUS;
+		need |= share && !heaps ? (unsigned)CS_BUILT_TOWERS : 0u;
+		c->heap_towers |= share && heaps;
 		c->no_sun_cache |= sc->light_cache[i].depth == NULL;
 		/* the column is read under a deck only */
 		c->no_column_cache |= sc->deck.on && sc->column_cache[i].depth == NULL;
