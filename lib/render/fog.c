@@ -574,7 +574,7 @@ static void solve_tilt(struct cs_scene *sc, int nthreads);
 static void tilt_fields(struct cs_scene *sc, int nthreads)
 {
 	struct cs_deck *d = &sc->deck;
-	int any = 0, towers = 0;
+	int any = 0;
 	for (int i = 0; i < CS_SCENE_MAX_LAYERS; i++) {
 		const struct cs_cloud_layer *l = &sc->layers[i];
 		double w = (CS_DECK_TILT_NONE - l->coverage) / (CS_DECK_TILT_NONE - CS_DECK_TILT_FULL);
@@ -583,18 +583,18 @@ static void tilt_fields(struct cs_scene *sc, int nthreads)
 					    ? (w < 1.0 ? w : 1.0)
 					    : 0.0;
 		any |= d->tilt_weight[i] > 0.0;
-		towers |= d->tilt_weight[i] > 0.0 && l->genus == CS_CUMULONIMBUS;
 	}
 	if (!(any && d->on && (sc->effects & CS_FX_KEY) && sc->sun_dir.z > 0.0)) {
 		for (int i = 0; i < CS_SCENE_MAX_LAYERS; i++)
 			d->tilt_weight[i] = 0.0;
 		return;
 	}
-	/* the towers' fields now; the heaps' where a frame's settings light
-	 * them so (cs_scene_tilt_fields): at low and medium, which do not,
-	 * they cost a scene of cumulus 0.07 s for nothing */
-	if (towers)
-		solve_tilt(sc, nthreads);
+	/* the towers' fields now (those any settings read:
+	 * cs_tower_share with the heaps off); the heaps' where a frame's
+	 * settings light them so (cs_scene_tilt_fields): at low and medium,
+	 * which do not, they cost a scene of cumulus 0.07 s for nothing */
+	const struct cs_render_settings heaps_off = {.heap_towers = 0};
+	cs_scene_tilt_fields(sc, &heaps_off, nthreads);
 }
 
 int cs_scene_tilt_wanted(const struct cs_scene *sc, const struct cs_render_settings *s)
@@ -619,23 +619,20 @@ void cs_scene_tilt_fields(struct cs_scene *sc, const struct cs_render_settings *
 static void solve_tilt(struct cs_scene *sc, int nthreads)
 {
 	struct cs_deck *d = &sc->deck;
-	int ok = 1;
-	{
-		struct cs_fog_problem p[CS_DECK_DEPTHS];
-		memset(p, 0, sizeof p);
-		for (int k = 0; k < CS_DECK_DEPTHS; k++) {
-			p[k].tau = d->tilt_tau[k] = CS_DECK_TILT_TAU0 * (double)(1 << (2 * k));
-			p[k].albedo = sc->albedo;
-			p[k].g_forward = sc->g_forward, p[k].g_back = sc->g_back;
-			p[k].w_forward = sc->w_forward;
-			p[k].mu0 = 1.0;
-			for (int c = 0; c < 3; c++)
-				p[k].sun[c] = sc->sun_illuminance[c];
-		}
-		ok = cs_fog_solve_n(p, CS_DECK_DEPTHS, d->tilt, nthreads) == CS_OK;
+	struct cs_fog_problem p[CS_DECK_DEPTHS];
+	memset(p, 0, sizeof p);
+	for (int k = 0; k < CS_DECK_DEPTHS; k++) {
+		p[k].tau = d->tilt_tau[k] = CS_DECK_TILT_TAU0 * (double)(1 << (2 * k));
+		p[k].albedo = sc->albedo;
+		p[k].g_forward = sc->g_forward, p[k].g_back = sc->g_back;
+		p[k].w_forward = sc->w_forward;
+		p[k].mu0 = 1.0;
+		for (int c = 0; c < 3; c++)
+			p[k].sun[c] = sc->sun_illuminance[c];
 	}
-	for (int i = 0; i < CS_SCENE_MAX_LAYERS && !ok; i++)
-		d->tilt_weight[i] = 0.0;
+	if (cs_fog_solve_n(p, CS_DECK_DEPTHS, d->tilt, nthreads) != CS_OK)
+		for (int i = 0; i < CS_SCENE_MAX_LAYERS; i++)
+			d->tilt_weight[i] = 0.0;
 }
 
 void cs_scene_deck_fields(struct cs_scene *sc, int nthreads)

@@ -288,9 +288,9 @@ struct cs_cuda_scene {
 	int no_sun_cache;          /* a layer has no light cache toward the sun */
 	int no_column_cache;       /* under a deck, a layer has none up the column */
 	int deck_layers;           /* layers under a deck: their columns are read */
-	int heap_towers;           /* a cumulus layer has a towers' share: the
-				      towers' code where the settings give
-				      heaps their light (heap_towers) */
+	int heap_towers;           /* a layer has a towers' share only where the
+				      settings light heaps as towers: the
+				      towers' code then (kernel_for) */
 };
 
 static int cuda_error(cudaError_t e, const char *what)
@@ -470,12 +470,16 @@ static void scene_needs(struct cs_cuda_scene *c, const struct cs_scene *sc)
 	need |= sc->terrain && sc->terrain_water ? (unsigned)CS_FX_WATER : 0u;
 	c->no_sun_cache = c->no_column_cache = c->heap_towers = 0;
 	c->deck_layers = sc->deck.on && sc->nlayers > 0;
+	/* the towers' share (cs_tower_share) whatever the settings, and the
+	 * heaps' that only some settings take (kernel_for) */
+	struct cs_render_settings off, on;
+	memset(&off, 0, sizeof off);
+	on = off;
+	on.heap_towers = 1;
 	for (int i = 0; i < sc->nlayers; i++) {
-		/* (a cumulus's share only where the settings ask: kernel_for) */
-		int share = sc->deck.on && sc->deck.tilt_weight[i] > 0.0;
-		int heaps = sc->layers[i].genus == CS_CUMULUS;
-		need |= share && !heaps ? (unsigned)CS_BUILT_TOWERS : 0u;
-		c->heap_towers |= share && heaps;
+		int always = cs_tower_share(sc, &off, i) > 0.0;
+		need |= always ? (unsigned)CS_BUILT_TOWERS : 0u;
+		c->heap_towers |= !always && cs_tower_share(sc, &on, i) > 0.0;
 		c->no_sun_cache |= sc->light_cache[i].depth == NULL;
 		/* the column is read under a deck only */
 		c->no_column_cache |= sc->deck.on && sc->column_cache[i].depth == NULL;
