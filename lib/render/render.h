@@ -275,6 +275,7 @@ double cs_fog_phase_mean(double mu, double nu, double g_forward, double g_back,
 #define CS_DECK_TILT_TAU0 2.0 /* the tilted columns' thinnest field: 2, 8, 32, 128 */
 #define CS_DECK_TILT_FULL 0.2 /* a cumulonimbus or cumulus of this cover or less is lit by them alone */
 #define CS_DECK_TILT_NONE 0.5 /* and one of this cover or more not at all */
+#define CS_DECK_HEAP_TILT_NONE 0.8 /* a cumulus's heaps: none from this cover (fog.c) */
 struct cs_deck {
 	int on;                      /* 0: the clear-sky ambient everywhere */
 	double mu0;                  /* sine of the sun's elevation (>= 0) */
@@ -337,8 +338,9 @@ struct cs_deck {
 	 * take their sun's diffuse light, for the share tilt_weight[i] of
 	 * layer i's: 1 up to
 	 * CS_DECK_TILT_FULL cover, falling linearly to 0 at
-	 * CS_DECK_TILT_NONE (the rest the march's model, and above half
-	 * cover the layer's own fields); 0 for every other genus, and for
+	 * CS_DECK_TILT_NONE (a cumulus's at CS_DECK_HEAP_TILT_NONE; the rest
+	 * the march's model, and above half cover the layer's own fields);
+	 * 0 for every other genus, and for
 	 * every layer without a key light up or the deck (a frame reads
 	 * cs_tower_share, which keeps a cumulus's for heap_towers) */
 	struct cs_fog_field tilt[CS_DECK_DEPTHS];
