@@ -394,10 +394,13 @@ static void side_view_is_nearer_the_path_tracer_with_the_field(void)
 /* The mean luminance of the cloud's pixels (W x H, 70 deg wide, looking
  * az, el from the site) of one layer of cumulus on a 128^3 noise, by the
  * march at high with its heaps lit as towers (y[1]) and not (y[0]), and
- * by the path tracer with 16 paths a pixel (*yr), kcd/m^2. */
+ * by the path tracer with 16 paths a pixel (yr), kcd/m^2: with them
+ * within 4 % of the path tracer, and at least 3 points nearer than
+ * without. */
 static void heaps_against_the_path_tracer(const char *when, double cover, double base_m,
-					  double top_m, double az, double el, double y[2], double *yr)
+					  double top_m, double az, double el)
 {
+	double y[2], yr = 0.0;
 	static struct cs_volume noise;
 	static struct cs_scene sc;
 	struct cs_wx wx;
@@ -430,17 +433,18 @@ static void heaps_against_the_path_tracer(const char *when, double cover, double
 	}
 	struct cs_reference_settings rs = {16, 1, 0};
 	CHECK(cs_render_reference(&sc, &cam, &rs, 2, NULL, NULL, img, NULL, &st) == CS_OK);
-	*yr = 0.0;
-	int n = 0;
+		int n = 0;
 	for (int i = 0; i < W * H; i++) {
-		*yr += cloud[i] ? cs_luminance(img[5 * i], img[5 * i + 1], img[5 * i + 2]) : 0.0;
+		yr += cloud[i] ? cs_luminance(img[5 * i], img[5 * i + 1], img[5 * i + 2]) : 0.0;
 		n += cloud[i];
 	}
 	CHECK(n > W * H / 4);
 	printf("  heaps (%d of %d pixels): march without the towers' light %.3f (%+.1f %%), with "
 	       "%.3f (%+.1f %%), path tracer %.3f kcd/m^2\n",
-	       n, W * H, y[0] / n, 100.0 * (y[0] / *yr - 1.0), y[1] / n, 100.0 * (y[1] / *yr - 1.0),
-	       *yr / n);
+	       n, W * H, y[0] / n, 100.0 * (y[0] / yr - 1.0), y[1] / n, 100.0 * (y[1] / yr - 1.0),
+	       yr / n);
+	CHECK_NEAR(y[1] / yr, 1.0, 0.04);
+	CHECK(fabs(y[0] / yr - 1.0) > fabs(y[1] / yr - 1.0) + 0.03);
 	cs_volume_free(&noise);
 }
 
@@ -454,11 +458,7 @@ static void heaps_against_the_path_tracer(const char *when, double cover, double
  * (tests/scenes/cumulus-sun-behind) went from -7.4 % to -3.4 %. */
 static void heaps_with_the_sun_behind_the_eye_take_the_towers_light(void)
 {
-	double y[2], yr;
-	heaps_against_the_path_tracer("2021-06-14T07:00:00Z", 0.35, 1600.0, 3300.0, 250.0, 15.0, y,
-				      &yr);
-	CHECK_NEAR(y[1] / yr, 1.0, 0.04);
-	CHECK(fabs(y[0] / yr - 1.0) > fabs(y[1] / yr - 1.0) + 0.03);
+	heaps_against_the_path_tracer("2021-06-14T07:00:00Z", 0.35, 1600.0, 3300.0, 250.0, 15.0);
 }
 
 /* Flat heaps of half cover (0.8 km thick) under a sun 57 deg up, seen from
@@ -472,11 +472,7 @@ static void heaps_with_the_sun_behind_the_eye_take_the_towers_light(void)
  * +12.3 % to +3.9 %. */
 static void half_covered_heaps_take_a_share_of_the_towers_light(void)
 {
-	double y[2], yr;
-	heaps_against_the_path_tracer("2021-07-20T10:00:00Z", 0.5, 1200.0, 2000.0, 200.0, 10.0, y,
-				      &yr);
-	CHECK_NEAR(y[1] / yr, 1.0, 0.04);
-	CHECK(fabs(y[0] / yr - 1.0) > fabs(y[1] / yr - 1.0) + 0.03);
+	heaps_against_the_path_tracer("2021-07-20T10:00:00Z", 0.5, 1200.0, 2000.0, 200.0, 10.0);
 }
 
 static const struct t_case t_cases[] = {
