@@ -519,9 +519,9 @@ CS_HD static double heap_normal_z(const struct cs_scene *sc, int li, cs_v3 p, cs
  * are lit as towers: cs_tower_share), tau_above under the top and
  * tau_sun from the sun, whose tilted columns give the share ts of its
  * diffuse light (deck.tilt_weight): their light for the eye, into L (ts
- * TILT_WALL of it, HEAP_WALL of a heap's), and the share of the sky's light that reaches it,
- * returned (ts of it by the faces below, the rest through the column
- * above, as cloud_ambient's).  The tower behind the point, away from the
+ * TILT_WALL of it, HEAP_WALL of a heap's), and the share of the sky's
+ * light that reaches it, returned (ts of it by the faces below, the rest
+ * through the column above, as cloud_ambient's).  The tower behind the point, away from the
  * sun, is a march of its own (cs_heap_depth).  The sky's light comes in
  * through whichever face lets in the most of it: the top, through the
  * column above, or the face toward the sun or away from it, each through

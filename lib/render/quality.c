@@ -53,9 +53,9 @@
  * cumulonimbus scenes measured, before the towers' faces exchanged their
  * light (cloudrender(1), REFERENCE).  High and the reference light the
  * heaps of cumulus as towers too (heap_towers): on the study's sixteen
- * scenes at 320x180 high measured 0.0144 in 6.31 s against 0.0152 in
- * 5.86 s without, cumulus with the sun behind the eye 0.036 against
- * 0.077; medium with them, 0.0151 in 4.18 s against 0.0159 in 3.66 s, is
+ * scenes at 320x180 high measured 0.0138 in 5.91 s against 0.0152 in
+ * 5.17 s without, cumulus with the sun behind the eye 0.031 against
+ * 0.077; medium with them, 0.0143 in 3.83 s against 0.0159 in 3.46 s, is
  * on the CPU's front too, but the default scene at 1920x1080 on an H100
  * took 26.9 ms a frame against 6.3 (the towers' code in the kernel), so
  * low and medium keep the slab's columns (cloudrender(1), QUALITY). */

@@ -433,7 +433,7 @@ static void heaps_against_the_path_tracer(const char *when, double cover, double
 	}
 	struct cs_reference_settings rs = {16, 1, 0};
 	CHECK(cs_render_reference(&sc, &cam, &rs, 2, NULL, NULL, img, NULL, &st) == CS_OK);
-		int n = 0;
+	int n = 0;
 	for (int i = 0; i < W * H; i++) {
 		yr += cloud[i] ? cs_luminance(img[5 * i], img[5 * i + 1], img[5 * i + 2]) : 0.0;
 		n += cloud[i];
@@ -475,6 +475,28 @@ static void half_covered_heaps_take_a_share_of_the_towers_light(void)
 	heaps_against_the_path_tracer("2021-07-20T10:00:00Z", 0.5, 1200.0, 2000.0, 200.0, 10.0);
 }
 
+/* Cumulus whose light fields light it alone (70 % cover and more,
+ * CS_DECK_FIELD_FULL) asks for no tilted columns and no lattice at high,
+ * where the heaps' share would still be above 0 (it ends at 80 %): the
+ * fields replace their light, so the work would be thrown away (the same
+ * pixels at 75 % cover); at 65 % both are wanted. */
+static void heaps_lit_by_their_fields_alone_take_no_towers_work(void)
+{
+	static struct cs_volume noise;
+	static struct cs_scene sc;
+	struct cs_wx wx;
+	struct cs_render_settings hi;
+	CHECK(cs_render_quality("high", &hi) == CS_OK);
+	one_layer(&sc, &noise, &wx, 32, "2021-07-20T10:00:00Z", CS_CUMULUS, 0.65, 1200.0, 2000.0);
+	CHECK(sc.deck.field_weight[0] > 0.0 && sc.deck.field_weight[0] < 1.0);
+	CHECK(cs_scene_tilt_wanted(&sc, &hi) && cs_tower_light_wanted(&sc, &hi));
+	cs_volume_free(&noise);
+	one_layer(&sc, &noise, &wx, 32, "2021-07-20T10:00:00Z", CS_CUMULUS, 0.75, 1200.0, 2000.0);
+	CHECK(sc.deck.field_weight[0] == 1.0);
+	CHECK(!cs_scene_tilt_wanted(&sc, &hi) && !cs_tower_light_wanted(&sc, &hi));
+	cs_volume_free(&noise);
+}
+
 static const struct t_case t_cases[] = {
 	CASE(diffusion_matches_the_slab_closed_form),
 	CASE(diffusion_slab_in_clear_air_matches_the_closed_form),
@@ -485,6 +507,7 @@ static const struct t_case t_cases[] = {
 	CASE(side_view_is_nearer_the_path_tracer_with_the_field),
 	CASE(heaps_with_the_sun_behind_the_eye_take_the_towers_light),
 	CASE(half_covered_heaps_take_a_share_of_the_towers_light),
+	CASE(heaps_lit_by_their_fields_alone_take_no_towers_work),
 };
 
 int main(void)
