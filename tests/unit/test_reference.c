@@ -9,6 +9,7 @@
 #include "render/scene.h"
 #include "core/time.h"
 #include "noise/volume.h"
+#include "one_layer.h"
 #include "test.h"
 
 #include <stdlib.h>
@@ -340,20 +341,6 @@ static const struct cs_volume *noise32(void)
 	return &shared_noise;
 }
 
-/* One cloud layer over the default site at time_utc, no rain. */
-static void one_layer(struct cs_wx *wx, const char *time_utc, enum cs_genus g, double cover,
-		      double base_m, double top_m, double visibility_m)
-{
-	cs_wx_default(wx);
-	CHECK(cs_time_parse(time_utc, &wx->time_utc) == CS_OK);
-	wx->nlayers = 1;
-	wx->layers[0].genus = g;
-	wx->layers[0].coverage = cover;
-	wx->layers[0].base_m = base_m, wx->layers[0].top_m = top_m;
-	wx->visibility_m = visibility_m;
-	wx->precipitation_mm_h = 0.0;
-}
-
 /* Multiple scattering and sky light under a deck: a stratus of optical
  * depth 30 seen from below at noon, the march at "high", a small view up
  * into it (30 to 70 deg up): within 5 % (measured -1.8 % against 1024
@@ -366,7 +353,7 @@ static void one_layer(struct cs_wx *wx, const char *time_utc, enum cs_genus g, d
 static void overcast_from_below_matches_the_reference(void)
 {
 	struct cs_wx wx;
-	one_layer(&wx, "2021-06-14T11:00:00Z", CS_STRATUS, 1.0, 700.0, 1100.0, 20000.0);
+	one_layer_wx(&wx, "2021-06-14T11:00:00Z", CS_STRATUS, 1.0, 700.0, 1100.0, 20000.0);
 	CHECK_NEAR(march_over_reference("overcast", &wx, noise32(), 2.0, 150.0, 50.0, 40.0, 8, 6, "high",
 					1024),
 		   1.0, 0.05);
@@ -384,7 +371,7 @@ static void overcast_from_below_matches_the_reference(void)
 static void silver_lining_matches_the_reference(void)
 {
 	struct cs_wx wx;
-	one_layer(&wx, "2021-06-14T18:20:00Z", CS_CUMULUS, 0.4, 1500.0, 2800.0, 40000.0);
+	one_layer_wx(&wx, "2021-06-14T18:20:00Z", CS_CUMULUS, 0.4, 1500.0, 2800.0, 40000.0);
 	CHECK_NEAR(march_over_reference("silver lining", &wx, noise32(), 2.0, 295.0, 6.0, 60.0, 16, 9,
 					"medium", 64),
 		   1.0, 0.15);
@@ -403,7 +390,7 @@ static void silver_lining_matches_the_reference(void)
 static void cirrus_at_dusk_matches_the_reference(void)
 {
 	struct cs_wx wx;
-	one_layer(&wx, "2021-06-14T19:20:00Z", CS_CIRRUS, 0.4, 8500.0, 9500.0, 40000.0);
+	one_layer_wx(&wx, "2021-06-14T19:20:00Z", CS_CIRRUS, 0.4, 8500.0, 9500.0, 40000.0);
 	CHECK_NEAR(march_over_reference("cirrus at dusk", &wx, noise32(), 2.0, 300.0, 15.0, 70.0, 16, 9,
 					"medium", 64),
 		   1.0, 0.10);
@@ -422,7 +409,7 @@ static double veil_low_at_dusk(const char *what, enum cs_genus g, double cover, 
 			       double top_m)
 {
 	struct cs_wx wx;
-	one_layer(&wx, "2021-06-14T19:20:00Z", g, cover, base_m, top_m, 40000.0);
+	one_layer_wx(&wx, "2021-06-14T19:20:00Z", g, cover, base_m, top_m, 40000.0);
 	return march_over_reference(what, &wx, noise32(), 2.0, 300.0, 8.0, 70.0, 16, 3, "high", 1024);
 }
 
@@ -458,11 +445,11 @@ static void cirrocumulus_low_over_the_horizon_matches_the_reference(void)
 static void cloud_bases_toward_the_horizon_match_the_reference(void)
 {
 	struct cs_wx wx;
-	one_layer(&wx, "2021-06-14T11:00:00Z", CS_STRATUS, 1.0, 700.0, 1100.0, 20000.0);
+	one_layer_wx(&wx, "2021-06-14T11:00:00Z", CS_STRATUS, 1.0, 700.0, 1100.0, 20000.0);
 	CHECK_NEAR(march_over_reference("stratus toward the horizon", &wx, noise32(), 2.0, 150.0, 12.0,
 					24.0, 16, 9, "high", 256),
 		   1.0, 0.10);
-	one_layer(&wx, "2021-06-14T11:00:00Z", CS_CUMULUS, 0.3, 1500.0, 2800.0, 40000.0);
+	one_layer_wx(&wx, "2021-06-14T11:00:00Z", CS_CUMULUS, 0.3, 1500.0, 2800.0, 40000.0);
 	CHECK_NEAR(march_over_reference("cumulus toward the horizon", &wx, noise32(), 2.0, 150.0, 12.0,
 					24.0, 16, 9, "high", 64),
 		   1.0, 0.15);
@@ -483,7 +470,7 @@ static void cloud_bases_toward_the_horizon_match_the_reference(void)
 static void inside_a_deck_the_cloud_below_lights_it(void)
 {
 	struct cs_wx wx;
-	one_layer(&wx, "2021-06-14T11:00:00Z", CS_STRATOCUMULUS, 0.9, 1000.0, 1600.0, 40000.0);
+	one_layer_wx(&wx, "2021-06-14T11:00:00Z", CS_STRATOCUMULUS, 0.9, 1000.0, 1600.0, 40000.0);
 	CHECK_NEAR(march_over_reference("inside stratocumulus, 10 deg down", &wx, noise32(),
 					1300.0 - wx.site.alt_m, 150.0, -10.0, 40.0, 16, 9, "high",
 					256),
@@ -508,15 +495,15 @@ static void inside_a_deck_the_cloud_below_lights_it(void)
 static void middle_cover_matches_the_reference(void)
 {
 	struct cs_wx wx;
-	one_layer(&wx, "2021-06-14T15:00:00Z", CS_STRATOCUMULUS, 0.75, 1200.0, 1900.0, 20000.0);
+	one_layer_wx(&wx, "2021-06-14T15:00:00Z", CS_STRATOCUMULUS, 0.75, 1200.0, 1900.0, 20000.0);
 	CHECK_NEAR(march_over_reference("inside broken stratocumulus", &wx, noise32(),
 					1550.0 - wx.site.alt_m, 200.0, -5.0, 70.0, 16, 9, "high", 256),
 		   1.0, 0.10);
-	one_layer(&wx, "2021-06-14T12:00:00Z", CS_STRATOCUMULUS, 0.7, 1000.0, 1700.0, 20000.0);
+	one_layer_wx(&wx, "2021-06-14T12:00:00Z", CS_STRATOCUMULUS, 0.7, 1000.0, 1700.0, 20000.0);
 	CHECK_NEAR(march_over_reference("stratocumulus tops from above", &wx, noise32(),
 					2500.0 - wx.site.alt_m, 90.0, -15.0, 70.0, 16, 9, "high", 256),
 		   1.0, 0.10);
-	one_layer(&wx, "2021-06-14T09:00:00Z", CS_ALTOCUMULUS, 0.8, 3500.0, 4300.0, 30000.0);
+	one_layer_wx(&wx, "2021-06-14T09:00:00Z", CS_ALTOCUMULUS, 0.8, 3500.0, 4300.0, 30000.0);
 	CHECK_NEAR(march_over_reference("altocumulus from below", &wx, noise32(),
 					600.0 - wx.site.alt_m, 120.0, 25.0, 70.0, 16, 9, "high", 256),
 		   1.0, 0.10);
@@ -549,15 +536,15 @@ static void middle_cover_matches_the_reference(void)
 static void cumulonimbus_matches_the_reference(void)
 {
 	struct cs_wx wx;
-	one_layer(&wx, "2021-06-14T18:00:00Z", CS_CUMULONIMBUS, 0.12, 1200.0, 11000.0, 40000.0);
+	one_layer_wx(&wx, "2021-06-14T18:00:00Z", CS_CUMULONIMBUS, 0.12, 1200.0, 11000.0, 40000.0);
 	CHECK_NEAR(march_over_reference("cumulonimbus walls under a low sun", &wx, noise32(), 0.0,
 					100.0, 10.0, 60.0, 8, 5, "high", 256),
 		   1.0, 0.10);
-	one_layer(&wx, "2021-06-14T15:00:00Z", CS_CUMULONIMBUS, 0.12, 1200.0, 11000.0, 40000.0);
+	one_layer_wx(&wx, "2021-06-14T15:00:00Z", CS_CUMULONIMBUS, 0.12, 1200.0, 11000.0, 40000.0);
 	CHECK_NEAR(march_over_references("cumulonimbus anvil from below", &wx, noise32(), 0.0,
 					 150.0, 10.0, 60.0, 8, 5, "high", 128, 4),
 		   1.0, 0.20);
-	one_layer(&wx, "2021-06-14T18:00:00Z", CS_CUMULONIMBUS, 0.35, 1200.0, 11000.0, 40000.0);
+	one_layer_wx(&wx, "2021-06-14T18:00:00Z", CS_CUMULONIMBUS, 0.35, 1200.0, 11000.0, 40000.0);
 	CHECK_NEAR(march_over_references("cumulonimbus of 35 % cover under a low sun", &wx,
 					 noise32(), 0.0, 100.0, 10.0, 60.0, 8, 5, "high", 128, 4),
 		   1.0, 0.15);
@@ -583,7 +570,7 @@ static void cumulonimbus_matches_the_reference(void)
 static void cumulonimbus_walls_in_the_shade_match_the_reference(void)
 {
 	struct cs_wx wx;
-	one_layer(&wx, "2021-06-14T15:00:00Z", CS_CUMULONIMBUS, 0.12, 1200.0, 11000.0, 40000.0);
+	one_layer_wx(&wx, "2021-06-14T15:00:00Z", CS_CUMULONIMBUS, 0.12, 1200.0, 11000.0, 40000.0);
 	CHECK_NEAR(march_over_references("cumulonimbus walls in the shade", &wx, noise32(), 0.0,
 					 50.0, 10.0, 60.0, 8, 5, "high", 256, 4),
 		   1.0, 0.11);

@@ -9,6 +9,7 @@
 #include "render/reference.h"
 #include "render/render.h"
 #include "render/scene.h"
+#include "one_layer.h"
 #include "test.h"
 #include "weather/wx.h"
 
@@ -334,17 +335,11 @@ static void exchange_is_the_same_on_any_number_of_threads(void)
  * site (wx) at when (UTC), on noise baked at n^3, without haze (the path
  * tracer has none). */
 static void one_layer(struct cs_scene *sc, struct cs_volume *noise, struct cs_wx *wx, int n,
-		      const char *when, int genus, double cover, double base_m, double top_m)
+		      const char *when, enum cs_genus genus, double cover, double base_m,
+		      double top_m)
 {
 	CHECK(cs_volume_new(noise, n, n) == CS_OK && cs_volume_bake(noise, 0, NULL, NULL) == CS_OK);
-	cs_wx_default(wx);
-	CHECK(cs_time_parse(when, &wx->time_utc) == CS_OK);
-	wx->nlayers = 1;
-	wx->layers[0].genus = genus;
-	wx->layers[0].coverage = cover;
-	wx->layers[0].base_m = base_m, wx->layers[0].top_m = top_m;
-	wx->precipitation_mm_h = 0.0;
-	wx->visibility_m = 40000.0;
+	one_layer_wx(wx, when, genus, cover, base_m, top_m, 40000.0);
 	CHECK(cs_scene_build(sc, wx, wx->time_utc, noise) == CS_OK);
 	sc->haze_beta0_per_m = 0.0;
 }
