@@ -10,7 +10,9 @@
  * (f - mu)^2 exactly: the squared error without the references' own
  * variance.  relMSE = sum over pixels and channels of (f - A)(f - B) over
  * the sum of A B (the mean square of the true image).  With IMGERR_KINDS
- * set, the bias per kind of pixel (sky, ground, cloud); with
+ * set, the bias per kind of pixel of the test image (sky; ground, with
+ * less than 0.01 of cloud in front of it; cloud), or "none" where it has
+ * no pixel of that kind; with
  * IMGERR_BLOCKS=CXxCY, the test's mean luminance over the references' in
  * CX x CY blocks, a line per row of blocks. */
 #include "core/color.h"
@@ -77,9 +79,13 @@ int main(int argc, char **argv)
 	}
 	printf("%.4g %.4g %.4f", se / ss, are / n, yr > 0 ? yf / yr - 1.0 : 0.0);
 	if (argc > 4 || getenv("IMGERR_KINDS"))
-		for (int k = 0; k < 3; k++)
-			printf(" %s %.4f", k == 0 ? "sky" : k == 1 ? "ground" : "cloud",
-			       cr[k] > 0 ? cf[k] / cr[k] - 1.0 : 0.0);
+		for (int k = 0; k < 3; k++) {
+			const char *name = k == 0 ? "sky" : k == 1 ? "ground" : "cloud";
+			if (cr[k] > 0)
+				printf(" %s %.4f", name, cf[k] / cr[k] - 1.0);
+			else
+				printf(" %s none", name);
+		}
 	printf("\n");
 	/* IMGERR_BLOCKS=CXxCY: the test's mean luminance over the
 	 * references' in CX x CY blocks, a row of blocks a line, top first */

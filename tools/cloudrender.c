@@ -221,6 +221,11 @@ static void usage(void)
 	       "                         tilted columns and diffused light, with\n"
 	       "                         --tower-cell's lattice; high and reference);\n"
 	       "                         off: as the columns of a slab (low, medium)\n"
+	       "      --ground-sky M     the diffuse light on the ground under clouds:\n"
+	       "                         dome (high, reference): the mean of the sky the\n"
+	       "                         frame draws, traced from 32 x 32 points over\n"
+	       "                         24 km, 4 rays each; columns (low, medium): the\n"
+	       "                         area mean of the clouds' slab columns\n"
 	       "      --haze-steps N     samples of the clouds' shadows in the haze over\n"
 	       "                         the first 20 km (crepuscular rays), 0..10000;\n"
 	       "                         0: their area mean only\n"
@@ -421,9 +426,10 @@ static void describe(void *user, const struct cs_cloudrender_result *r)
 					      cs_effect_name(1u << b));
 	cli_err("effects: %s", fx);
 	cli_err("quality %s: %d steps, %d light steps, %d multiple-scattering octaves, "
-		"%d haze steps%s%s%s", o->quality, r->settings.steps, r->settings.light_steps,
+		"%d haze steps%s%s%s%s", o->quality, r->settings.steps, r->settings.light_steps,
 		r->settings.ms_octaves, r->settings.haze_steps,
 		r->settings.heap_towers ? ", heaps lit as towers" : "",
+		r->settings.ground_sky == CS_GROUND_SKY_DOME ? ", the ground lit by the dome" : "",
 		r->settings.ambient ? "" : ", no ambient", r->settings.jitter > 0 ? "" : ", no jitter");
 }
 
@@ -555,7 +561,7 @@ enum {
 	OPT_LIGHT_STEPS, OPT_MS, OPT_NO_AMBIENT, OPT_NO_JITTER, OPT_SEED,
 	OPT_EXPOSURE, OPT_STATS, OPT_VERSION, OPT_TERRAIN, OPT_TERRAIN_COLOR,
 	OPT_PROJECTION, OPT_HAZE_STEPS, OPT_TERRAIN_CPT, OPT_INTEGRATOR, OPT_SPP, OPT_MAX_BOUNCES,
-	OPT_NO_HAZE, OPT_MARCH, OPT_LIGHT_MARCH, OPT_SOURCE_EVERY, OPT_TOWER_CELL, OPT_HEAP_TOWERS, OPT_MAX_STEPS, OPT_MIN_T, OPT_OUTPUT_FORMAT,
+	OPT_NO_HAZE, OPT_MARCH, OPT_LIGHT_MARCH, OPT_SOURCE_EVERY, OPT_TOWER_CELL, OPT_HEAP_TOWERS, OPT_GROUND_SKY, OPT_MAX_STEPS, OPT_MIN_T, OPT_OUTPUT_FORMAT,
 	OPT_PNG16, OPT_FLOAT, OPT_JPEG_QUALITY, OPT_NO_CLOBBER,
 	OPT_DEVICE, OPT_DEVICE_BENCH, /* the GPU renderer */
 	OPT_CLOUD_DEPTH,
@@ -618,6 +624,7 @@ int main(int argc, char **argv)
 		{"source-every", required_argument, NULL, OPT_SOURCE_EVERY},
 		{"tower-cell", required_argument, NULL, OPT_TOWER_CELL},
 		{"heap-towers", required_argument, NULL, OPT_HEAP_TOWERS},
+		{"ground-sky", required_argument, NULL, OPT_GROUND_SKY},
 		{"max-steps", required_argument, NULL, OPT_MAX_STEPS},
 		{"min-transmittance", required_argument, NULL, OPT_MIN_T},
 		{"max-bounces", required_argument, NULL, OPT_MAX_BOUNCES},
@@ -806,6 +813,11 @@ int main(int argc, char **argv)
 		case OPT_HEAP_TOWERS: {
 			static const char *const names[] = {"off", "on", NULL};
 			o.heap_towers = cli_choice("--heap-towers", optarg, names);
+			break;
+		}
+		case OPT_GROUND_SKY: {
+			static const char *const names[] = {"columns", "dome", NULL};
+			o.ground_sky = cli_choice("--ground-sky", optarg, names);
 			break;
 		}
 		case OPT_SOURCE_EVERY:

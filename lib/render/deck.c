@@ -232,6 +232,7 @@ void cs_scene_deck_light(struct cs_scene *sc, int nthreads)
 	d->direct_below = beam_all * inv;
 	for (int c = 0; c < 3; c++) {
 		d->sky_below[c] = dif_all[c] * inv / CS_PI;
+		d->sky_ground[c] = d->sky_below[c]; /* the frame's dome's with CS_GROUND_SKY_DOME */
 		d->ground_below[c] = 0.2 * (e_sun_h[c] * d->direct_below + dif_all[c] * inv) / CS_PI;
 	}
 	for (int i = 0; i < n; i++) {

@@ -126,14 +126,16 @@ int cs_render_image(const struct cs_scene *sc, const struct cs_camera *cam,
 	 * scene, for this frame */
 	struct cs_scene *cached = NULL;
 	uint64_t cache_evaluations = 0;
-	if (cs_frame_volumes_needed(sc, s)) {
+	struct cs_render_settings fs;
+	cs_frame_settings(sc, cam, s, &fs);
+	if (cs_frame_volumes_needed(sc, &fs)) {
 		cached = malloc(sizeof *cached);
 		if (cached == NULL) {
 			free(job);
 			return cs_error(CS_ENOMEM, "out of memory");
 		}
 		*cached = *sc;
-		rc = cs_light_cache_build(cached, s, (double)cam->width * cam->height, nthreads,
+		rc = cs_light_cache_build(cached, &fs, (double)cam->width * cam->height, nthreads,
 					  &cache_evaluations);
 		if (rc != CS_OK) {
 			free(cached);

@@ -122,14 +122,14 @@ CS_HD CS_COLD void cs_water_light(const struct cs_scene *sc, const struct cs_ren
 	if (CS_FX_IS(sc, CS_FX_SKY)) {
 		if (sc->deck.on)
 			for (int k = 0; k < 3; k++)
-				sky[k] = sc->deck.sky_below[k];
+				sky[k] = sc->deck.sky_ground[k];
 		else
 			cs_scene_sky(sc, r, sky);
 	}
 	double F = cs_water_fresnel(cv);
 	/* the water body: light that entered, scattered and came back up */
 	const double body[3] = {CS_WATER_BODY_R, CS_WATER_BODY_G, CS_WATER_BODY_B};
-	const double *amb = sc->deck.on ? sc->deck.sky_below : sc->ambient_up;
+	const double *amb = sc->deck.on ? sc->deck.sky_ground : sc->ambient_up;
 	double cosi = v3_dot(n, sc->sun_dir), sunT = 0.0;
 	if (CS_FX_IS(sc, CS_FX_KEY) && cosi > 0.0) {
 		double self = on_terrain ? terrain_shadow(sc->terrain, p, sc->sun_dir) : 1.0;
@@ -212,7 +212,7 @@ CS_HD CS_COLD void cs_ground_light(const struct cs_scene *sc,
 	/* the sky light, or under clouds what they let through; in fog the
 	 * light the fog scatters down there (its solution: the sky's and the
 	 * sun's light through the fog above and the ground's own returned) */
-	const double *sky = sc->deck.on ? sc->deck.sky_below : sc->ambient_up;
+	const double *sky = sc->deck.on ? sc->deck.sky_ground : sc->ambient_up;
 	double diffuse[3];
 	if (fog && sc->fog.on) {
 		cs_fog_down(sc, alt, diffuse);

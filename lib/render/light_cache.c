@@ -5,6 +5,8 @@
  * (on a GPU too: cuda/render_cuda.cu copies the volumes with the
  * scene). */
 #include "render/render.h"
+#include "render/camera.h"
+#include "render/march.h"
 
 #include "core/err.h"
 #include "core/pool.h"
@@ -120,6 +122,18 @@ static int build_volume(const struct cs_scene *sc, const struct cs_cloud_layer *
 	return CS_OK;
 }
 
+/* Whether the ground's diffuse light is the frame's dome's: asked for,
+ * under clouds (a deck), with the sky's light on the ground, unless the
+ * ground is flat and all in fog, whose own light field lights it
+ * (cs_ground_light). */
+static int ground_dome(const struct cs_scene *sc, const struct cs_render_settings *s)
+{
+	int fogged = sc->fog_beta_per_m > 0.0 && sc->fog.on && sc->terrain == NULL &&
+		     sc->ground_alt_m < sc->fog_top_m;
+	return s->ground_sky == CS_GROUND_SKY_DOME && sc->deck.on && (sc->effects & CS_FX_SKY) &&
+	       (sc->effects & CS_FX_GROUND) && !fogged;
+}
+
 int cs_light_cache_build(struct cs_scene *sc, const struct cs_render_settings *s, double pixels,
 			 int nthreads, uint64_t *evaluations)
 {
@@ -165,6 +179,10 @@ int cs_light_cache_build(struct cs_scene *sc, const struct cs_render_settings *s
 		rc = cs_tower_light_build(sc, s, nthreads, &tower);
 		*evaluations += tower;
 	}
+	/* last, the ground's diffuse light from the sky as the frame draws it
+	 * (with the caches and the towers' light just built) */
+	if (rc == CS_OK && ground_dome(sc, s))
+		rc = cs_ground_sky_dome(sc, s, nthreads, sc->deck.sky_ground);
 	if (rc != CS_OK) {
 		cs_light_cache_free(sc);
 		*evaluations = 0;
@@ -172,9 +190,57 @@ int cs_light_cache_build(struct cs_scene *sc, const struct cs_render_settings *s
 	return rc;
 }
 
+/* Whether the camera's ray through pixel (i, j) meets the ground (or
+ * the terrain), as the renderer finds it. */
+static int pixel_sees_ground(const struct cs_scene *sc, const struct cs_camera *cam, int i, int j)
+{
+	cs_v3 d;
+	int on_terrain;
+	struct cs_render_stats st = {0};
+	return cs_camera_ray(cam, i, j, &d) && isfinite(cs_find_ground(sc, cam->pos, d, &on_terrain, &st));
+}
+
+int cs_camera_sees_ground(const struct cs_scene *sc, const struct cs_camera *cam)
+{
+	int w = cam->width, h = cam->height;
+	/* the image's edges, the bottom row first (nearly always the one that
+	 * does): the ground's directions from a point are a cap around the
+	 * nadir, which meets the frame at its edge unless the frame holds
+	 * the nadir itself (below); a terrain's peak in view rises from
+	 * ground seen below it, down to the edge */
+	for (int i = 0; i < w; i++)
+		if (pixel_sees_ground(sc, cam, i, h - 1) || pixel_sees_ground(sc, cam, i, 0))
+			return 1;
+	for (int j = 0; j < h; j++)
+		if (pixel_sees_ground(sc, cam, 0, j) || pixel_sees_ground(sc, cam, w - 1, j))
+			return 1;
+	/* a fisheye's edge is its circle's rim: the pixels of its outer two
+	 * rings */
+	if (cam->projection == CS_PROJ_FISHEYE) {
+		double r = (w < h ? w : h) * 0.5;
+		for (int j = 0; j < h; j++)
+			for (int i = 0; i < w; i++) {
+				double x = i + 0.5 - w * 0.5, y = h * 0.5 - j - 0.5;
+				double rho = sqrt(x * x + y * y);
+				if (rho > r - 2.0 && rho <= r && pixel_sees_ground(sc, cam, i, j))
+					return 1;
+			}
+	}
+	/* and the centre: a frame that looks at the nadir */
+	return pixel_sees_ground(sc, cam, w / 2, h / 2);
+}
+
+void cs_frame_settings(const struct cs_scene *sc, const struct cs_camera *cam,
+		       const struct cs_render_settings *s, struct cs_render_settings *out)
+{
+	*out = *s;
+	if (s->ground_sky == CS_GROUND_SKY_DOME && sc->deck.on && !cs_camera_sees_ground(sc, cam))
+		out->ground_sky = CS_GROUND_SKY_COLUMNS;
+}
+
 int cs_frame_volumes_needed(const struct cs_scene *sc, const struct cs_render_settings *s)
 {
-	return CS_LIGHT_CACHED(s->light_march) || cs_tower_light_wanted(sc, s) ||
+	return ground_dome(sc, s) || CS_LIGHT_CACHED(s->light_march) || cs_tower_light_wanted(sc, s) ||
 	       cs_scene_tilt_wanted(sc, s);
 }
 

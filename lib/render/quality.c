@@ -70,11 +70,11 @@ static const struct {
 	const char *name;
 	struct cs_render_settings s;
 } presets[] = {
-	{"low", {24, 96, 8, 2, 1, 1.0, 0, 0.02, 8, CS_MARCH_STANDARD, CS_LIGHT_AUTO, 2, 400.0, 0}},
-	{"medium", {24, 192, 12, 3, 1, 1.0, 0, 0.01, 16, CS_MARCH_STANDARD, CS_LIGHT_AUTO, 2, 400.0, 0}},
-	{"high", {48, 384, 16, 3, 1, 1.0, 0, 0.005, 32, CS_MARCH_STANDARD, CS_LIGHT_AUTO, 2, 400.0, 1}},
+	{"low", {24, 96, 8, 2, 1, 1.0, 0, 0.02, 8, CS_MARCH_STANDARD, CS_LIGHT_AUTO, 2, 400.0, 0, CS_GROUND_SKY_COLUMNS}},
+	{"medium", {24, 192, 12, 3, 1, 1.0, 0, 0.01, 16, CS_MARCH_STANDARD, CS_LIGHT_AUTO, 2, 400.0, 0, CS_GROUND_SKY_COLUMNS}},
+	{"high", {48, 384, 16, 3, 1, 1.0, 0, 0.005, 32, CS_MARCH_STANDARD, CS_LIGHT_AUTO, 2, 400.0, 1, CS_GROUND_SKY_DOME}},
 	{"reference",
-	 {384, 1536, 24, 4, 1, 1.0, 0, 0.0005, 128, CS_MARCH_STANDARD, CS_LIGHT_GEOMETRIC, 1, 400.0, 1}},
+	 {384, 1536, 24, 4, 1, 1.0, 0, 0.0005, 128, CS_MARCH_STANDARD, CS_LIGHT_GEOMETRIC, 1, 400.0, 1, CS_GROUND_SKY_DOME}},
 };
 
 int cs_render_quality(const char *name, struct cs_render_settings *s)
@@ -104,6 +104,8 @@ int cs_render_settings_check(const struct cs_render_settings *s)
 		return cs_error(CS_EINVAL, "jitter must be 0..1");
 	if (s->heap_towers != 0 && s->heap_towers != 1)
 		return cs_error(CS_EINVAL, "heap towers must be 0 or 1, not %d", s->heap_towers);
+	if (s->ground_sky != CS_GROUND_SKY_COLUMNS && s->ground_sky != CS_GROUND_SKY_DOME)
+		return cs_error(CS_EINVAL, "unknown ground sky %d", s->ground_sky);
 	if (s->march < CS_MARCH_STANDARD || s->march > CS_MARCH_ADAPTIVE)
 		return cs_error(CS_EINVAL, "unknown march %d", s->march);
 	if (s->light_march < CS_LIGHT_UNIFORM || s->light_march > CS_LIGHT_AUTO)

@@ -14,6 +14,7 @@
 
 #include "core/color.h"
 #include "core/err.h"
+#include "core/pool.h"
 #include "terrain/heightfield.h"
 
 #include <math.h>
@@ -86,13 +87,32 @@ double cs_clear_sky_dome_scale(cs_v3 sun_dir, double sky_turbidity, double beam_
 	return dome_klux > 0.0 && want_klux > 0.0 ? want_klux / dome_klux : 1.0;
 }
 
-void cs_irradiance_at(const struct cs_scene *sc, const struct cs_render_settings *s,
-		      cs_v3 p, struct cs_irradiance *out, struct cs_render_stats *st)
+/* The direction over p's sky at (u, v) in [0, 1)^2, cosine-weighted (sin^2
+ * of the zenith angle u, the azimuth 2 pi v from east), and 1 deg off the
+ * sun where it falls within 0.5 deg of it: out of its disc, whose light is
+ * the beam's (DNI). */
+static cs_v3 dome_dir(const struct cs_scene *sc, cs_v3 p, double u, double v)
 {
 	cs_v3 up = v3_norm(v3(p.x, p.y, p.z + sc->earth_radius_m));
 	cs_v3 e = v3_cross(v3(0.0, 1.0, 0.0), up);
 	e = v3_len(e) > 1e-9 ? v3_norm(e) : v3(1.0, 0.0, 0.0);
 	cs_v3 n = v3_cross(up, e);
+	double sin_t = sqrt(u), cos_t = sqrt(1.0 - sin_t * sin_t), phi = v * 2.0 * CS_PI;
+	cs_v3 d = v3_add(v3_scale(up, cos_t),
+			 v3_add(v3_scale(e, sin_t * cos(phi)), v3_scale(n, sin_t * sin(phi))));
+	if (v3_dot(d, sc->sun_dir) > cos(0.5 * CS_PI / 180.0)) {
+		cs_v3 a = v3_sub(d, v3_scale(sc->sun_dir, v3_dot(d, sc->sun_dir)));
+		a = v3_len(a) > 1e-9 ? v3_norm(a) : e;
+		double r1 = CS_PI / 180.0;
+		d = v3_norm(v3_add(v3_scale(sc->sun_dir, cos(r1)), v3_scale(a, sin(r1))));
+	}
+	return d;
+}
+
+void cs_irradiance_at(const struct cs_scene *sc, const struct cs_render_settings *s,
+		      cs_v3 p, struct cs_irradiance *out, struct cs_render_stats *st)
+{
+	cs_v3 up = v3_norm(v3(p.x, p.y, p.z + sc->earth_radius_m));
 	double mu0 = v3_dot(sc->sun_dir, up);
 	double dni_klux = 0.0;
 	/* the beam through the clouds and through the fog above p */
@@ -104,20 +124,9 @@ void cs_irradiance_at(const struct cs_scene *sc, const struct cs_render_settings
 	double sum = 0.0;
 	for (int i = 0; i < N_THETA; i++)
 		for (int j = 0; j < N_PHI; j++) {
-			double sin_t = sqrt((i + 0.5) / N_THETA), phi = (j + 0.5) * 2.0 * CS_PI / N_PHI;
-			double cos_t = sqrt(1.0 - sin_t * sin_t);
-			cs_v3 d = v3_add(v3_scale(up, cos_t),
-					 v3_add(v3_scale(e, sin_t * cos(phi)), v3_scale(n, sin_t * sin(phi))));
-			if (v3_dot(d, sc->sun_dir) > cos(0.5 * CS_PI / 180.0)) {
-				/* within 0.5 deg of the sun: 1 deg away from it,
-				 * out of its disc (the beam is DNI's) */
-				cs_v3 a = v3_sub(d, v3_scale(sc->sun_dir, v3_dot(d, sc->sun_dir)));
-				a = v3_len(a) > 1e-9 ? v3_norm(a) : e;
-				double r1 = CS_PI / 180.0;
-				d = v3_norm(v3_add(v3_scale(sc->sun_dir, cos(r1)), v3_scale(a, sin(r1))));
-			}
 			struct cs_ray_result r;
-			cs_render_ray(sc, s, p, d, 0.5, st, &r);
+			cs_render_ray(sc, s, p, dome_dir(sc, p, (i + 0.5) / N_THETA, (j + 0.5) / N_PHI), 0.5,
+				      st, &r);
 			sum += cs_luminance(r.rgb[0], r.rgb[1], r.rgb[2]);
 		}
 	cs_irradiance_from_klux(sc, p, dni_klux, CS_PI * sum / (N_THETA * N_PHI), out);
@@ -166,4 +175,59 @@ void cs_irradiance_area(const struct cs_scene *sc, const struct cs_render_settin
 	out->ghi_w_m2 = sum.ghi_w_m2 / (n * n);
 	out->dni_w_m2 = sum.dni_w_m2 / (n * n);
 	out->dhi_w_m2 = sum.dhi_w_m2 / (n * n);
+}
+
+struct dome_job {
+	const struct cs_scene *sc;
+	const struct cs_render_settings *s;
+	double (*row)[3]; /* each row's sum of radiance */
+};
+
+/* Row j of the dome's points: each point's rays in 2 x 2 strata, their
+ * offsets in the strata turned from point to point (the R2 sequence,
+ * Roberts 2018) so that the grid's rays fill the hemisphere between the
+ * strata's corners. */
+static void dome_row(void *user, int j, int worker)
+{
+	(void)worker;
+	const struct dome_job *job = user;
+	const int n = CS_GROUND_DOME_POINTS, m = 2;
+	struct cs_render_stats st = {0};
+	double sum[3] = {0.0, 0.0, 0.0};
+	for (int i = 0; i < n; i++) {
+		cs_v3 p = cs_irradiance_area_point(job->sc, CS_GROUND_DOME_AREA_M, n, i, j);
+		double k = (double)(j * n + i);
+		double ou = fmod(0.5 + k * 0.7548776662466927, 1.0);
+		double ov = fmod(0.5 + k * 0.5698402909980532, 1.0);
+		for (int a = 0; a < m; a++)
+			for (int b = 0; b < m; b++) {
+				struct cs_ray_result r;
+				cs_render_ray(job->sc, job->s, p,
+					      dome_dir(job->sc, p, (a + ou) / m, (b + ov) / m), 0.5, &st,
+					      &r);
+				for (int c = 0; c < 3; c++)
+					sum[c] += r.rgb[c];
+			}
+	}
+	for (int c = 0; c < 3; c++)
+		job->row[j][c] = sum[c];
+}
+
+int cs_ground_sky_dome(const struct cs_scene *sc, const struct cs_render_settings *s, int nthreads,
+		       double rgb[3])
+{
+	enum { N = CS_GROUND_DOME_POINTS };
+	_Static_assert(CS_GROUND_DOME_RAYS == 4, "dome_row's 2 x 2 strata");
+	double row[N][3];
+	struct dome_job job = {sc, s, row};
+	int rc = cs_pool_run(N, nthreads, dome_row, &job, NULL, NULL, NULL);
+	if (rc != CS_OK)
+		return rc;
+	double sum[3] = {0.0, 0.0, 0.0};
+	for (int j = 0; j < N; j++)
+		for (int c = 0; c < 3; c++)
+			sum[c] += row[j][c];
+	for (int c = 0; c < 3; c++)
+		rgb[c] = sum[c] / ((double)N * N * CS_GROUND_DOME_RAYS);
+	return CS_OK;
 }

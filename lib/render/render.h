@@ -55,6 +55,18 @@ struct cs_render_settings {
 	int heap_towers;       /* 1: the heaps of cumulus take the towers'
 				  light too (cs_tower_share); 0: the
 				  march's model of them alone */
+	int ground_sky;        /* CS_GROUND_SKY_*: the diffuse light on the
+				  ground (and water) under clouds */
+};
+
+/* The diffuse light on the ground under clouds (cs_render_settings.ground_sky,
+ * deck.sky_ground). */
+enum {
+	CS_GROUND_SKY_COLUMNS, /* the deck's: the area mean of its slab columns
+				  (deck.sky_below) */
+	CS_GROUND_SKY_DOME     /* the frame's: the area mean of the sky the
+				  renderer draws over the ground, traced with
+				  its own rays (cs_ground_sky_dome) */
 };
 
 /* The view march (cs_render_settings.march). */
@@ -282,6 +294,10 @@ struct cs_deck {
 	double g;                    /* the phase function's mean cosine */
 	double sky_below[3];         /* radiance of the diffuse light under all
 					layers (cosine mean; irradiance / pi) */
+	double sky_ground[3];        /* the diffuse light the ground takes under
+					them (cosine mean): sky_below, or with
+					CS_GROUND_SKY_DOME the frame's dome's
+					(cs_light_cache_build) */
 	double ground_below[3];      /* radiance of ground light from below
 					(albedo 0.2, lit by what comes through) */
 	double direct_below;         /* area mean of the sun's beam transmittance
@@ -562,6 +578,20 @@ void cs_irradiance_at(const struct cs_scene *sc, const struct cs_render_settings
 void cs_irradiance_area(const struct cs_scene *sc, const struct cs_render_settings *s,
 			double size_m, int n, struct cs_irradiance *out,
 			struct cs_render_stats *st);
+/* The diffuse light on the ground under the clouds as the renderer draws
+ * the sky (CS_GROUND_SKY_DOME): the cosine-weighted mean radiance (diffuse
+ * irradiance / pi) of CS_GROUND_DOME_RAYS rays over the sky's hemisphere
+ * from each of CS_GROUND_DOME_POINTS^2 points 2 m above the ground on a
+ * square of CS_GROUND_DOME_AREA_M (cs_irradiance_area_point), the sun's
+ * disc left to the beam as cs_irradiance_at leaves it; one row of points
+ * a task on nthreads of the CPU pool, summed in order (the same for any
+ * thread count).  Its rays are not in the frame's statistics.  CS_OK or
+ * the pool's error. */
+#define CS_GROUND_DOME_POINTS 32
+#define CS_GROUND_DOME_RAYS 4 /* 2 x 2 strata of the cosine-weighted hemisphere */
+#define CS_GROUND_DOME_AREA_M 24000.0
+int cs_ground_sky_dome(const struct cs_scene *sc, const struct cs_render_settings *s, int nthreads,
+		       double rgb[3]);
 /* The point (i, j) of cs_irradiance_area's n x n grid. */
 cs_v3 cs_irradiance_area_point(const struct cs_scene *sc, double size_m, int n, int i, int j);
 /* W/m^2 at p from the beam (on a plane facing the sun) and the diffuse
@@ -638,6 +668,18 @@ int cs_light_cache_build(struct cs_scene *sc, const struct cs_render_settings *s
 int cs_light_cache_volumes(const struct cs_scene *sc);
 /* Frees sc's light caches (none: nothing). */
 void cs_light_cache_free(struct cs_scene *sc);
+
+/* Whether any of the camera's rays meets the ground or the terrain: the
+ * rays of its edges (a fisheye's rim), the bottom row first, and its
+ * centre's. */
+struct cs_camera;
+int cs_camera_sees_ground(const struct cs_scene *sc, const struct cs_camera *cam);
+/* The settings a frame of sc through cam builds its volumes with
+ * (cs_light_cache_build): s, but without the ground's dome
+ * (CS_GROUND_SKY_COLUMNS) where the camera sees no ground, whose light
+ * nothing else takes.  The frame's pixels are the same either way. */
+void cs_frame_settings(const struct cs_scene *sc, const struct cs_camera *cam,
+		       const struct cs_render_settings *s, struct cs_render_settings *out);
 
 /* Whether a frame of sc with settings s reads volumes built for it
  * (cs_light_cache_build): the light caches, or the towers' diffused light

@@ -1,7 +1,7 @@
 # cloudrender -v (what it renders, the time of each phase), the progress
 # bar's elapsed time and ETA on a terminal, and the default view.
 . "$TOP/tests/tools/lib.sh"
-plan 6
+plan 7
 CR="$BIN/cloudrender"
 WX="$BIN/wxinterp"
 FAST="--quality low --noise-size 32 --size 64x36"
@@ -68,6 +68,28 @@ for h in on off; do
 	expect_rc 0
 done
 same_pixels "$T/cb-on.exr" "$T/cb-off.exr" || bad "--heap-towers changed the pixels of a scene without cumulus"
+end
+
+# --ground-sky: the ground under the built-in cumulus takes the dome's
+# light at high, the columns' at medium or with columns asked for; -v says
+# which, and the ground's pixels change with it; under a clear sky there is
+# no deck and the same bytes either way
+begin cloudrender_ground_sky_follows_the_preset_and_the_option
+domes() { grep -c "the ground lit by the dome" "$T/err"; }
+for q in "high:1" "high --ground-sky columns:0" "medium:0" "medium --ground-sky dome:1"; do
+	opts=${q%%:*} want=${q#*:}
+	# shellcheck disable=SC2086
+	run "$CR" -v --quality $opts --noise-size 32 --size 64x36 -o "$T/g.exr"; expect_rc 0
+	[ "$(domes)" = "$want" ] || bad "--quality $opts: '$(domes)' dome lines, expected '$want'"
+	cp "$T/g.exr" "$T/g$want.exr"
+done
+same_pixels "$T/g0.exr" "$T/g1.exr" && bad "--ground-sky dome left the ground under cumulus as it was"
+printf '%s\n' '{"schema":"cloudwx/1","time_utc":"2021-06-14T11:00:00Z","site":{"name":"Bern","lat_deg":46.95,"lon_deg":7.44,"alt_m":540},"layers":[],"precipitation_mm_h":0,"wind":{"speed_m_s":4,"from_deg":250},"visibility_m":40000}' >"$T/clear.json"
+for g in dome columns; do
+	run "$CR" --wx "$T/clear.json" --quality high --ground-sky $g --noise-size 32 --size 48x27 \
+		--look 150,-5 -o "$T/clear-$g.exr"; expect_rc 0
+done
+same_pixels "$T/clear-dome.exr" "$T/clear-columns.exr" || bad "--ground-sky changed a clear sky's pixels"
 end
 
 begin cloudrender_progress_shows_elapsed_and_eta_on_a_terminal
