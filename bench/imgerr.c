@@ -62,6 +62,7 @@ int main(int argc, char **argv)
 	/* the mean luminance per kind of pixel (of the test image): sky, ground,
 	 * cloud (alpha >= 0.01) */
 	double cf[3] = {0.0, 0.0, 0.0}, cr[3] = {0.0, 0.0, 0.0};
+	size_t nk[3] = {0, 0, 0};
 	double se = 0.0, ss = 0.0, are = 0.0, yf = 0.0, yr = 0.0;
 	for (size_t i = 0; i < n; i++) {
 		for (int k = 0; k < 3; k++) {
@@ -75,14 +76,14 @@ int main(int argc, char **argv)
 		are += fabs(y - r) / (r + 1e-3 * (r > 0 ? r : 1.0) + 1e-6);
 		yf += y, yr += r;
 		int kind = z[i * 2] >= 0.01f ? 2 : z[i * 2 + 1] < 1e9f ? 1 : 0;
-		cf[kind] += y, cr[kind] += r;
+		cf[kind] += y, cr[kind] += r, nk[kind]++;
 	}
 	printf("%.4g %.4g %.4f", se / ss, are / n, yr > 0 ? yf / yr - 1.0 : 0.0);
 	if (argc > 4 || getenv("IMGERR_KINDS"))
 		for (int k = 0; k < 3; k++) {
 			const char *name = k == 0 ? "sky" : k == 1 ? "ground" : "cloud";
-			if (cr[k] > 0)
-				printf(" %s %.4f", name, cf[k] / cr[k] - 1.0);
+			if (nk[k] > 0)
+				printf(" %s %.4f", name, cr[k] > 0 ? cf[k] / cr[k] - 1.0 : 0.0);
 			else
 				printf(" %s none", name);
 		}

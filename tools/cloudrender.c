@@ -817,6 +817,8 @@ int main(int argc, char **argv)
 		}
 		case OPT_GROUND_SKY: {
 			static const char *const names[] = {"columns", "dome", NULL};
+			_Static_assert(CS_GROUND_SKY_COLUMNS == 0 && CS_GROUND_SKY_DOME == 1,
+				       "--ground-sky's names in the settings' order");
 			o.ground_sky = cli_choice("--ground-sky", optarg, names);
 			break;
 		}

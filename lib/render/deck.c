@@ -18,7 +18,6 @@ enum {
 	COLS = 16,    /* columns per side of the area */
 	COL_STEPS = 24 /* samples through a layer in one column */
 };
-#define AREA_M 24000.0 /* side of the area: a forecast grid cell or two */
 /* The transport through a deck is the droplets' (slab_table.h: asymmetry
  * 0.85, r_eff ~ 10 um in visible light); the renderer's two-lobe phase
  * shapes the single-scattering look (silver linings). */
@@ -197,8 +196,8 @@ void cs_scene_deck_light(struct cs_scene *sc, int nthreads)
 	double beam_all = 0.0, dif_all[3] = {0.0, 0.0, 0.0};
 	for (int jy = 0; jy < COLS; jy++)
 		for (int jx = 0; jx < COLS; jx++) {
-			double x = ((jx + 0.5) / COLS - 0.5) * AREA_M;
-			double y = ((jy + 0.5) / COLS - 0.5) * AREA_M;
+			double x = ((jx + 0.5) / COLS - 0.5) * CS_DECK_AREA_M;
+			double y = ((jy + 0.5) / COLS - 0.5) * CS_DECK_AREA_M;
 			double tau[CS_SCENE_MAX_LAYERS], total = 0.0, beam, dif[3];
 			for (int i = 0; i < n; i++) {
 				const struct cs_cloud_layer *l = &sc->layers[i];

@@ -123,21 +123,23 @@ static int build_volume(const struct cs_scene *sc, const struct cs_cloud_layer *
 }
 
 /* Whether the ground's diffuse light is the frame's dome's: asked for,
- * under clouds (a deck), with the sky's light on the ground, unless the
- * ground is flat and all in fog, whose own light field lights it
- * (cs_ground_light). */
+ * under clouds (a deck), with the sky's light on the ground, and no fog:
+ * its own light field lights the ground in it (cs_ground_light), solved
+ * from the columns' light, which the ground over it keeps too, lest it
+ * step in brightness at the fog's top. */
 static int ground_dome(const struct cs_scene *sc, const struct cs_render_settings *s)
 {
-	int fogged = sc->fog_beta_per_m > 0.0 && sc->fog.on && sc->terrain == NULL &&
-		     sc->ground_alt_m < sc->fog_top_m;
+	int fog = sc->fog_beta_per_m > 0.0 && sc->fog.on;
 	return s->ground_sky == CS_GROUND_SKY_DOME && sc->deck.on && (sc->effects & CS_FX_SKY) &&
-	       (sc->effects & CS_FX_GROUND) && !fogged;
+	       (sc->effects & CS_FX_GROUND) && !fog;
 }
 
 int cs_light_cache_build(struct cs_scene *sc, const struct cs_render_settings *s, double pixels,
 			 int nthreads, uint64_t *evaluations)
 {
 	*evaluations = 0;
+	for (int c = 0; c < 3; c++) /* the columns' unless the dome's (below) */
+		sc->deck.sky_ground[c] = sc->deck.sky_below[c];
 	for (int n = 0; n < CS_SCENE_MAX_LAYERS; n++) { /* a copy's: not its to free */
 		sc->light_cache[n] = (struct cs_light_cache){0};
 		sc->column_cache[n] = (struct cs_light_cache){0};

@@ -18,6 +18,7 @@
 #include "terrain/heightfield.h"
 
 #include <math.h>
+#include <stdlib.h>
 
 enum { N_THETA = 8, N_PHI = 24 };
 
@@ -195,7 +196,7 @@ static void dome_row(void *user, int j, int worker)
 	struct cs_render_stats st = {0};
 	double sum[3] = {0.0, 0.0, 0.0};
 	for (int i = 0; i < n; i++) {
-		cs_v3 p = cs_irradiance_area_point(job->sc, CS_GROUND_DOME_AREA_M, n, i, j);
+		cs_v3 p = cs_irradiance_area_point(job->sc, CS_DECK_AREA_M, n, i, j);
 		double k = (double)(j * n + i);
 		double ou = fmod(0.5 + k * 0.7548776662466927, 1.0);
 		double ov = fmod(0.5 + k * 0.5698402909980532, 1.0);
@@ -219,8 +220,17 @@ int cs_ground_sky_dome(const struct cs_scene *sc, const struct cs_render_setting
 	enum { N = CS_GROUND_DOME_POINTS };
 	_Static_assert(CS_GROUND_DOME_RAYS == 4, "dome_row's 2 x 2 strata");
 	double row[N][3];
-	struct dome_job job = {sc, s, row};
+	/* the open sky over flat ground: the terrain's own horizon is its
+	 * ambient occlusion's (cs_ground_light), and no star's disc */
+	struct cs_scene *flat = malloc(sizeof *flat);
+	if (flat == NULL)
+		return cs_error(CS_ENOMEM, "out of memory");
+	*flat = *sc;
+	flat->terrain = NULL;
+	flat->effects &= ~(unsigned)(CS_FX_TERRAIN | CS_FX_WATER | CS_FX_STARS);
+	struct dome_job job = {flat, s, row};
 	int rc = cs_pool_run(N, nthreads, dome_row, &job, NULL, NULL, NULL);
+	free(flat);
 	if (rc != CS_OK)
 		return rc;
 	double sum[3] = {0.0, 0.0, 0.0};

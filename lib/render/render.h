@@ -284,6 +284,7 @@ double cs_fog_phase_mean(double mu, double nu, double g_forward, double g_back,
 #define CS_DECK_FIELD_FULL 0.7  /* and the least lit by them alone */
 #define CS_DECK_DEPTHS 4 /* light fields a layer: optical depths tau_in / 16, / 4, 1, 2 */
 #define CS_DECK_FIELD_TAU_MAX 128.0 /* and at most this (the solution's time grows with it) */
+#define CS_DECK_AREA_M 24000.0 /* the side of the square the deck's means are over: a forecast grid cell or two */
 #define CS_DECK_TILT_TAU0 2.0 /* the tilted columns' thinnest field: 2, 8, 32, 128 */
 #define CS_DECK_TILT_FULL 0.2 /* a cumulonimbus or cumulus of this cover or less is lit by them alone */
 #define CS_DECK_TILT_NONE 0.5 /* and one of this cover or more not at all */
@@ -293,9 +294,13 @@ struct cs_deck {
 	double mu0;                  /* sine of the sun's elevation (>= 0) */
 	double g;                    /* the phase function's mean cosine */
 	double sky_below[3];         /* radiance of the diffuse light under all
-					layers (cosine mean; irradiance / pi) */
-	double sky_ground[3];        /* the diffuse light the ground takes under
-					them (cosine mean): sky_below, or with
+					layers (cosine mean; irradiance / pi),
+					the columns' area mean: what lights the
+					rain, the haze, the fog's solution and the
+					ground the towers see */
+	double sky_ground[3];        /* the diffuse light the ground and water
+					take under them (cosine mean), read by
+					nothing else: sky_below, or with
 					CS_GROUND_SKY_DOME the frame's dome's
 					(cs_light_cache_build) */
 	double ground_below[3];      /* radiance of ground light from below
@@ -581,15 +586,15 @@ void cs_irradiance_area(const struct cs_scene *sc, const struct cs_render_settin
 /* The diffuse light on the ground under the clouds as the renderer draws
  * the sky (CS_GROUND_SKY_DOME): the cosine-weighted mean radiance (diffuse
  * irradiance / pi) of CS_GROUND_DOME_RAYS rays over the sky's hemisphere
- * from each of CS_GROUND_DOME_POINTS^2 points 2 m above the ground on a
- * square of CS_GROUND_DOME_AREA_M (cs_irradiance_area_point), the sun's
- * disc left to the beam as cs_irradiance_at leaves it; one row of points
- * a task on nthreads of the CPU pool, summed in order (the same for any
- * thread count).  Its rays are not in the frame's statistics.  CS_OK or
- * the pool's error. */
+ * from each of CS_GROUND_DOME_POINTS^2 points 2 m above the flat ground on
+ * the deck's square (CS_DECK_AREA_M, cs_irradiance_area_point), the sun's
+ * disc left to the beam as cs_irradiance_at leaves it, the terrain and the
+ * stars taken away (a terrain's horizon is its ambient occlusion's); one
+ * row of points a task on nthreads of the CPU pool, summed in order (the
+ * same for any thread count).  Its rays are not in the frame's
+ * statistics.  CS_OK, CS_ENOMEM or the pool's error. */
 #define CS_GROUND_DOME_POINTS 32
 #define CS_GROUND_DOME_RAYS 4 /* 2 x 2 strata of the cosine-weighted hemisphere */
-#define CS_GROUND_DOME_AREA_M 24000.0
 int cs_ground_sky_dome(const struct cs_scene *sc, const struct cs_render_settings *s, int nthreads,
 		       double rgb[3]);
 /* The point (i, j) of cs_irradiance_area's n x n grid. */
@@ -660,8 +665,12 @@ int cs_render_image(const struct cs_scene *sc, const struct cs_camera *cam,
  * evaluations it took.  The caches sc held are forgotten first, not freed
  * (sc is a copy of a scene: cs_render_image's, the GPU's).  Also the
  * vertical columns' volumes where the light fields and the ambient light
- * are on (sc->column_cache).  CS_OK, CS_ENOMEM or the pool's error (then
- * none is left built and *evaluations is 0). */
+ * are on (sc->column_cache).  Last, the ground's light
+ * (sc->deck.sky_ground): the columns' (sky_below), or with
+ * CS_GROUND_SKY_DOME under clouds and without fog the dome's
+ * (cs_ground_sky_dome), traced with the volumes just built.  CS_OK,
+ * CS_ENOMEM or the pool's error (then none is left built and *evaluations
+ * is 0). */
 int cs_light_cache_build(struct cs_scene *sc, const struct cs_render_settings *s, double pixels,
 			 int nthreads, uint64_t *evaluations);
 /* How many light cache volumes sc holds (sun's and columns'). */
@@ -682,7 +691,7 @@ void cs_frame_settings(const struct cs_scene *sc, const struct cs_camera *cam,
 		       const struct cs_render_settings *s, struct cs_render_settings *out);
 
 /* Whether a frame of sc with settings s reads volumes built for it
- * (cs_light_cache_build): the light caches, or the towers' diffused light
+ * (cs_light_cache_build): the ground's dome, the light caches, or the towers' diffused light
  * (sc->tower_light: a layer with a towers' share, cs_tower_share, under a
  * key light, with the diffuse light on and s->tower_cell_m > 0). */
 int cs_frame_volumes_needed(const struct cs_scene *sc, const struct cs_render_settings *s);

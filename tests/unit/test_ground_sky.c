@@ -92,8 +92,8 @@ static void dome_under_heaps_is_nearer_the_path_tracer_than_the_columns(void)
 	struct cs_reference_settings rs = {16, 1, 0};
 	struct cs_render_stats st = {0};
 	struct cs_irradiance pt, dome, cols;
-	cs_reference_irradiance_area(&sc, &rs, CS_GROUND_DOME_AREA_M, 16, 256, &pt, &st);
-	cs_v3 o = cs_irradiance_area_point(&sc, CS_GROUND_DOME_AREA_M, 1, 0, 0);
+	cs_reference_irradiance_area(&sc, &rs, CS_DECK_AREA_M, 16, 256, &pt, &st);
+	cs_v3 o = cs_irradiance_area_point(&sc, CS_DECK_AREA_M, 1, 0, 0);
 	const double *b = sc.deck.sky_below;
 	cs_irradiance_from_klux(&sc, o, 0.0, CS_PI * cs_luminance(rgb[0], rgb[1], rgb[2]), &dome);
 	cs_irradiance_from_klux(&sc, o, 0.0, CS_PI * cs_luminance(b[0], b[1], b[2]), &cols);
@@ -162,7 +162,7 @@ static void dome_is_traced_only_where_asked_for_under_clouds(void)
  * the ground's light.  From 2 m above the ground (the flat ground's
  * horizon 0.05 deg down): a 70 deg view 5 deg up sees the ground (its
  * bottom edge 16.5 deg down), one 40 deg up does not (18.5 deg up); the
- * all-sky fisheye does not (its rim's pixels 0.1 to 0.2 deg up at 640x640), an
+ * all-sky fisheye does not (its rim's pixels just above the horizon), an
  * environment map does; a view 20 deg up, whose bottom edge is 1.1 to
  * 1.5 deg down, sees it from 2 m and not from 12 km up (the horizon 3.5
  * deg down), and from 12 km a view 30 deg down does. */
