@@ -687,29 +687,18 @@ static int render_device(const struct cs_cloudrender_opts *o, struct cs_cloudren
 		cs_cuda_scene_free(*gpu);
 		*gpu = NULL;
 	}
-	/* the light caches and the towers' light: built on the host (the
-	 * CPU pool) into a copy of the scene, which the device takes its
-	 * copies from */
-	struct cs_scene *cached = NULL;
-	uint64_t cache_evaluations = 0;
-	int rc = CS_OK;
-	struct cs_render_settings fs;
-	cs_frame_settings(sc, cam, &r->settings, &fs);
-	if (cs_frame_volumes_needed(sc, &fs)) {
-		if ((cached = malloc(sizeof *cached)) == NULL)
-			return cs_error(CS_ENOMEM, "out of memory");
-		*cached = *sc;
-		rc = cs_light_cache_build(cached, &fs, (double)cam->width * cam->height,
-					  o->threads, &cache_evaluations);
+	/* the light caches, the towers' light and the ground's dome: built
+	 * on the host (the CPU pool) into a copy of the scene, which the
+	 * device takes its copies from (cs_frame_scene) */
+	struct cs_scene *cached;
+	uint64_t cache_evaluations;
+	int rc = cs_frame_scene(sc, cam, &r->settings, o->threads, &cached, &cache_evaluations);
+	if (cached != NULL)
 		sc = cached;
-	}
 	if (rc == CS_OK)
 		rc = *gpu ? cs_cuda_scene_update(*gpu, sc) : cs_cuda_scene_new(sc, gpu);
 	int volumes = cached != NULL ? cs_light_cache_volumes(cached) : 0;
-	if (cached != NULL) {
-		cs_light_cache_free(cached);
-		free(cached);
-	}
+	cs_frame_scene_free(cached);
 	if (rc == CS_OK)
 		rc = cs_cuda_render(*gpu, cam, &r->settings, px, &r->stats, &r->device_kernel_ms);
 	if (rc == CS_OK) {

@@ -122,28 +122,17 @@ int cs_render_image(const struct cs_scene *sc, const struct cs_camera *cam,
 	struct frame_job *job = aligned_alloc(64, size);
 	if (job == NULL)
 		return cs_error(CS_ENOMEM, "out of memory");
-	/* the light caches and the towers' light: built on a copy of the
-	 * scene, for this frame */
-	struct cs_scene *cached = NULL;
-	uint64_t cache_evaluations = 0;
-	struct cs_render_settings fs;
-	cs_frame_settings(sc, cam, s, &fs);
-	if (cs_frame_volumes_needed(sc, &fs)) {
-		cached = malloc(sizeof *cached);
-		if (cached == NULL) {
-			free(job);
-			return cs_error(CS_ENOMEM, "out of memory");
-		}
-		*cached = *sc;
-		rc = cs_light_cache_build(cached, &fs, (double)cam->width * cam->height, nthreads,
-					  &cache_evaluations);
-		if (rc != CS_OK) {
-			free(cached);
-			free(job);
-			return rc;
-		}
-		sc = cached;
+	/* the light caches, the towers' light and the ground's dome: built
+	 * on a copy of the scene, for this frame (cs_frame_scene) */
+	struct cs_scene *cached;
+	uint64_t cache_evaluations;
+	rc = cs_frame_scene(sc, cam, s, nthreads, &cached, &cache_evaluations);
+	if (rc != CS_OK) {
+		free(job);
+		return rc;
 	}
+	if (cached != NULL)
+		sc = cached;
 	*job = (struct frame_job){.rows = kernel()->rows, .sc = sc, .cam = cam, .s = s, .out = out};
 	int tasks = (cam->height + ROWS_PER_TASK - 1) / ROWS_PER_TASK, workers = 0;
 	rc = cs_pool_run(tasks, nthreads, render_rows, job, progress, user, &workers);
@@ -154,8 +143,7 @@ int cs_render_image(const struct cs_scene *sc, const struct cs_camera *cam,
 	if (cached != NULL) {
 		stats->cache_cells = cache_evaluations;
 		stats->cache_volumes = cs_light_cache_volumes(cached);
-		cs_light_cache_free(cached);
-		free(cached);
+		cs_frame_scene_free(cached);
 	}
 	free(job);
 	if (rc == CS_ECANCELED)

@@ -217,33 +217,70 @@ int cs_camera_sees_ground(const struct cs_scene *sc, const struct cs_camera *cam
 		if (pixel_sees_ground(sc, cam, 0, j) || pixel_sees_ground(sc, cam, w - 1, j))
 			return 1;
 	/* a fisheye's edge is its circle's rim: the pixels of its outer two
-	 * rings */
+	 * rings, those of each row between the ring's inner and outer
+	 * circles on either side */
 	if (cam->projection == CS_PROJ_FISHEYE) {
-		double r = (w < h ? w : h) * 0.5;
-		for (int j = 0; j < h; j++)
-			for (int i = 0; i < w; i++) {
-				double x = i + 0.5 - w * 0.5, y = h * 0.5 - j - 0.5;
-				double rho = sqrt(x * x + y * y);
-				if (rho > r - 2.0 && rho <= r && pixel_sees_ground(sc, cam, i, j))
-					return 1;
+		double r = (w < h ? w : h) * 0.5, ri = r - 2.0;
+		for (int j = 0; j < h; j++) {
+			double y = h * 0.5 - j - 0.5;
+			if (fabs(y) > r)
+				continue;
+			double xo = sqrt(r * r - y * y), xi = fabs(y) < ri ? sqrt(ri * ri - y * y) : 0.0;
+			for (int side = -1; side <= 1; side += 2) {
+				/* pixel i's centre is at x = i + 0.5 - w / 2 */
+				int i0 = (int)floor(w * 0.5 - 0.5 + (side < 0 ? -xo : xi));
+				int i1 = (int)ceil(w * 0.5 - 0.5 + (side < 0 ? -xi : xo));
+				for (int i = i0 < 0 ? 0 : i0; i <= i1 && i < w; i++) {
+					double x = i + 0.5 - w * 0.5, rho = sqrt(x * x + y * y);
+					if (rho > ri && rho <= r && pixel_sees_ground(sc, cam, i, j))
+						return 1;
+				}
 			}
+		}
 	}
 	/* and the centre: a frame that looks at the nadir */
 	return pixel_sees_ground(sc, cam, w / 2, h / 2);
-}
-
-void cs_frame_settings(const struct cs_scene *sc, const struct cs_camera *cam,
-		       const struct cs_render_settings *s, struct cs_render_settings *out)
-{
-	*out = *s;
-	if (s->ground_sky == CS_GROUND_SKY_DOME && sc->deck.on && !cs_camera_sees_ground(sc, cam))
-		out->ground_sky = CS_GROUND_SKY_COLUMNS;
 }
 
 int cs_frame_volumes_needed(const struct cs_scene *sc, const struct cs_render_settings *s)
 {
 	return ground_dome(sc, s) || CS_LIGHT_CACHED(s->light_march) || cs_tower_light_wanted(sc, s) ||
 	       cs_scene_tilt_wanted(sc, s);
+}
+
+int cs_frame_scene(const struct cs_scene *sc, const struct cs_camera *cam,
+		   const struct cs_render_settings *s, int nthreads, struct cs_scene **out,
+		   uint64_t *evaluations)
+{
+	*out = NULL;
+	*evaluations = 0;
+	/* no dome for a frame that sees no ground: nothing else takes its
+	 * light */
+	struct cs_render_settings fs = *s;
+	if (ground_dome(sc, &fs) && !cs_camera_sees_ground(sc, cam))
+		fs.ground_sky = CS_GROUND_SKY_COLUMNS;
+	if (!cs_frame_volumes_needed(sc, &fs))
+		return CS_OK;
+	struct cs_scene *copy = malloc(sizeof *copy);
+	if (copy == NULL)
+		return cs_error(CS_ENOMEM, "out of memory");
+	*copy = *sc;
+	int rc = cs_light_cache_build(copy, &fs, (double)cam->width * cam->height, nthreads,
+				      evaluations);
+	if (rc != CS_OK) {
+		free(copy);
+		return rc;
+	}
+	*out = copy;
+	return CS_OK;
+}
+
+void cs_frame_scene_free(struct cs_scene *sc)
+{
+	if (sc == NULL)
+		return;
+	cs_light_cache_free(sc);
+	free(sc);
 }
 
 int cs_light_cache_volumes(const struct cs_scene *sc)

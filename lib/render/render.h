@@ -683,18 +683,23 @@ void cs_light_cache_free(struct cs_scene *sc);
  * centre's. */
 struct cs_camera;
 int cs_camera_sees_ground(const struct cs_scene *sc, const struct cs_camera *cam);
-/* The settings a frame of sc through cam builds its volumes with
- * (cs_light_cache_build): s, but without the ground's dome
- * (CS_GROUND_SKY_COLUMNS) where the camera sees no ground, whose light
- * nothing else takes.  The frame's pixels are the same either way. */
-void cs_frame_settings(const struct cs_scene *sc, const struct cs_camera *cam,
-		       const struct cs_render_settings *s, struct cs_render_settings *out);
-
 /* Whether a frame of sc with settings s reads volumes built for it
  * (cs_light_cache_build): the ground's dome, the light caches, or the towers' diffused light
  * (sc->tower_light: a layer with a towers' share, cs_tower_share, under a
  * key light, with the diffuse light on and s->tower_cell_m > 0). */
 int cs_frame_volumes_needed(const struct cs_scene *sc, const struct cs_render_settings *s);
+/* The scene a frame of sc through cam with settings s renders, for the
+ * CPU (cs_render_image) and the GPU alike: *out NULL where the frame
+ * needs no volumes of its own (sc as it is), else a copy of sc with them
+ * built (cs_light_cache_build; the ground's dome only where the camera
+ * sees ground, cs_camera_sees_ground: the pixels are the same either
+ * way), for cs_frame_scene_free; *evaluations the build's.  CS_OK,
+ * CS_ENOMEM or the build's error (then *out is NULL). */
+int cs_frame_scene(const struct cs_scene *sc, const struct cs_camera *cam,
+		   const struct cs_render_settings *s, int nthreads, struct cs_scene **out,
+		   uint64_t *evaluations);
+/* Frees cs_frame_scene's copy and its volumes (NULL: nothing). */
+void cs_frame_scene_free(struct cs_scene *sc);
 
 /* The towers' diffused light (tower_light.c): whether a frame of sc with
  * settings s reads it, and its build into sc->tower_light for each layer
