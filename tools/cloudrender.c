@@ -429,7 +429,7 @@ static void describe(void *user, const struct cs_cloudrender_result *r)
 		"%d haze steps%s%s%s%s", o->quality, r->settings.steps, r->settings.light_steps,
 		r->settings.ms_octaves, r->settings.haze_steps,
 		r->settings.heap_towers ? ", heaps lit as towers" : "",
-		r->settings.ground_sky == CS_GROUND_SKY_DOME ? ", the ground lit by the dome" : "",
+		r->settings.ground_sky == CS_GROUND_SKY_DOME ? ", the ground's sky a dome" : "",
 		r->settings.ambient ? "" : ", no ambient", r->settings.jitter > 0 ? "" : ", no jitter");
 }
 
@@ -445,6 +445,8 @@ static void report_times(const struct cs_cloudrender_opts *o, const struct cs_cl
 		cli_err("light cache: %d volume%s, %.2f million cells (%s)", r->stats.cache_volumes,
 			r->stats.cache_volumes == 1 ? "" : "s", r->stats.cache_cells / 1e6, rule);
 	}
+	if (!o->reference)
+		cli_err("ground's diffuse light: %s", cs_ground_light_name(r->stats.ground_light));
 	double total = r->t_noise_s + r->t_scene_s + r->t_render_s + r->t_irradiance_s +
 		       r->t_write_s;
 	cli_err("time: noise %.2f s, scene %.2f s, render %.2f s, irradiance %.2f s, "

@@ -127,11 +127,36 @@ static int build_volume(const struct cs_scene *sc, const struct cs_cloud_layer *
  * its own light field lights the ground in it (cs_ground_light), solved
  * from the columns' light, which the ground over it keeps too, lest it
  * step in brightness at the fog's top. */
+/* What lights the ground of a frame of sc with settings s, the camera
+ * aside (enum cs_ground_light) */
+static int ground_light(const struct cs_scene *sc, const struct cs_render_settings *s)
+{
+	if (s->ground_sky != CS_GROUND_SKY_DOME)
+		return CS_GROUND_LIT_COLUMNS;
+	if (sc->fog_beta_per_m > 0.0 && sc->fog.on)
+		return CS_GROUND_LIT_FOG;
+	if (!sc->deck.on || !(sc->effects & CS_FX_SKY) || !(sc->effects & CS_FX_GROUND))
+		return CS_GROUND_LIT_NO_CLOUD;
+	return CS_GROUND_LIT_DOME;
+}
+
 static int ground_dome(const struct cs_scene *sc, const struct cs_render_settings *s)
 {
-	int fog = sc->fog_beta_per_m > 0.0 && sc->fog.on;
-	return s->ground_sky == CS_GROUND_SKY_DOME && sc->deck.on && (sc->effects & CS_FX_SKY) &&
-	       (sc->effects & CS_FX_GROUND) && !fog;
+	return ground_light(sc, s) == CS_GROUND_LIT_DOME;
+}
+
+const char *cs_ground_light_name(int ground_light)
+{
+	static const char *const names[] = {
+		[CS_GROUND_LIT_COLUMNS] = "the columns'",
+		[CS_GROUND_LIT_DOME] = "the dome's",
+		[CS_GROUND_LIT_NO_CLOUD] = "the clear sky's, no dome (no clouds)",
+		[CS_GROUND_LIT_FOG] = "the columns', no dome (fog: its light is the columns')",
+		[CS_GROUND_LIT_UNSEEN] = "the columns', no dome (the frame sees no ground)",
+	};
+	if (ground_light < 0 || ground_light >= (int)(sizeof names / sizeof names[0]))
+		return "?";
+	return names[ground_light];
 }
 
 int cs_light_cache_build(struct cs_scene *sc, const struct cs_render_settings *s, double pixels,
@@ -250,15 +275,18 @@ int cs_frame_volumes_needed(const struct cs_scene *sc, const struct cs_render_se
 
 int cs_frame_scene(const struct cs_scene *sc, const struct cs_camera *cam,
 		   const struct cs_render_settings *s, int nthreads, struct cs_scene **out,
-		   uint64_t *evaluations)
+		   uint64_t *evaluations, int *ground)
 {
 	*out = NULL;
 	*evaluations = 0;
+	*ground = ground_light(sc, s);
 	/* no dome for a frame that sees no ground: nothing else takes its
 	 * light */
 	struct cs_render_settings fs = *s;
-	if (ground_dome(sc, &fs) && !cs_camera_sees_ground(sc, cam))
+	if (*ground == CS_GROUND_LIT_DOME && !cs_camera_sees_ground(sc, cam)) {
 		fs.ground_sky = CS_GROUND_SKY_COLUMNS;
+		*ground = CS_GROUND_LIT_UNSEEN;
+	}
 	if (!cs_frame_volumes_needed(sc, &fs))
 		return CS_OK;
 	struct cs_scene *copy = malloc(sizeof *copy);

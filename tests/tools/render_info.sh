@@ -73,9 +73,10 @@ end
 # --ground-sky: the ground under the built-in cumulus takes the dome's
 # light at high, the columns' at medium or with columns asked for; -v says
 # which, and the ground's pixels change with it; under a clear sky there is
-# no deck and the same bytes either way
+# no deck and the same bytes either way.  -v says why a dome asked for was
+# not traced: no clouds, fog, a frame that sees no ground
 begin cloudrender_ground_sky_follows_the_preset_and_the_option
-domes() { grep -c "the ground lit by the dome" "$T/err"; }
+domes() { grep -c "^cloudrender: ground's diffuse light: the dome's$" "$T/err"; }
 for q in "high:1" "high --ground-sky columns:0" "medium:0" "medium --ground-sky dome:1"; do
 	opts=${q%%:*} want=${q#*:}
 	# shellcheck disable=SC2086
@@ -90,6 +91,13 @@ for g in dome columns; do
 		--look 150,-5 -o "$T/clear-$g.exr"; expect_rc 0
 done
 same_pixels "$T/clear-dome.exr" "$T/clear-columns.exr" || bad "--ground-sky changed a clear sky's pixels"
+FOG="--wx $TOP/tests/scenes/fog-low-sun.json $(cat "$TOP/tests/scenes/fog-low-sun.args")"
+for c in "--wx $T/clear.json:no clouds" "$FOG:fog" "--look 150,40:the frame sees no ground"; do
+	# shellcheck disable=SC2086
+	run "$CR" -v ${c%%:*} --quality high --noise-size 32 --size 48x27 -o "$T/why.exr"; expect_rc 0
+	grep -q "^cloudrender: ground's diffuse light: .*, no dome (${c#*:}" "$T/err" ||
+		bad "${c%%:*}: -v did not say '${c#*:}': $(grep "ground's diffuse" "$T/err")"
+done
 end
 
 begin cloudrender_progress_shows_elapsed_and_eta_on_a_terminal

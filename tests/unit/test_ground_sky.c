@@ -194,12 +194,61 @@ static void frames_that_see_no_ground_trace_no_dome(void)
 		CHECK(cs_camera_sees_ground(&sc, &cam) == v[k].ground);
 		struct cs_scene *frame;
 		uint64_t ev;
-		CHECK(cs_frame_scene(&sc, &cam, &s, 2, &frame, &ev) == CS_OK);
+		int lit;
+		CHECK(cs_frame_scene(&sc, &cam, &s, 2, &frame, &ev, &lit) == CS_OK);
 		CHECK((frame != NULL) == v[k].ground);
+		CHECK(lit == (v[k].ground ? CS_GROUND_LIT_DOME : CS_GROUND_LIT_UNSEEN));
 		if (frame != NULL)
 			CHECK(memcmp(frame->deck.sky_ground, sc.deck.sky_below, sizeof sc.deck.sky_below) != 0);
 		cs_frame_scene_free(frame);
 	}
+	cs_volume_free(&noise);
+}
+
+/* The terrain is ground too: from 2 m up, a view 40 deg up (its bottom
+ * edge 18.5 deg up) sees no flat ground, but in a bowl whose wall rises
+ * 1.5 m a metre from 1 km out (seen 35 to 51 deg up from its centre) its
+ * bottom row meets the wall, and the dome is traced.  Why the dome was
+ * not traced is told for fog and for a frame that does not see the
+ * ground; asked for the columns, the columns light it. */
+static void terrain_in_view_is_ground_for_the_dome(void)
+{
+	static struct cs_volume noise;
+	static struct cs_scene sc;
+	heaps(&sc, &noise, 16, "2021-06-14T11:00:00Z", 0.35);
+	struct cs_render_settings s;
+	CHECK(cs_render_quality("high", &s) == CS_OK);
+	s.light_march = CS_LIGHT_GEOMETRIC;
+	s.heap_towers = 0;
+	enum { W = 121 }; /* 100 m a sample, the camera at the middle */
+	static float z[W * W];
+	for (int j = 0; j < W; j++)
+		for (int i = 0; i < W; i++) {
+			double r = 100.0 * hypot(i - 60, j - 60);
+			z[j * W + i] = (float)(sc.ground_alt_m + (r > 1000.0 ? 1.5 * (r - 1000.0) : 0.0));
+		}
+	double a[3] = {60, 1 / 100.0, 0}, b[3] = {60, 0, -1 / 100.0};
+	struct cs_hfield f;
+	CHECK(cs_hfield_init(&f, z, W, W, a, b, sc.earth_radius_m) == CS_OK);
+	struct cs_camera cam;
+	CHECK(cs_camera_init(&cam, &sc, v3(0, 0, sc.ground_alt_m + 2.0), 46.95, 150.0, 40.0, 70.0, 640,
+			     360) == CS_OK);
+	struct cs_scene *frame;
+	uint64_t ev;
+	int lit;
+	CHECK(!cs_camera_sees_ground(&sc, &cam));
+	sc.terrain = &f;
+	CHECK(cs_camera_sees_ground(&sc, &cam));
+	CHECK(cs_frame_scene(&sc, &cam, &s, 2, &frame, &ev, &lit) == CS_OK);
+	CHECK(frame != NULL && lit == CS_GROUND_LIT_DOME);
+	cs_frame_scene_free(frame);
+	s.ground_sky = CS_GROUND_SKY_COLUMNS;
+	CHECK(cs_frame_scene(&sc, &cam, &s, 2, &frame, &ev, &lit) == CS_OK);
+	CHECK(frame == NULL && lit == CS_GROUND_LIT_COLUMNS);
+	sc.terrain = NULL;
+	CHECK(strstr(cs_ground_light_name(CS_GROUND_LIT_UNSEEN), "sees no ground") != NULL);
+	CHECK(strcmp(cs_ground_light_name(-1), "?") == 0);
+	cs_hfield_free(&f);
 	cs_volume_free(&noise);
 }
 
@@ -209,6 +258,7 @@ static const struct t_case t_cases[] = {
 	CASE(dome_is_the_same_on_any_number_of_threads),
 	CASE(dome_is_traced_only_where_asked_for_under_clouds),
 	CASE(frames_that_see_no_ground_trace_no_dome),
+	CASE(terrain_in_view_is_ground_for_the_dome),
 };
 
 int main(void)
