@@ -158,6 +158,17 @@ static void dome_is_traced_only_where_asked_for_under_clouds(void)
 	CHECK(!cs_frame_volumes_needed(&sc, &s));
 }
 
+/* Heaps at noon (16^3 noise) and high's settings without the light caches
+ * and the heaps' towers: a frame that needs no volume but the dome. */
+static void noon_heaps_without_volumes(struct cs_scene *sc, struct cs_volume *noise,
+				       struct cs_render_settings *s)
+{
+	heaps(sc, noise, 16, "2021-06-14T11:00:00Z", 0.35);
+	CHECK(cs_render_quality("high", s) == CS_OK);
+	s->light_march = CS_LIGHT_GEOMETRIC;
+	s->heap_towers = 0;
+}
+
 /* A frame whose camera sees no ground traces no dome: nothing in it takes
  * the ground's light (cs_frame_scene, what the CPU's and the GPU's frames
  * render; without the light caches and the heaps' towers a frame needs
@@ -172,11 +183,8 @@ static void frames_that_see_no_ground_trace_no_dome(void)
 {
 	static struct cs_volume noise;
 	static struct cs_scene sc;
-	heaps(&sc, &noise, 16, "2021-06-14T11:00:00Z", 0.35);
 	struct cs_render_settings s;
-	CHECK(cs_render_quality("high", &s) == CS_OK);
-	s.light_march = CS_LIGHT_GEOMETRIC;
-	s.heap_towers = 0;
+	noon_heaps_without_volumes(&sc, &noise, &s);
 	static const struct {
 		double alt_m, az, el;
 		enum cs_projection p;
@@ -208,18 +216,15 @@ static void frames_that_see_no_ground_trace_no_dome(void)
 /* The terrain is ground too: from 2 m up, a view 40 deg up (its bottom
  * edge 18.5 deg up) sees no flat ground, but in a bowl whose wall rises
  * 1.5 m a metre from 1 km out (seen 35 to 51 deg up from its centre) its
- * bottom row meets the wall, and the dome is traced.  Why the dome was
- * not traced is told for fog and for a frame that does not see the
- * ground; asked for the columns, the columns light it. */
+ * bottom row meets the wall, and the dome is traced; asked for the
+ * columns, the columns light it.  (-v's words for each case:
+ * render_info.sh.) */
 static void terrain_in_view_is_ground_for_the_dome(void)
 {
 	static struct cs_volume noise;
 	static struct cs_scene sc;
-	heaps(&sc, &noise, 16, "2021-06-14T11:00:00Z", 0.35);
 	struct cs_render_settings s;
-	CHECK(cs_render_quality("high", &s) == CS_OK);
-	s.light_march = CS_LIGHT_GEOMETRIC;
-	s.heap_towers = 0;
+	noon_heaps_without_volumes(&sc, &noise, &s);
 	enum { W = 121 }; /* 100 m a sample, the camera at the middle */
 	static float z[W * W];
 	for (int j = 0; j < W; j++)
