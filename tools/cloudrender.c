@@ -446,7 +446,7 @@ static void report_times(const struct cs_cloudrender_opts *o, const struct cs_cl
 			r->stats.cache_volumes == 1 ? "" : "s", r->stats.cache_cells / 1e6, rule);
 	}
 	if (!o->reference)
-		cli_err("ground's diffuse light: %s", cs_ground_light_name(r->stats.ground_light));
+		cli_err("ground's diffuse light: %s", cs_ground_lit_name(r->stats.ground_lit));
 	double total = r->t_noise_s + r->t_scene_s + r->t_render_s + r->t_irradiance_s +
 		       r->t_write_s;
 	cli_err("time: noise %.2f s, scene %.2f s, render %.2f s, irradiance %.2f s, "

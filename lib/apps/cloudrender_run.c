@@ -692,9 +692,9 @@ static int render_device(const struct cs_cloudrender_opts *o, struct cs_cloudren
 	 * device takes its copies from (cs_frame_scene) */
 	struct cs_scene *cached;
 	uint64_t cache_evaluations;
-	int ground_light;
+	int ground_lit;
 	int rc = cs_frame_scene(sc, cam, &r->settings, o->threads, &cached, &cache_evaluations,
-				&ground_light);
+				&ground_lit);
 	if (cached != NULL)
 		sc = cached;
 	if (rc == CS_OK)
@@ -708,7 +708,7 @@ static int render_device(const struct cs_cloudrender_opts *o, struct cs_cloudren
 		r->stats.light_samples += cache_evaluations;
 		r->stats.cache_cells = cache_evaluations;
 		r->stats.cache_volumes = volumes;
-		r->stats.ground_light = ground_light;
+		r->stats.ground_lit = ground_lit;
 	}
 	if (rc == CS_OK && o->device_bench > 0)
 		rc = cs_cuda_bench(*gpu, cam, &r->settings, o->device_bench, &r->device_frame_ms);

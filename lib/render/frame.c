@@ -126,8 +126,8 @@ int cs_render_image(const struct cs_scene *sc, const struct cs_camera *cam,
 	 * on a copy of the scene, for this frame (cs_frame_scene) */
 	struct cs_scene *cached;
 	uint64_t cache_evaluations;
-	int ground_light;
-	rc = cs_frame_scene(sc, cam, s, nthreads, &cached, &cache_evaluations, &ground_light);
+	int ground_lit;
+	rc = cs_frame_scene(sc, cam, s, nthreads, &cached, &cache_evaluations, &ground_lit);
 	if (rc != CS_OK) {
 		free(job);
 		return rc;
@@ -141,7 +141,7 @@ int cs_render_image(const struct cs_scene *sc, const struct cs_camera *cam,
 	for (int i = 0; i < workers; i++)
 		stats_add(stats, &job->stats[i].s);
 	stats->light_samples += cache_evaluations;
-	stats->ground_light = ground_light;
+	stats->ground_lit = ground_lit;
 	if (cached != NULL) {
 		stats->cache_cells = cache_evaluations;
 		stats->cache_volumes = cs_light_cache_volumes(cached);

@@ -122,41 +122,42 @@ static int build_volume(const struct cs_scene *sc, const struct cs_cloud_layer *
 	return CS_OK;
 }
 
-/* Whether the ground's diffuse light is the frame's dome's: asked for,
- * under clouds (a deck), with the sky's light on the ground, and no fog:
- * its own light field lights the ground in it (cs_ground_light), solved
- * from the columns' light, which the ground over it keeps too, lest it
- * step in brightness at the fog's top. */
 /* What lights the ground of a frame of sc with settings s, the camera
- * aside (enum cs_ground_light) */
-static int ground_light(const struct cs_scene *sc, const struct cs_render_settings *s)
+ * aside (enum cs_ground_lit).  The dome's where it is asked for, under
+ * clouds (a deck), with the sky's light on the ground, and without fog:
+ * the fog's own light field lights the ground in it (cs_ground_light),
+ * solved from the columns' light, which the ground over it keeps too,
+ * lest it step in brightness at the fog's top. */
+static int ground_lit(const struct cs_scene *sc, const struct cs_render_settings *s)
 {
-	if (s->ground_sky != CS_GROUND_SKY_DOME)
-		return CS_GROUND_LIT_COLUMNS;
-	if (sc->fog_beta_per_m > 0.0 && sc->fog.on)
-		return CS_GROUND_LIT_FOG;
+	int fog = sc->fog_beta_per_m > 0.0 && sc->fog.on;
 	if (!sc->deck.on || !(sc->effects & CS_FX_SKY) || !(sc->effects & CS_FX_GROUND))
-		return CS_GROUND_LIT_NO_CLOUD;
-	return CS_GROUND_LIT_DOME;
+		return fog ? CS_GROUND_LIT_CLEAR_FOG : CS_GROUND_LIT_CLEAR;
+	if (s->ground_sky != CS_GROUND_SKY_DOME)
+		return fog ? CS_GROUND_LIT_COLUMNS_FOG : CS_GROUND_LIT_COLUMNS;
+	return fog ? CS_GROUND_LIT_FOG : CS_GROUND_LIT_DOME;
 }
 
 static int ground_dome(const struct cs_scene *sc, const struct cs_render_settings *s)
 {
-	return ground_light(sc, s) == CS_GROUND_LIT_DOME;
+	return ground_lit(sc, s) == CS_GROUND_LIT_DOME;
 }
 
-const char *cs_ground_light_name(int ground_light)
+const char *cs_ground_lit_name(int ground_lit)
 {
 	static const char *const names[] = {
 		[CS_GROUND_LIT_COLUMNS] = "the columns'",
 		[CS_GROUND_LIT_DOME] = "the dome's",
-		[CS_GROUND_LIT_NO_CLOUD] = "the clear sky's, no dome (no clouds)",
-		[CS_GROUND_LIT_FOG] = "the columns', no dome (fog: its light is the columns')",
+		[CS_GROUND_LIT_COLUMNS_FOG] = "the columns' and the fog's",
+		[CS_GROUND_LIT_CLEAR] = "the clear sky's (no clouds)",
+		[CS_GROUND_LIT_CLEAR_FOG] = "the clear sky's and the fog's (no clouds over the fog)",
+		[CS_GROUND_LIT_FOG] = "the columns' and the fog's, no dome (fog: its light is "
+				      "solved from the columns')",
 		[CS_GROUND_LIT_UNSEEN] = "the columns', no dome (the frame sees no ground)",
 	};
-	if (ground_light < 0 || ground_light >= (int)(sizeof names / sizeof names[0]))
+	if (ground_lit < 0 || ground_lit >= (int)(sizeof names / sizeof names[0]))
 		return "?";
-	return names[ground_light];
+	return names[ground_lit];
 }
 
 int cs_light_cache_build(struct cs_scene *sc, const struct cs_render_settings *s, double pixels,
@@ -279,7 +280,7 @@ int cs_frame_scene(const struct cs_scene *sc, const struct cs_camera *cam,
 {
 	*out = NULL;
 	*evaluations = 0;
-	*ground = ground_light(sc, s);
+	*ground = ground_lit(sc, s);
 	/* no dome for a frame that sees no ground: nothing else takes its
 	 * light */
 	struct cs_render_settings fs = *s;

@@ -543,7 +543,7 @@ struct cs_render_stats {
 		layer_crossings, terrain_cells;
 	uint64_t cache_cells; /* the light cache's volumes' cells (in light_samples too) */
 	int cache_volumes;    /* the light cache's volumes built for the frame */
-	int ground_light;     /* what lit the frame's ground: enum cs_ground_light */
+	int ground_lit;       /* what lit the frame's ground: enum cs_ground_lit */
 };
 
 /* Transmittance of the clouds from p toward the sun (1 without clouds or
@@ -684,19 +684,27 @@ void cs_light_cache_free(struct cs_scene *sc);
  * centre's. */
 struct cs_camera;
 int cs_camera_sees_ground(const struct cs_scene *sc, const struct cs_camera *cam);
-/* What lit a frame's ground and water (cs_render_stats.ground_light),
- * and with CS_GROUND_SKY_DOME why the dome was not traced where it was
- * not: the columns' light (sky_below) in every case but the dome's. */
-enum cs_ground_light {
+/* What lit a frame's ground and water (cs_render_stats.ground_lit), and
+ * where CS_GROUND_SKY_DOME asked for the dome but it was not traced, why:
+ * the columns' light (deck.sky_below) in every case but the dome's and
+ * the clear sky's. */
+enum cs_ground_lit {
 	CS_GROUND_LIT_COLUMNS,       /* CS_GROUND_SKY_COLUMNS */
+	CS_GROUND_LIT_COLUMNS_FOG,   /* the same with fog, whose light field
+					lights the ground in it */
 	CS_GROUND_LIT_DOME,          /* the frame's dome (cs_ground_sky_dome) */
-	CS_GROUND_LIT_NO_CLOUD,      /* no deck (a clear sky), or no sky or ground */
-	CS_GROUND_LIT_FOG,           /* fog (first): its light field is the columns' */
-	CS_GROUND_LIT_UNSEEN         /* the frame sees no ground */
+	CS_GROUND_LIT_CLEAR,         /* no deck (no clouds): the clear sky's
+					ambient, whatever the settings */
+	CS_GROUND_LIT_CLEAR_FOG,     /* the same with fog */
+	CS_GROUND_LIT_FOG,           /* the dome asked for under clouds and
+					fog: the columns' (the fog's field is
+					solved from them) */
+	CS_GROUND_LIT_UNSEEN         /* the dome asked for; the frame sees no
+					ground */
 };
-/* Its words for -v ("the dome's", "the columns' (the frame sees no
- * ground)"); "?" for a value out of range. */
-const char *cs_ground_light_name(int ground_light);
+/* Its words for -v ("the dome's", "the columns', no dome (the frame sees
+ * no ground)"); "?" for a value out of range. */
+const char *cs_ground_lit_name(int ground_lit);
 
 /* Whether a frame of sc with settings s reads volumes built for it
  * (cs_light_cache_build): the ground's dome, the light caches, or the towers' diffused light
@@ -708,12 +716,12 @@ int cs_frame_volumes_needed(const struct cs_scene *sc, const struct cs_render_se
  * needs no volumes of its own (sc as it is), else a copy of sc with them
  * built (cs_light_cache_build; the ground's dome only where the camera
  * sees ground, cs_camera_sees_ground: the pixels are the same either
- * way), for cs_frame_scene_free; *evaluations the build's, *ground_light
- * what lights its ground (enum cs_ground_light).  CS_OK, CS_ENOMEM or the
+ * way), for cs_frame_scene_free; *evaluations the build's, *ground_lit
+ * what lights its ground (enum cs_ground_lit).  CS_OK, CS_ENOMEM or the
  * build's error (then *out is NULL). */
 int cs_frame_scene(const struct cs_scene *sc, const struct cs_camera *cam,
 		   const struct cs_render_settings *s, int nthreads, struct cs_scene **out,
-		   uint64_t *evaluations, int *ground_light);
+		   uint64_t *evaluations, int *ground_lit);
 /* Frees cs_frame_scene's copy and its volumes (NULL: nothing). */
 void cs_frame_scene_free(struct cs_scene *sc);
 

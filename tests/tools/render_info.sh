@@ -91,12 +91,20 @@ for g in dome columns; do
 		--look 150,-5 -o "$T/clear-$g.exr"; expect_rc 0
 done
 same_pixels "$T/clear-dome.exr" "$T/clear-columns.exr" || bad "--ground-sky changed a clear sky's pixels"
-FOG="--wx $TOP/tests/scenes/fog-low-sun.json $(cat "$TOP/tests/scenes/fog-low-sun.args")"
-for c in "--wx $T/clear.json:no clouds" "$FOG:fog" "--look 150,40:the frame sees no ground"; do
+# fog under a clear sky, and under stratocumulus (80 %, 1.5 to 2.1 km)
+sed 's/"visibility_m":40000/"visibility_m":300/' "$T/clear.json" >"$T/clear-fog.json"
+sed 's/"layers":\[\]/"layers":[{"genus":"stratocumulus","coverage":0.8,"base_m":1500,"top_m":2100}]/' \
+	"$T/clear-fog.json" >"$T/cloud-fog.json"
+for c in "--wx $T/clear.json --quality high|the clear sky's (no clouds)" \
+	"--wx $T/clear.json --quality medium|the clear sky's (no clouds)" \
+	"--wx $T/clear-fog.json --quality high|the clear sky's and the fog's (no clouds over the fog)" \
+	"--wx $T/cloud-fog.json --quality high|the columns' and the fog's, no dome (fog: its light is solved from the columns')" \
+	"--wx $T/cloud-fog.json --quality medium|the columns' and the fog's" \
+	"--look 150,40 --quality high|the columns', no dome (the frame sees no ground)"; do
 	# shellcheck disable=SC2086
-	run "$CR" -v ${c%%:*} --quality high --noise-size 32 --size 48x27 -o "$T/why.exr"; expect_rc 0
-	grep -q "^cloudrender: ground's diffuse light: .*, no dome (${c#*:}" "$T/err" ||
-		bad "${c%%:*}: -v did not say '${c#*:}': $(grep "ground's diffuse" "$T/err")"
+	run "$CR" -v ${c%%|*} --noise-size 32 --size 48x27 -o "$T/why.exr"; expect_rc 0
+	line=$(sed -n "s/^cloudrender: ground's diffuse light: //p" "$T/err")
+	[ "$line" = "${c#*|}" ] || bad "${c%%|*}: -v said '$line', expected '${c#*|}'"
 done
 end
 

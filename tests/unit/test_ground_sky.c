@@ -251,8 +251,8 @@ static void terrain_in_view_is_ground_for_the_dome(void)
 	CHECK(cs_frame_scene(&sc, &cam, &s, 2, &frame, &ev, &lit) == CS_OK);
 	CHECK(frame == NULL && lit == CS_GROUND_LIT_COLUMNS);
 	sc.terrain = NULL;
-	CHECK(strstr(cs_ground_light_name(CS_GROUND_LIT_UNSEEN), "sees no ground") != NULL);
-	CHECK(strcmp(cs_ground_light_name(-1), "?") == 0);
+	CHECK(strstr(cs_ground_lit_name(CS_GROUND_LIT_UNSEEN), "sees no ground") != NULL);
+	CHECK(strcmp(cs_ground_lit_name(-1), "?") == 0);
 	cs_hfield_free(&f);
 	cs_volume_free(&noise);
 }
