@@ -1,5 +1,6 @@
 #include "core/half.h"
 
+#include <math.h>
 #include <string.h>
 
 static uint32_t bits_of(float f)
@@ -44,6 +45,14 @@ uint16_t cs_float_to_half(float f)
 	if (rem > 0x1000u || (rem == 0x1000u && (h & 1u)))
 		h++;
 	return (uint16_t)(sign | h);
+}
+
+uint16_t cs_float_to_half_sat(float f)
+{
+	uint16_t h = cs_float_to_half(f);
+	if ((h & 0x7fffu) == 0x7c00u && isfinite(f))
+		return (uint16_t)((h & 0x8000u) | 0x7bffu);
+	return h;
 }
 
 float cs_half_to_float(uint16_t h)

@@ -193,7 +193,7 @@ static void encode_task(void *user, int task, int worker)
 		} else {
 			uint16_t *hd = (uint16_t *)dst;
 			for (size_t i = 0; i < n; i++)
-				hd[i] = cs_float_to_half(src[i * src_ch->stride]);
+				hd[i] = cs_float_to_half_sat(src[i * src_ch->stride]);
 			e->user_bytes_per_element = 2;
 			e->user_data_type = EXR_PIXEL_HALF;
 		}
@@ -344,7 +344,7 @@ static int verify(const struct cs_outfile *of, const char *name, int width,
 		for (int c = 0; c < nch && rc == CS_OK; c++) {
 			float want = ch[c].data[i * ch[c].stride], got = px[i * nch + c];
 			if (!ch[c].is_float)
-				want = cs_half_to_float(cs_float_to_half(want));
+				want = cs_half_to_float(cs_float_to_half_sat(want));
 			if (memcmp(&want, &got, sizeof want) != 0 && !(want != want && got != got))
 				rc = CS_EDATA;
 		}

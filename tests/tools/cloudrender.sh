@@ -1,6 +1,6 @@
 # cloudrender as a user runs it.
 . "$TOP/tests/tools/lib.sh"
-plan 16
+plan 17
 CR="$BIN/cloudrender"
 NB="$BIN/noisebake"
 FAST="--size 48x27 --quality low --noise-size 16 -q"
@@ -26,6 +26,26 @@ expect_rc 0
 [ "$(sed -n 2p "$T/px" | wc -w)" -eq 5 ] || bad "not five values: $(sed -n 2p "$T/px")"
 "$HELPERS/exrpixel" "$T/d.exr" 0 0 Q >/dev/null 2>&1 && bad "a channel Q read back from an EXR without one"
 grep -qa 'cloudscapeTimeUTC' "$T/d.exr" || bad "no time attribute"
+end
+
+# The sun's disc (about 1.6 million kcd/m^2 at 18:20 UTC in June, 6 deg up)
+# is past the largest half: a half EXR holds 65504 there, not inf, and a
+# float EXR its radiance
+begin cloudrender_half_exr_holds_the_sun_finite
+printf '{"schema":"cloudwx/1","time_utc":"2021-06-14T18:20:00Z","site":{"name":"Bern","lat_deg":46.95,"lon_deg":7.44,"alt_m":540},"layers":[],"visibility_m":40000}\n' >"$T/sun.json"
+for f in half float; do
+	opt=""; [ $f = float ] && opt=--float
+	# shellcheck disable=SC2086
+	run "$CR" --wx "$T/sun.json" --look 295,6 --fov 60 --size 96x54 --noise-size 16 -q $opt \
+		-o "$T/sun-$f.exr"; expect_rc 0
+	"$HELPERS/exrpixels" "$T/sun-$f.exr" R G B | sed 1d | tr ' ' '\n' >"$T/sun-$f.txt" ||
+		bad "cannot read $T/sun-$f.exr"
+done
+grep -qiv '^[-+0-9a-fx.p]*$' "$T/sun-half.txt" && bad "the half EXR holds $(grep -iv '^[-+0-9a-fx.p]*$' "$T/sun-half.txt" | sort -u | tr '\n' ' ')"
+grep -qx '0x1.ffcp+15' "$T/sun-half.txt" || bad "no pixel of the half EXR at 65504 (the sun's disc)"
+top=$(sort -g "$T/sun-float.txt" | tail -n 1) # (sort -g reads C99 hexadecimal floats)
+[ "$(printf '1e5\n%s\n' "$top" | sort -g | tail -n 1)" = "$top" ] && [ "$top" != 1e5 ] ||
+	bad "the float EXR's brightest pixel $top kcd/m^2, expected above 1e5"
 end
 
 begin cloudrender_reads_weather_from_stdin_and_file

@@ -58,10 +58,33 @@ static void half_rounds_to_nearest_even(void)
 }
 
 /* The cases, in the order they run: their number is the plan. */
+/* The saturating form: a finite value past the largest half (65504,
+ * 0x7bff) is that half, of its sign; inf and NaN stay; every other value
+ * is cs_float_to_half's. */
+static void half_saturating_keeps_finite_values_finite(void)
+{
+	CHECK(cs_float_to_half_sat(65520.0f) == 0x7bff);
+	CHECK(cs_float_to_half_sat(1.6e6f) == 0x7bff);
+	CHECK(cs_float_to_half_sat(-1e30f) == 0xfbff);
+	CHECK(cs_float_to_half_sat(3.4e38f) == 0x7bff);
+	CHECK(cs_float_to_half_sat(INFINITY) == 0x7c00);
+	CHECK(cs_float_to_half_sat(-INFINITY) == 0xfc00);
+	CHECK((cs_float_to_half_sat(NAN) & 0x7c00) == 0x7c00 &&
+	      (cs_float_to_half_sat(NAN) & 0x3ff) != 0);
+	int bad = 0;
+	for (uint32_t h = 0; h < 0x7c00u; h++) {
+		float f = cs_half_to_float((uint16_t)h);
+		if (cs_float_to_half_sat(f) != h || cs_float_to_half_sat(-f) != (h | 0x8000u))
+			bad++;
+	}
+	CHECK(bad == 0);
+}
+
 static const struct t_case t_cases[] = {
 	CASE(half_known_encodings),
 	CASE(half_round_trips_all_values),
 	CASE(half_rounds_to_nearest_even),
+	CASE(half_saturating_keeps_finite_values_finite),
 };
 
 int main(void)
