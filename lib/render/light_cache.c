@@ -151,8 +151,8 @@ const char *cs_ground_lit_name(int ground_lit)
 		[CS_GROUND_LIT_COLUMNS_FOG] = "the columns' and the fog's",
 		[CS_GROUND_LIT_CLEAR] = "the clear sky's (no clouds)",
 		[CS_GROUND_LIT_CLEAR_FOG] = "the clear sky's and the fog's (no clouds over the fog)",
-		[CS_GROUND_LIT_FOG] = "the columns' and the fog's, no dome (fog: its light is "
-				      "solved from the columns')",
+		[CS_GROUND_LIT_FOG] = ("the columns' and the fog's, no dome (fog: its light is "
+				       "solved from the columns')"),
 		[CS_GROUND_LIT_UNSEEN] = "the columns', no dome (the frame sees no ground)",
 	};
 	if (ground_lit < 0 || ground_lit >= (int)(sizeof names / sizeof names[0]))
