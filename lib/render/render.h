@@ -686,8 +686,8 @@ struct cs_camera;
 int cs_camera_sees_ground(const struct cs_scene *sc, const struct cs_camera *cam);
 /* What lit a frame's ground and water (cs_render_stats.ground_lit), and
  * where CS_GROUND_SKY_DOME asked for the dome but it was not traced, why:
- * the columns' light (deck.sky_below) in every case but the dome's and
- * the clear sky's. */
+ * under clouds the columns' light (deck.sky_below) in every case but the
+ * dome's; with fog, the ground in it takes the fog's light field. */
 enum cs_ground_lit {
 	CS_GROUND_LIT_COLUMNS,       /* CS_GROUND_SKY_COLUMNS */
 	CS_GROUND_LIT_COLUMNS_FOG,   /* the same with fog, whose light field

@@ -57,7 +57,6 @@ static void half_rounds_to_nearest_even(void)
 	CHECK(worst <= 0x1p-11 * 1.0000001);
 }
 
-/* The cases, in the order they run: their number is the plan. */
 /* The saturating form: a finite value past the largest half (65504,
  * 0x7bff) is that half, of its sign; inf and NaN stay; every other value
  * is cs_float_to_half's. */
@@ -80,6 +79,7 @@ static void half_saturating_keeps_finite_values_finite(void)
 	CHECK(bad == 0);
 }
 
+/* The cases, in the order they run: their number is the plan. */
 static const struct t_case t_cases[] = {
 	CASE(half_known_encodings),
 	CASE(half_round_trips_all_values),
