@@ -360,7 +360,7 @@ CS_HD static void trace(const struct cs_scene *sc, const struct cs_reference_set
 }
 
 /* The key of a path: pixel, sample and seed hashed into the counter. */
-static uint64_t path_key(int i, int j, int k, uint32_t seed)
+CS_HD static uint64_t path_key(int i, int j, int k, uint32_t seed)
 {
 	uint64_t a = cs_hash3i(i, j, k, seed), b = cs_hash3i(k, i, j, seed ^ 0x5bd1e995u);
 	return a << 32 | b;
@@ -412,6 +412,50 @@ void cs_reference_irradiance_area(const struct cs_scene *sc, const struct cs_ref
 	*out = sum;
 }
 
+CS_HD void cs_reference_pixel_begin(struct cs_reference_pixel *a)
+{
+	memset(a, 0, sizeof *a);
+	a->ground_depth = CS_SKY_DEPTH_M;
+	a->ok = -1;
+}
+
+CS_HD void cs_reference_pixel_add(const struct cs_scene *sc, const struct cs_camera *cam,
+				  const struct cs_reference_settings *s, int i, int j, int k0,
+				  int k1, struct cs_reference_pixel *a, struct cs_render_stats *st)
+{
+	cs_v3 d;
+	a->ok = cs_camera_ray(cam, i, j, &d);
+	for (int k = k0; k < k1 && a->ok; k++) {
+		double L[3], depth;
+		int hit;
+		trace(sc, s, cam->pos, d, path_key(i, j, k, s->seed), 1, st, L, &hit, &depth);
+		for (int c = 0; c < 3; c++)
+			a->sum[c] += L[c];
+		/* Welford's running variance of the luminance */
+		double y = cs_luminance(L[0], L[1], L[2]), dy = y - a->mean;
+		a->n++;
+		a->mean += dy / a->n;
+		a->m2 += dy * (y - a->mean);
+		a->hits += hit;
+		if (hit)
+			a->depth_sum += depth, a->ndepth++;
+		else if (depth < a->ground_depth)
+			a->ground_depth = depth;
+	}
+	st->pixels += k0 == 0;
+}
+
+CS_HD void cs_reference_pixel_end(const struct cs_reference_pixel *a, float px[5], float *var)
+{
+	int ok = a->ok > 0 && a->n > 0;
+	for (int c = 0; c < 3; c++)
+		px[c] = ok ? (float)(a->sum[c] / a->n) : 0.0f;
+	px[3] = ok ? (float)((double)a->hits / a->n) : 0.0f;
+	px[4] = (float)(a->ndepth > 0 ? a->depth_sum / a->ndepth : a->ground_depth);
+	if (var)
+		*var = ok && a->n > 1 ? (float)(a->m2 / (a->n - 1) / a->n) : 0.0f;
+}
+
 int cs_reference_check(const struct cs_reference_settings *s)
 {
 	if (s->spp < 1 || s->spp > 1000000)
@@ -437,44 +481,18 @@ struct ref_job {
 
 static void ref_rows(void *user, int task, int worker)
 {
-	struct ref_job *job = user;
+	struct ref_job *job = (struct ref_job *)user;
 	const struct cs_camera *cam = job->cam;
 	struct cs_render_stats st = {0};
 	int r0 = task * ROWS_PER_TASK;
 	int r1 = r0 + ROWS_PER_TASK < cam->height ? r0 + ROWS_PER_TASK : cam->height;
 	for (int j = r0; j < r1; j++)
 		for (int i = 0; i < cam->width; i++) {
-			double sum[3] = {0.0, 0.0, 0.0}, mean = 0.0, m2 = 0.0, alpha = 0.0;
-			double depth_sum = 0.0, ground_depth = CS_SKY_DEPTH_M;
-			int ndepth = 0, n = job->s->spp;
-			cs_v3 d;
-			int ok = cs_camera_ray(cam, i, j, &d);
-			for (int k = 0; k < n && ok; k++) {
-				double L[3], depth;
-				int hit;
-				cs_reference_path(job->sc, job->s, cam->pos, d,
-						  path_key(i, j, k, job->s->seed), &st, L, &hit, &depth);
-				for (int c = 0; c < 3; c++)
-					sum[c] += L[c];
-				/* Welford's running variance of the luminance */
-				double y = cs_luminance(L[0], L[1], L[2]), dy = y - mean;
-				mean += dy / (k + 1);
-				m2 += dy * (y - mean);
-				alpha += hit;
-				if (hit)
-					depth_sum += depth, ndepth++;
-				else if (depth < ground_depth)
-					ground_depth = depth;
-			}
-			float *px = job->out + ((size_t)j * cam->width + i) * 5;
-			for (int c = 0; c < 3; c++)
-				px[c] = ok ? (float)(sum[c] / n) : 0.0f;
-			px[3] = ok ? (float)(alpha / n) : 0.0f;
-			px[4] = (float)(ndepth > 0 ? depth_sum / ndepth : ground_depth);
-			if (job->var)
-				job->var[(size_t)j * cam->width + i] =
-					ok && n > 1 ? (float)(m2 / (n - 1) / n) : 0.0f;
-			st.pixels++;
+			struct cs_reference_pixel acc;
+			size_t at = (size_t)j * cam->width + i;
+			cs_reference_pixel_begin(&acc);
+			cs_reference_pixel_add(job->sc, cam, job->s, i, j, 0, job->s->spp, &acc, &st);
+			cs_reference_pixel_end(&acc, job->out + at * 5, job->var ? job->var + at : NULL);
 		}
 	struct cs_render_stats *a = &job->stats[worker].s;
 	a->pixels += st.pixels;
@@ -492,7 +510,7 @@ int cs_render_reference(const struct cs_scene *sc, const struct cs_camera *cam,
 	if (rc != CS_OK)
 		return rc;
 	size_t size = (sizeof(struct ref_job) + 63) / 64 * 64;
-	struct ref_job *job = aligned_alloc(64, size);
+	struct ref_job *job = (struct ref_job *)aligned_alloc(64, size);
 	if (job == NULL)
 		return cs_error(CS_ENOMEM, "out of memory");
 	*job = (struct ref_job){.sc = sc, .cam = cam, .s = s, .out = out, .var = var};

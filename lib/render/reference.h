@@ -41,6 +41,24 @@ void cs_reference_irradiance_area(const struct cs_scene *sc, const struct cs_ref
 				  double size_m, int n, int paths, struct cs_irradiance *out,
 				  struct cs_render_stats *st);
 
+/* One pixel's paths as they accumulate (cs_render_reference's, and the
+ * GPU's, lib/render/cuda, which adds them in batches): begin, add paths
+ * k0 .. k1 - 1 of pixel (i, j) (a pixel's paths in order, in one call or
+ * in several), then end writes the pixel as cs_render_reference does. */
+struct cs_reference_pixel {
+	double sum[3];       /* the paths' radiance, kcd/m^2 */
+	double mean, m2;     /* Welford's running mean and sum of squares of the luminance */
+	double depth_sum;    /* of the paths whose first collision was a cloud's, m */
+	double ground_depth; /* the nearest first collision of the others, m */
+	int n, hits, ndepth; /* paths; of them, those that met a cloud first */
+	int ok;              /* the pixel has a ray (-1: not asked yet) */
+};
+CS_HD void cs_reference_pixel_begin(struct cs_reference_pixel *a);
+CS_HD void cs_reference_pixel_add(const struct cs_scene *sc, const struct cs_camera *cam,
+				  const struct cs_reference_settings *s, int i, int j, int k0,
+				  int k1, struct cs_reference_pixel *a, struct cs_render_stats *st);
+CS_HD void cs_reference_pixel_end(const struct cs_reference_pixel *a, float px[5], float *var);
+
 /* Renders spp paths through each pixel's centre into out (5 floats per
  * pixel as cs_render_image: R, G, B, alpha = the share of paths that met a
  * cloud first, Z) and, if var is not NULL, the variance of each pixel's
