@@ -416,7 +416,6 @@ CS_HD void cs_reference_pixel_begin(struct cs_reference_pixel *a)
 {
 	memset(a, 0, sizeof *a);
 	a->ground_depth = CS_SKY_DEPTH_M;
-	a->ok = -1;
 }
 
 CS_HD void cs_reference_pixel_add(const struct cs_scene *sc, const struct cs_camera *cam,
@@ -428,7 +427,8 @@ CS_HD void cs_reference_pixel_add(const struct cs_scene *sc, const struct cs_cam
 	for (int k = k0; k < k1 && a->ok; k++) {
 		double L[3], depth;
 		int hit;
-		trace(sc, s, cam->pos, d, path_key(i, j, k, s->seed), 1, st, L, &hit, &depth);
+		cs_reference_path(sc, s, cam->pos, d, path_key(i, j, k, s->seed), st, L, &hit,
+				  &depth);
 		for (int c = 0; c < 3; c++)
 			a->sum[c] += L[c];
 		/* Welford's running variance of the luminance */
@@ -447,7 +447,7 @@ CS_HD void cs_reference_pixel_add(const struct cs_scene *sc, const struct cs_cam
 
 CS_HD void cs_reference_pixel_end(const struct cs_reference_pixel *a, float px[5], float *var)
 {
-	int ok = a->ok > 0 && a->n > 0;
+	int ok = a->ok && a->n > 0;
 	for (int c = 0; c < 3; c++)
 		px[c] = ok ? (float)(a->sum[c] / a->n) : 0.0f;
 	px[3] = ok ? (float)((double)a->hits / a->n) : 0.0f;

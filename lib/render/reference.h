@@ -51,7 +51,7 @@ struct cs_reference_pixel {
 	double depth_sum;    /* of the paths whose first collision was a cloud's, m */
 	double ground_depth; /* the nearest first collision of the others, m */
 	int n, hits, ndepth; /* paths; of them, those that met a cloud first */
-	int ok;              /* the pixel has a ray (-1: not asked yet) */
+	int ok;              /* the pixel has a ray (cs_camera_ray) */
 };
 CS_HD void cs_reference_pixel_begin(struct cs_reference_pixel *a);
 CS_HD void cs_reference_pixel_add(const struct cs_scene *sc, const struct cs_camera *cam,
