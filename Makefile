@@ -85,7 +85,7 @@ CUDA_LIB  ?= $(if $(NVCC),$(firstword $(wildcard $(dir $(NVCC))../lib64 $(dir $(
 # what render_cuda.o keeps global (the rest of the unity build's host code
 # is made local, so that it never meets the C objects at link time)
 CUDA_API  := cs_device_available cs_cuda_scene_new cs_cuda_scene_update cs_cuda_scene_free cs_cuda_render cs_cuda_bench \
-	     cs_cuda_kernel_name
+	     cs_cuda_kernel_name cs_cuda_reference
 # the kernels for a set of effects (lib/render/cuda/kernels.h names the same):
 # render_cuda.cu compiled again for each, its launch kept global
 CUDA_KERNELS := plain terrain weather

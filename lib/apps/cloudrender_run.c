@@ -644,17 +644,37 @@ static int cmp_double(const void *a, const void *b)
 	return (x > y) - (x < y);
 }
 
-/* The reference integrator's frame, and how converged it is: the relative
- * standard error of each pixel's mean luminance. */
+/* The scene on the GPU (*gpu) for this frame: uploaded anew where the
+ * terrain was placed anew (fresh), else its struct sent again (its noise
+ * and terrain travel once a series). */
+static int device_scene(struct cs_cuda_scene **gpu, int fresh, const struct cs_scene *sc)
+{
+	if (*gpu && fresh) {
+		cs_cuda_scene_free(*gpu);
+		*gpu = NULL;
+	}
+	return *gpu ? cs_cuda_scene_update(*gpu, sc) : cs_cuda_scene_new(sc, gpu);
+}
+
+/* The reference integrator's frame, on the CPU or the GPU, and how
+ * converged it is: the relative standard error of each pixel's mean
+ * luminance. */
 static int render_reference(const struct cs_cloudrender_opts *o, struct cs_cloudrender_result *r,
-			    const struct cs_scene *sc, const struct cs_camera *cam, float *px)
+			    struct cs_cuda_scene **gpu, int gpu_fresh, const struct cs_scene *sc,
+			    const struct cs_camera *cam, float *px)
 {
 	size_t n = (size_t)cam->width * cam->height;
 	float *var = malloc(n * sizeof *var);
 	double *rse = malloc(n * sizeof *rse);
 	struct cs_reference_settings rs = {o->spp, r->settings.seed, o->max_bounces};
 	int rc = var && rse ? CS_OK : cs_error(CS_ENOMEM, "out of memory");
-	if (rc == CS_OK)
+	if (rc == CS_OK && o->device == CS_DEVICE_CUDA) {
+		rc = device_scene(gpu, gpu_fresh, sc);
+		if (rc == CS_OK)
+			rc = cs_cuda_reference(*gpu, cam, &rs, o->progress, o->progress_user, px,
+					       var, &r->stats, &r->device_kernel_ms);
+		r->device_kernel = "reference";
+	} else if (rc == CS_OK)
 		rc = cs_render_reference(sc, cam, &rs, o->threads, o->progress, o->progress_user,
 					 px, var, &r->stats);
 	size_t m = 0;
@@ -683,10 +703,6 @@ static int render_device(const struct cs_cloudrender_opts *o, struct cs_cloudren
 			 struct cs_cuda_scene **gpu, int fresh, const struct cs_scene *sc,
 			 const struct cs_camera *cam, float *px)
 {
-	if (*gpu && fresh) {
-		cs_cuda_scene_free(*gpu);
-		*gpu = NULL;
-	}
 	/* the light caches, the towers' light and the ground's dome: built
 	 * on the host (the CPU pool) into a copy of the scene, which the
 	 * device takes its copies from (cs_frame_scene) */
@@ -698,7 +714,7 @@ static int render_device(const struct cs_cloudrender_opts *o, struct cs_cloudren
 	if (cached != NULL)
 		sc = cached;
 	if (rc == CS_OK)
-		rc = *gpu ? cs_cuda_scene_update(*gpu, sc) : cs_cuda_scene_new(sc, gpu);
+		rc = device_scene(gpu, fresh, sc);
 	int volumes = cached != NULL ? cs_light_cache_volumes(cached) : 0;
 	cs_frame_scene_free(cached);
 	if (rc == CS_OK)
@@ -715,21 +731,21 @@ static int render_device(const struct cs_cloudrender_opts *o, struct cs_cloudren
 	return rc;
 }
 
-/* --device: the reference integrator is CPU-only, and so are the settings
- * cs_render_settings_gpu_check refuses (usage errors); a GPU that is not
- * there is a runtime error (exit 1) that says why, checked before any
- * work. */
+/* --device: the settings cs_render_settings_gpu_check refuses are
+ * CPU-only, and the benchmark times the march (usage errors); a GPU that
+ * is not there is a runtime error (exit 1) that says why, checked before
+ * any work. */
 static int check_device(const struct cs_cloudrender_opts *o, struct cs_cloudrender_result *r)
 {
 	if (o->device != CS_DEVICE_CUDA)
 		return o->device_bench > 0 ? cs_error(CS_EINVAL, "--device-bench needs --device cuda")
 					   : CS_OK;
-	if (o->reference)
-		return cs_error(CS_EINVAL, "--device cuda: the reference integrator runs on the "
-				"CPU only (use --integrator march)");
+	if (o->reference && o->device_bench > 0)
+		return cs_error(CS_EINVAL, "--device-bench times the march, not the reference "
+				"integrator (use --integrator march)");
 	struct cs_render_settings s;
 	cs_cloudrender_settings(o, &s);
-	if (cs_render_settings_gpu_check(&s) != CS_OK)
+	if (!o->reference && cs_render_settings_gpu_check(&s) != CS_OK)
 		return cs_error(CS_EINVAL, "--device cuda: %s", cs_errmsg());
 	if (!cs_device_available(r->device_name, sizeof r->device_name))
 		return cs_error(CS_EIO, "--device cuda: %s", r->device_name);
@@ -742,7 +758,7 @@ static int render_frame(const struct cs_cloudrender_opts *o, struct cs_cloudrend
 			const struct cs_camera *cam, float *px)
 {
 	double t0 = now_s();
-	int rc = o->reference ? render_reference(o, r, sc, cam, px)
+	int rc = o->reference ? render_reference(o, r, gpu, gpu_fresh, sc, cam, px)
 		 : o->device == CS_DEVICE_CUDA ? render_device(o, r, gpu, gpu_fresh, sc, cam, px)
 			      : cs_render_image(sc, cam, &r->settings, o->threads, o->progress,
 						o->progress_user, px, &r->stats);

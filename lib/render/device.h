@@ -4,10 +4,12 @@
  *
  * A build without CUDA (the default `make`; `make CUDA=1` builds it, see
  * README) links lib/render/cuda/device_none.c instead, whose functions
- * only say why there is no GPU.  The reference integrator is CPU-only. */
+ * only say why there is no GPU.  The reference integrator runs on it too
+ * (cs_cuda_reference). */
 #ifndef CS_DEVICE_H
 #define CS_DEVICE_H
 
+#include "render/reference.h"
 #include "render/render.h"
 
 #include <stddef.h>
@@ -48,6 +50,17 @@ int cs_cuda_render(struct cs_cuda_scene *d, const struct cs_camera *cam,
  * no PNG encoding, no copy to the host). */
 int cs_cuda_bench(struct cs_cuda_scene *d, const struct cs_camera *cam,
 		  const struct cs_render_settings *s, int n, double *frame_ms);
+
+/* The reference integrator's frame on the device: cs_render_reference's
+ * paths, pixels and variance (out and var as it writes them, var may be
+ * NULL) from the same paths (the same keys, added in the same order), in
+ * batches of paths with a progress report after each (progress may
+ * cancel: CS_ECANCELED); *kernel_ms (may be NULL) the kernels' time.
+ * Its images differ from the CPU's where the device's single-precision
+ * exponentials (render_cuda.cu) turn a path another way. */
+int cs_cuda_reference(struct cs_cuda_scene *d, const struct cs_camera *cam,
+		      const struct cs_reference_settings *s, cs_progress_fn progress, void *user,
+		      float *out, float *var, struct cs_render_stats *stats, double *kernel_ms);
 
 /* The name of the kernel that renders a frame of d with s: the first of
  * render/cuda/kernels.h built for all the frame needs ("plain",

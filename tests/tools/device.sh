@@ -30,9 +30,19 @@ run "$CR" $FAST --device gpu -o "$T/x.png"
 expect_rc 2; expect_err "--device: 'gpu' is not cpu or cuda"
 end
 
-begin device_reference_integrator_is_cpu_only
-run "$CR" $FAST --device cuda --integrator reference -o "$T/x.png"
-expect_rc 2; expect_err "the reference integrator runs on the CPU only"
+begin device_reference_integrator_renders_or_says_why_and_benchmarks_no_reference
+run "$CR" $FAST --device cuda --integrator reference --spp 2 -o "$T/ref.exr"
+if [ "$rc" -eq 0 ]; then
+	expect_file "$T/ref.exr"
+else
+	expect_rc 1
+	grep -Eq '^cloudrender: --device cuda: (built without CUDA: .+|no CUDA device: .+)$' "$T/err" ||
+		bad "no reason given: $(head -c 300 "$T/err")"
+	expect_no_file "$T/ref.exr"
+fi
+run "$CR" $FAST --device cuda --integrator reference --device-bench 2 -o "$T/x.png"
+expect_rc 2; expect_err "--device-bench times the march, not the reference integrator"
+expect_no_file "$T/x.png"
 end
 
 begin device_adaptive_and_cone_marches_are_cpu_only

@@ -55,3 +55,12 @@ int cs_cuda_bench(struct cs_cuda_scene *d, const struct cs_camera *cam,
 	(void)d, (void)cam, (void)s, (void)n, (void)frame_ms;
 	return cs_error(CS_EINVAL, "%s", CS_CUDA_WHY);
 }
+
+int cs_cuda_reference(struct cs_cuda_scene *d, const struct cs_camera *cam,
+		      const struct cs_reference_settings *s, cs_progress_fn progress, void *user,
+		      float *out, float *var, struct cs_render_stats *stats, double *kernel_ms)
+{
+	(void)d, (void)cam, (void)s, (void)progress, (void)user, (void)out, (void)var;
+	(void)stats, (void)kernel_ms;
+	return cs_error(CS_EINVAL, "%s", CS_CUDA_WHY);
+}

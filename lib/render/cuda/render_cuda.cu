@@ -229,6 +229,14 @@ CS_HD static inline double cs_dev_pow(double x, double y)
 #undef log
 #undef log1p
 #undef pow
+/* the reference integrator, in the unit of every effect only: its own
+ * free paths and Russian roulette in double precision, as on the CPU
+ * (a float logarithm of 1 - u would end a free path at 1 - u below
+ * 2^-24 as if nothing were there); what it calls of the files above
+ * takes their single-precision exponentials */
+#ifndef CS_CUDA_KERNEL_ONLY
+#include "render/reference.c"
+#endif
 }
 
 /* The scene as the device reads it: the pointers of sc lead to the
@@ -299,7 +307,22 @@ static int cuda_error(cudaError_t e, const char *what)
 }
 #endif
 
-/* One thread a pixel; the statistics summed per warp, then atomically. */
+/* A thread's statistics into the NSTATS counters: summed per warp (every
+ * thread of the block calls it), then atomically. */
+__device__ static void add_stats(const struct cs_render_stats *st, unsigned long long *stats)
+{
+	unsigned long long v[NSTATS] = {st->pixels, st->density_samples, st->light_samples,
+					st->rays_terminated_early, st->layer_crossings,
+					st->terrain_cells};
+	for (int k = 0; k < NSTATS; k++) {
+		for (int off = 16; off > 0; off /= 2)
+			v[k] += __shfl_down_sync(0xffffffffu, v[k], off);
+		if ((threadIdx.x + threadIdx.y * blockDim.x) % 32 == 0 && v[k] != 0)
+			atomicAdd(&stats[k], v[k]);
+	}
+}
+
+/* One thread a pixel. */
 __global__ void __launch_bounds__(BLOCK_W * BLOCK_H, CS_CUDA_MIN_BLOCKS)
 render_kernel(const struct dev_scene *ds, struct cs_camera cam, struct cs_render_settings s,
 	      float *out, unsigned long long *stats)
@@ -311,18 +334,37 @@ render_kernel(const struct dev_scene *ds, struct cs_camera cam, struct cs_render
 	if (i < cam.width && j < cam.height)
 		cs_render_pixel(&ds->sc, &cam, &s, i, j, &st,
 				out + ((size_t)j * cam.width + i) * 5);
-	if (stats == NULL)
-		return;
-	unsigned long long v[NSTATS] = {st.pixels, st.density_samples, st.light_samples,
-					st.rays_terminated_early, st.layer_crossings,
-					st.terrain_cells};
-	for (int k = 0; k < NSTATS; k++) {
-		for (int off = 16; off > 0; off /= 2)
-			v[k] += __shfl_down_sync(0xffffffffu, v[k], off);
-		if ((threadIdx.x + threadIdx.y * blockDim.x) % 32 == 0 && v[k] != 0)
-			atomicAdd(&stats[k], v[k]);
-	}
+	if (stats != NULL)
+		add_stats(&st, stats);
 }
+
+#ifndef CS_CUDA_KERNEL_ONLY
+/* The reference integrator: one thread a pixel adds its paths k0 .. k1 - 1
+ * to the pixel's accumulator (reference.h), which the first batch begins
+ * and the last, end, writes out as the CPU does. */
+__global__ void __launch_bounds__(BLOCK_W * BLOCK_H)
+reference_kernel(const struct dev_scene *ds, struct cs_camera cam,
+		 struct cs_reference_settings s, int k0, int k1, int end,
+		 struct cs_reference_pixel *acc, float *out, float *var, unsigned long long *stats)
+{
+	int i = blockIdx.x * blockDim.x + threadIdx.x;
+	int j = blockIdx.y * blockDim.y + threadIdx.y;
+	struct cs_render_stats st;
+	memset(&st, 0, sizeof st);
+	if (i < cam.width && j < cam.height) {
+		size_t at = (size_t)j * cam.width + i;
+		struct cs_reference_pixel a = acc[at];
+		if (k0 == 0)
+			cs_reference_pixel_begin(&a);
+		cs_reference_pixel_add(&ds->sc, &cam, &s, i, j, k0, k1, &a, &st);
+		if (end)
+			cs_reference_pixel_end(&a, out + at * 5, var + at);
+		else
+			acc[at] = a;
+	}
+	add_stats(&st, stats);
+}
+#endif
 
 /* This unit's kernel, for the host's code: its module's texture handle
  * (each unit has its own dev_noise_tex), and n launches for cam's pixels;
@@ -739,6 +781,79 @@ extern "C" int cs_cuda_render(struct cs_cuda_scene *c, const struct cs_camera *c
 	stats->layer_crossings = v[4];
 	stats->terrain_cells = v[5];
 	return CS_OK;
+}
+
+/* The paths a launch of reference_kernel adds to each pixel: about 2^20
+ * paths a launch (a GPU full of threads, a progress report every few),
+ * at most all of them. */
+static int reference_batch(const struct cs_camera *cam, int spp)
+{
+	size_t px = (size_t)cam->width * cam->height;
+	size_t b = ((size_t)1 << 20) / px + 1;
+	return b < (size_t)spp ? (int)b : spp;
+}
+
+extern "C" int cs_cuda_reference(struct cs_cuda_scene *c, const struct cs_camera *cam,
+				 const struct cs_reference_settings *s, cs_progress_fn progress,
+				 void *user, float *out, float *var, struct cs_render_stats *stats,
+				 double *kernel_ms)
+{
+	int rc = cs_reference_check(s);
+	if (rc != CS_OK || (rc = frame_alloc(c, cam)) != CS_OK)
+		return rc;
+	size_t n = (size_t)cam->width * cam->height;
+	struct cs_reference_pixel *acc = NULL;
+	float *dvar = NULL;
+	cudaError_t e = cudaMalloc((void **)&acc, n * sizeof *acc);
+	if (e == cudaSuccess)
+		e = cudaMalloc((void **)&dvar, n * sizeof *dvar);
+	if (e == cudaSuccess)
+		e = cudaMemset(c->stats, 0, NSTATS * sizeof *c->stats);
+	if (e != cudaSuccess)
+		rc = cuda_error(e, "device memory for the reference's paths");
+	dim3 block(BLOCK_W, BLOCK_H);
+	dim3 grid((cam->width + BLOCK_W - 1) / BLOCK_W, (cam->height + BLOCK_H - 1) / BLOCK_H);
+	int batch = reference_batch(cam, s->spp);
+	float ms = 0.0f;
+	for (int k0 = 0; rc == CS_OK && k0 < s->spp; k0 += batch) {
+		int k1 = k0 + batch < s->spp ? k0 + batch : s->spp;
+		cudaEventRecord(c->ev[0]);
+		reference_kernel<<<grid, block>>>(c->d, *cam, *s, k0, k1, k1 == s->spp, acc,
+						  c->frame, dvar, c->stats);
+		cudaEventRecord(c->ev[1]);
+		float t = 0.0f;
+		if ((e = cudaGetLastError()) != cudaSuccess)
+			rc = cuda_error(e, "launching the reference kernel");
+		else if ((e = cudaEventSynchronize(c->ev[1])) != cudaSuccess)
+			rc = cuda_error(e, "rendering the reference");
+		else if ((e = cudaEventElapsedTime(&t, c->ev[0], c->ev[1])) != cudaSuccess)
+			rc = cuda_error(e, "timing the kernel");
+		ms += t;
+		if (rc == CS_OK && progress && progress(user, (double)k1 / s->spp) != 0)
+			rc = cs_error(CS_ECANCELED, "rendering cancelled");
+	}
+	if (rc == CS_OK && (e = cudaMemcpy(out, c->frame, n * 5 * sizeof(float),
+					   cudaMemcpyDeviceToHost)) != cudaSuccess)
+		rc = cuda_error(e, "copying the frame back");
+	if (rc == CS_OK && var != NULL &&
+	    (e = cudaMemcpy(var, dvar, n * sizeof *var, cudaMemcpyDeviceToHost)) != cudaSuccess)
+		rc = cuda_error(e, "copying the variance back");
+	unsigned long long v[NSTATS];
+	if (rc == CS_OK &&
+	    (e = cudaMemcpy(v, c->stats, sizeof v, cudaMemcpyDeviceToHost)) != cudaSuccess)
+		rc = cuda_error(e, "copying the statistics back");
+	if (rc == CS_OK) {
+		memset(stats, 0, sizeof *stats);
+		stats->pixels = v[0];
+		stats->density_samples = v[1];
+		stats->light_samples = v[2];
+		stats->terrain_cells = v[5];
+		if (kernel_ms)
+			*kernel_ms = ms;
+	}
+	cudaFree(acc);
+	cudaFree(dvar);
+	return rc;
 }
 
 extern "C" const char *cs_cuda_kernel_name(const struct cs_cuda_scene *c,
