@@ -56,8 +56,10 @@ int cs_cuda_bench(struct cs_cuda_scene *d, const struct cs_camera *cam,
  * NULL) from the same paths (the same keys, added in the same order), in
  * batches of paths with a progress report after each (progress may
  * cancel: CS_ECANCELED); *kernel_ms (may be NULL) the kernels' time.
- * Its images differ from the CPU's where the device's single-precision
- * exponentials (render_cuda.cu) turn a path another way. */
+ * Its images differ from the CPU's where the device's arithmetic (its
+ * single-precision exponentials, fused multiply-adds, CUDA's mathematical
+ * functions: render_cuda.cu) turns a path another way; the noise is read
+ * by volume.c's weights, not the march's texture. */
 int cs_cuda_reference(struct cs_cuda_scene *d, const struct cs_camera *cam,
 		      const struct cs_reference_settings *s, cs_progress_fn progress, void *user,
 		      float *out, float *var, struct cs_render_stats *stats, double *kernel_ms);

@@ -353,9 +353,11 @@ reference_kernel(const struct dev_scene *ds, struct cs_camera cam,
 	memset(&st, 0, sizeof st);
 	if (i < cam.width && j < cam.height) {
 		size_t at = (size_t)j * cam.width + i;
-		struct cs_reference_pixel a = acc[at];
+		struct cs_reference_pixel a;
 		if (k0 == 0)
 			cs_reference_pixel_begin(&a);
+		else
+			a = acc[at];
 		cs_reference_pixel_add(&ds->sc, &cam, &s, i, j, k0, k1, &a, &st);
 		if (end)
 			cs_reference_pixel_end(&a, out + at * 5, var + at);
@@ -733,9 +735,10 @@ static int launch(struct cs_cuda_scene *c, const struct cs_camera *cam,
 	if ((rc = frame_alloc(c, cam)) != CS_OK)
 		return rc;
 	/* the kernel's module's one texture handle is this scene's, set by
-	 * every launch (the only place a kernel starts, and it waits for the
-	 * kernel to end): another scene may have set it, or destroyed its
-	 * texture, since; 0 without a noise texture: the loads */
+	 * every launch of the march (here, and cs_cuda_reference sets it to
+	 * 0; both wait for their kernels to end): another scene may have
+	 * set it, or destroyed its texture, since; 0 without a noise
+	 * texture: the loads */
 	const struct kernel *k = kernel_for(c, s);
 	unsigned long long tex = (unsigned long long)c->noise_tex;
 	cudaError_t e = (cudaError_t)k->texture(tex);
@@ -785,11 +788,16 @@ extern "C" int cs_cuda_render(struct cs_cuda_scene *c, const struct cs_camera *c
 
 /* The paths a launch of reference_kernel adds to each pixel: about 2^20
  * paths a launch (a GPU full of threads, a progress report every few),
- * at most all of them. */
+ * at most all of them; CLOUDSCAPE_CUDA_REF_BATCH=n asks for n (the image
+ * is the same: scripts/gpu-check compares 1 with the default). */
 static int reference_batch(const struct cs_camera *cam, int spp)
 {
-	size_t px = (size_t)cam->width * cam->height;
-	size_t b = ((size_t)1 << 20) / px + 1;
+	const char *env = getenv("CLOUDSCAPE_CUDA_REF_BATCH");
+	size_t px = (size_t)cam->width * cam->height, b;
+	if (env != NULL && atoi(env) > 0)
+		b = (size_t)atoi(env);
+	else
+		b = ((size_t)1 << 20) / (px > 0 ? px : 1) + 1;
 	return b < (size_t)spp ? (int)b : spp;
 }
 
@@ -801,22 +809,26 @@ extern "C" int cs_cuda_reference(struct cs_cuda_scene *c, const struct cs_camera
 	int rc = cs_reference_check(s);
 	if (rc != CS_OK || (rc = frame_alloc(c, cam)) != CS_OK)
 		return rc;
+	/* the noise by the loads, volume.c's weights (the march's texture
+	 * filters the detail with 8-bit weights): the module's handle 0 */
+	cudaError_t e = (cudaError_t)cs_cuda_texture_all(0);
+	if (e != cudaSuccess)
+		return cuda_error(e, "the noise texture");
 	size_t n = (size_t)cam->width * cam->height;
 	struct cs_reference_pixel *acc = NULL;
 	float *dvar = NULL;
-	cudaError_t e = cudaMalloc((void **)&acc, n * sizeof *acc);
-	if (e == cudaSuccess)
-		e = cudaMalloc((void **)&dvar, n * sizeof *dvar);
-	if (e == cudaSuccess)
-		e = cudaMemset(c->stats, 0, NSTATS * sizeof *c->stats);
-	if (e != cudaSuccess)
+	if ((e = cudaMalloc((void **)&acc, n * sizeof *acc)) != cudaSuccess ||
+	    (e = cudaMalloc((void **)&dvar, n * sizeof *dvar)) != cudaSuccess)
 		rc = cuda_error(e, "device memory for the reference's paths");
+	else if ((e = cudaMemset(c->stats, 0, NSTATS * sizeof *c->stats)) != cudaSuccess)
+		rc = cuda_error(e, "clearing the statistics");
 	dim3 block(BLOCK_W, BLOCK_H);
 	dim3 grid((cam->width + BLOCK_W - 1) / BLOCK_W, (cam->height + BLOCK_H - 1) / BLOCK_H);
 	int batch = reference_batch(cam, s->spp);
 	float ms = 0.0f;
 	for (int k0 = 0; rc == CS_OK && k0 < s->spp; k0 += batch) {
 		int k1 = k0 + batch < s->spp ? k0 + batch : s->spp;
+		(void)cudaGetLastError(); /* an earlier call's error is not this launch's */
 		cudaEventRecord(c->ev[0]);
 		reference_kernel<<<grid, block>>>(c->d, *cam, *s, k0, k1, k1 == s->spp, acc,
 						  c->frame, dvar, c->stats);
