@@ -758,6 +758,22 @@ static int launch(struct cs_cuda_scene *c, const struct cs_camera *cam,
 	return CS_OK;
 }
 
+/* The NSTATS counters (add_stats) copied back into stats' fields. */
+static int stats_back(const struct cs_cuda_scene *c, struct cs_render_stats *stats)
+{
+	unsigned long long v[NSTATS];
+	cudaError_t e = cudaMemcpy(v, c->stats, sizeof v, cudaMemcpyDeviceToHost);
+	if (e != cudaSuccess)
+		return cuda_error(e, "copying the statistics back");
+	stats->pixels = v[0];
+	stats->density_samples = v[1];
+	stats->light_samples = v[2];
+	stats->rays_terminated_early = v[3];
+	stats->layer_crossings = v[4];
+	stats->terrain_cells = v[5];
+	return CS_OK;
+}
+
 extern "C" int cs_cuda_render(struct cs_cuda_scene *c, const struct cs_camera *cam,
 			      const struct cs_render_settings *s, float *out,
 			      struct cs_render_stats *stats, double *kernel_ms)
@@ -774,16 +790,7 @@ extern "C" int cs_cuda_render(struct cs_cuda_scene *c, const struct cs_camera *c
 	size_t n = (size_t)cam->width * cam->height * 5 * sizeof(float);
 	if ((e = cudaMemcpy(out, c->frame, n, cudaMemcpyDeviceToHost)) != cudaSuccess)
 		return cuda_error(e, "copying the frame back");
-	unsigned long long v[NSTATS];
-	if ((e = cudaMemcpy(v, c->stats, sizeof v, cudaMemcpyDeviceToHost)) != cudaSuccess)
-		return cuda_error(e, "copying the statistics back");
-	stats->pixels = v[0];
-	stats->density_samples = v[1];
-	stats->light_samples = v[2];
-	stats->rays_terminated_early = v[3];
-	stats->layer_crossings = v[4];
-	stats->terrain_cells = v[5];
-	return CS_OK;
+	return stats_back(c, stats);
 }
 
 /* The paths a launch of reference_kernel adds to each pixel: about 2^20
@@ -850,19 +857,12 @@ extern "C" int cs_cuda_reference(struct cs_cuda_scene *c, const struct cs_camera
 	if (rc == CS_OK && var != NULL &&
 	    (e = cudaMemcpy(var, dvar, n * sizeof *var, cudaMemcpyDeviceToHost)) != cudaSuccess)
 		rc = cuda_error(e, "copying the variance back");
-	unsigned long long v[NSTATS];
-	if (rc == CS_OK &&
-	    (e = cudaMemcpy(v, c->stats, sizeof v, cudaMemcpyDeviceToHost)) != cudaSuccess)
-		rc = cuda_error(e, "copying the statistics back");
 	if (rc == CS_OK) {
 		memset(stats, 0, sizeof *stats);
-		stats->pixels = v[0];
-		stats->density_samples = v[1];
-		stats->light_samples = v[2];
-		stats->terrain_cells = v[5];
-		if (kernel_ms)
-			*kernel_ms = ms;
+		rc = stats_back(c, stats);
 	}
+	if (rc == CS_OK && kernel_ms)
+		*kernel_ms = ms;
 	cudaFree(acc);
 	cudaFree(dvar);
 	return rc;
