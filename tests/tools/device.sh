@@ -5,6 +5,19 @@ plan 7
 CR="$BIN/cloudrender"
 FAST="--size 32x18 --quality low --noise-size 16 -q"
 
+# the run with --device cuda wrote FILE, or exited 1 saying why there is
+# no GPU and wrote nothing
+rendered_or_said_why() {
+	if [ "$rc" -eq 0 ]; then
+		expect_file "$1"
+	else
+		expect_rc 1
+		grep -Eq '^cloudrender: --device cuda: (built without CUDA: .+|no CUDA device: .+)$' "$T/err" ||
+			bad "no reason given: $(head -c 300 "$T/err")"
+		expect_no_file "$1"
+	fi
+}
+
 begin device_cpu_is_the_default_and_renders_the_same_image
 run "$CR" $FAST -o "$T/default.exr"
 expect_rc 0
@@ -15,14 +28,7 @@ end
 
 begin device_cuda_renders_or_says_why_and_exits_1
 run "$CR" $FAST --device cuda -o "$T/gpu.png"
-if [ "$rc" -eq 0 ]; then
-	expect_file "$T/gpu.png"
-else
-	expect_rc 1
-	grep -Eq '^cloudrender: --device cuda: (built without CUDA: .+|no CUDA device: .+)$' "$T/err" ||
-		bad "no reason given: $(head -c 300 "$T/err")"
-	expect_no_file "$T/gpu.png"
-fi
+rendered_or_said_why "$T/gpu.png"
 end
 
 begin device_unknown_is_a_usage_error
@@ -32,14 +38,7 @@ end
 
 begin device_reference_integrator_renders_or_says_why_and_benchmarks_no_reference
 run "$CR" $FAST --device cuda --integrator reference --spp 2 -o "$T/ref.exr"
-if [ "$rc" -eq 0 ]; then
-	expect_file "$T/ref.exr"
-else
-	expect_rc 1
-	grep -Eq '^cloudrender: --device cuda: (built without CUDA: .+|no CUDA device: .+)$' "$T/err" ||
-		bad "no reason given: $(head -c 300 "$T/err")"
-	expect_no_file "$T/ref.exr"
-fi
+rendered_or_said_why "$T/ref.exr"
 run "$CR" $FAST --device cuda --integrator reference --device-bench 2 -o "$T/x.png"
 expect_rc 2; expect_err "--device-bench times the march, not the reference integrator"
 expect_no_file "$T/x.png"
