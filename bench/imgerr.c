@@ -14,7 +14,10 @@
  * less than 0.01 of cloud in front of it; cloud), or "none" where it has
  * no pixel of that kind; with
  * IMGERR_BLOCKS=CXxCY, the test's mean luminance over the references' in
- * CX x CY blocks, a line per row of blocks. */
+ * CX x CY blocks, a line per row of blocks; with IMGERR_REFS set, a last
+ * line "refs R": the relMSE of either reference alone, for two of the same
+ * paths, the sum of (A - B)^2 / 2 over the same sum of A B (the path
+ * tracer's own error at the references' paths). */
 #include "core/color.h"
 #include "core/fileio.h"
 #include "io/exr.h"
@@ -63,12 +66,13 @@ int main(int argc, char **argv)
 	 * cloud (alpha >= 0.01) */
 	double cf[3] = {0.0, 0.0, 0.0}, cr[3] = {0.0, 0.0, 0.0};
 	size_t nk[3] = {0, 0, 0};
-	double se = 0.0, ss = 0.0, are = 0.0, yf = 0.0, yr = 0.0;
+	double se = 0.0, ss = 0.0, sab = 0.0, are = 0.0, yf = 0.0, yr = 0.0;
 	for (size_t i = 0; i < n; i++) {
 		for (int k = 0; k < 3; k++) {
 			double x = f[i * 3 + k], p = a[i * 3 + k], q = b[i * 3 + k];
 			se += (x - p) * (x - q);
 			ss += p * q;
+			sab += (p - q) * (p - q);
 		}
 		double y = cs_luminance(f[i * 3], f[i * 3 + 1], f[i * 3 + 2]);
 		double r = 0.5 * (cs_luminance(a[i * 3], a[i * 3 + 1], a[i * 3 + 2]) +
@@ -109,6 +113,8 @@ int main(int argc, char **argv)
 			printf("\n");
 		}
 	}
+	if (getenv("IMGERR_REFS"))
+		printf("refs %.4g\n", 0.5 * sab / ss);
 	free(f), free(a), free(b), free(z);
 	return 0;
 }

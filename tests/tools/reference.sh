@@ -1,7 +1,7 @@
 # cloudrender's reference integrator and the accuracy study's knobs, as a
 # user runs them.
 . "$TOP/tests/tools/lib.sh"
-plan 4
+plan 5
 CR="$BIN/cloudrender"
 SMALL="--size 24x14 --noise-size 16 -q"
 rse() { grep -o '"median":[0-9.]*' "$T/err" | head -1 | cut -d: -f2; }
@@ -73,4 +73,27 @@ run "$CR" $SMALL --look 150,-2 --no-haze -o "$T/nh.png"
 expect_rc 0
 awk -v a="$(mean "$T/nh.png")" -v b="$(mean "$T/h.png")" 'BEGIN { exit !(a < b) }' ||
 	bad "--no-haze does not darken the hazy distance"
+end
+
+begin imgerr_refs_is_either_references_own_error
+# bench/imgerr with IMGERR_REFS: the relMSE of one of two references of the
+# same paths, sum (A - B)^2 / 2 over sum A B, the channels' values from
+# the files themselves (exrpixels, hexadecimal floats read by printf)
+ERR=$BIN/../bench/imgerr
+run "$CR" $SMALL --integrator reference --spp 4 --seed 1 -o "$T/a.exr"
+run "$CR" $SMALL --integrator reference --spp 4 --seed 2 -o "$T/b.exr"
+expect_rc 0
+for f in a b; do
+	# shellcheck disable=SC2046
+	printf '%.17g\n' $("$HELPERS/exrpixels" "$T/$f.exr" R G B | sed 1d) >"$T/$f.txt"
+done
+want=$(paste "$T/a.txt" "$T/b.txt" |
+	awk '{ d += ($1 - $2) * ($1 - $2); s += $1 * $2 } END { printf "%.6g", d / 2 / s }')
+got=$(IMGERR_REFS=1 "$ERR" "$T/a.exr" "$T/a.exr" "$T/b.exr" | sed -n 's/^refs //p')
+awk -v g="$got" -v w="$want" 'BEGIN { exit !(w > 0 && g > 0.999 * w && g < 1.001 * w) }' ||
+	bad "IMGERR_REFS gave ${got:-nothing}, the pixels $want"
+# the first line is still the test against the references: A against A
+# and B is no error at all
+set -- $(IMGERR_REFS=1 "$ERR" "$T/a.exr" "$T/a.exr" "$T/b.exr" | head -1)
+[ "$1" = 0 ] || bad "A against A and B: relMSE $1, not 0"
 end
