@@ -11,7 +11,7 @@ begin accuracy_study_usage_errors_say_why
 for a in "--ref-seeds 3|two different seeds" "--ref-seeds 3,3|two different seeds" \
 	"--ref-seeds a,b|two different seeds" "--ref-seeds 4294967296,1|two different seeds" \
 	"--spp x|--spp takes a count" "--jobs 0|--jobs takes a count" \
-	"--ref-device gpu|cpu or cuda" "--frobnicate|unknown option"; do
+	"--ref-device gpu|cpu or cuda" "--frobnicate|unknown option" "--scenes nope|no scene nope"; do
 	# shellcheck disable=SC2086
 	run "$STUDY" --build "$BIN/.." ${a%%|*} --out "$T/u"
 	expect_rc 2
