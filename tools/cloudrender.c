@@ -222,10 +222,12 @@ static void usage(void)
 	       "                         --tower-cell's lattice; high and reference);\n"
 	       "                         off: as the columns of a slab (low, medium)\n"
 	       "      --ground-sky M     the diffuse light on the ground under clouds:\n"
-	       "                         dome (high, reference): the mean of the sky the\n"
-	       "                         frame draws, traced from 32 x 32 points over\n"
-	       "                         24 km, 4 rays each; columns (low, medium): the\n"
-	       "                         area mean of the clouds' slab columns\n"
+	       "                         field (high, reference): the sky the frame draws\n"
+	       "                         traced from 64 x 64 points over 24 km around the\n"
+	       "                         camera, most rays where the frame sees ground;\n"
+	       "                         dome: their mean, from 32 x 32 points, 4 rays\n"
+	       "                         each; columns (low, medium): the area mean of\n"
+	       "                         the clouds' slab columns\n"
 	       "      --haze-steps N     samples of the clouds' shadows in the haze over\n"
 	       "                         the first 20 km (crepuscular rays), 0..10000;\n"
 	       "                         0: their area mean only\n"
@@ -429,7 +431,9 @@ static void describe(void *user, const struct cs_cloudrender_result *r)
 		"%d haze steps%s%s%s%s", o->quality, r->settings.steps, r->settings.light_steps,
 		r->settings.ms_octaves, r->settings.haze_steps,
 		r->settings.heap_towers ? ", heaps lit as towers" : "",
-		r->settings.ground_sky == CS_GROUND_SKY_DOME ? ", the ground's sky a dome" : "",
+		r->settings.ground_sky == CS_GROUND_SKY_DOME	? ", the ground's sky a dome"
+		: r->settings.ground_sky == CS_GROUND_SKY_FIELD ? ", the ground's sky a field"
+								: "",
 		r->settings.ambient ? "" : ", no ambient", r->settings.jitter > 0 ? "" : ", no jitter");
 }
 
@@ -818,8 +822,9 @@ int main(int argc, char **argv)
 			break;
 		}
 		case OPT_GROUND_SKY: {
-			static const char *const names[] = {"columns", "dome", NULL};
-			_Static_assert(CS_GROUND_SKY_COLUMNS == 0 && CS_GROUND_SKY_DOME == 1,
+			static const char *const names[] = {"columns", "dome", "field", NULL};
+			_Static_assert(CS_GROUND_SKY_COLUMNS == 0 && CS_GROUND_SKY_DOME == 1 &&
+					       CS_GROUND_SKY_FIELD == 2,
 				       "--ground-sky's names in the settings' order");
 			o.ground_sky = cli_choice("--ground-sky", optarg, names);
 			break;

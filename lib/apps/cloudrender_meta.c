@@ -54,7 +54,10 @@ static void put_quality(FILE *f, const struct cs_cloudrender_opts *o,
 									: "?",
 		s->source_every > 1 ? s->source_every : 1, N(s->tower_cell_m, 1),
 		s->heap_towers ? "true" : "false",
-		s->ground_sky == CS_GROUND_SKY_DOME ? "dome" : "columns", s->ambient ? "true" : "false", N(s->jitter, 3),
+		s->ground_sky == CS_GROUND_SKY_FIELD	? "field"
+		: s->ground_sky == CS_GROUND_SKY_DOME ? "dome"
+						      : "columns",
+		s->ambient ? "true" : "false", N(s->jitter, 3),
 		(unsigned)s->seed,
 		o->no_haze ? "false" : "true", N(r->exposure_ev, 3));
 }

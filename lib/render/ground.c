@@ -109,6 +109,30 @@ CS_HD static int water_at(const struct cs_scene *sc, double x, double y)
 	return sc->terrain_water[(size_t)j * f->w + i] >= 0.5f;
 }
 
+CS_HD void cs_ground_sky(const struct cs_scene *sc, cs_v3 p, double out[3])
+{
+	const struct cs_ground_field *f = &sc->ground_field;
+	if (f->rgb == NULL) {
+		for (int k = 0; k < 3; k++)
+			out[k] = sc->deck.sky_ground[k];
+		return;
+	}
+	double u = (p.x - f->x0_m) / f->step_m, v = (p.y - f->y0_m) / f->step_m, top = f->n - 1;
+	double cu = u < 0.0 ? 0.0 : u > top ? top : u, cv = v < 0.0 ? 0.0 : v > top ? top : v;
+	double out_m = fmax(fabs(u - cu), fabs(v - cv)) * f->step_m;
+	double w = out_m >= f->fade_m ? 1.0 : out_m / f->fade_m;
+	int i = (int)cu, j = (int)cv;
+	i = i > f->n - 2 ? f->n - 2 : i;
+	j = j > f->n - 2 ? f->n - 2 : j;
+	double a = cu - i, b = cv - j;
+	const float *q = f->rgb + 3 * ((size_t)j * f->n + i), *r = q + 3 * (size_t)f->n;
+	for (int k = 0; k < 3; k++) {
+		double near = (1.0 - b) * ((1.0 - a) * q[k] + a * q[3 + k]) +
+			      b * ((1.0 - a) * r[k] + a * r[3 + k]);
+		out[k] = near + w * (f->mean[k] - near);
+	}
+}
+
 CS_HD CS_COLD void cs_water_light(const struct cs_scene *sc, const struct cs_render_settings *s,
 			  cs_v3 p, cs_v3 d, int on_terrain, struct cs_render_stats *st,
 			  double rgb[3])
@@ -118,18 +142,20 @@ CS_HD CS_COLD void cs_water_light(const struct cs_scene *sc, const struct cs_ren
 	cv = cv > 1e-4 ? cv : 1e-4;
 	/* the sky in the mirror direction: under a deck what it lets through */
 	cs_v3 r = v3_norm(v3_mad(d, n, 2.0 * cv));
-	double sky[3] = {0.0, 0.0, 0.0};
+	double sky[3] = {0.0, 0.0, 0.0}, ground[3];
+	if (sc->deck.on)
+		cs_ground_sky(sc, p, ground);
 	if (CS_FX_IS(sc, CS_FX_SKY)) {
 		if (sc->deck.on)
 			for (int k = 0; k < 3; k++)
-				sky[k] = sc->deck.sky_ground[k];
+				sky[k] = ground[k];
 		else
 			cs_scene_sky(sc, r, sky);
 	}
 	double F = cs_water_fresnel(cv);
 	/* the water body: light that entered, scattered and came back up */
 	const double body[3] = {CS_WATER_BODY_R, CS_WATER_BODY_G, CS_WATER_BODY_B};
-	const double *amb = sc->deck.on ? sc->deck.sky_ground : sc->ambient_up;
+	const double *amb = sc->deck.on ? ground : sc->ambient_up;
 	double cosi = v3_dot(n, sc->sun_dir), sunT = 0.0;
 	if (CS_FX_IS(sc, CS_FX_KEY) && cosi > 0.0) {
 		double self = on_terrain ? terrain_shadow(sc->terrain, p, sc->sun_dir) : 1.0;
@@ -212,7 +238,10 @@ CS_HD CS_COLD void cs_ground_light(const struct cs_scene *sc,
 	/* the sky light, or under clouds what they let through; in fog the
 	 * light the fog scatters down there (its solution: the sky's and the
 	 * sun's light through the fog above and the ground's own returned) */
-	const double *sky = sc->deck.on ? sc->deck.sky_ground : sc->ambient_up;
+	double ground[3];
+	if (sc->deck.on)
+		cs_ground_sky(sc, p, ground);
+	const double *sky = sc->deck.on ? ground : sc->ambient_up;
 	double diffuse[3];
 	if (fog && sc->fog.on) {
 		cs_fog_down(sc, alt, diffuse);

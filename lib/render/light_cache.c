@@ -133,14 +133,18 @@ static int ground_lit(const struct cs_scene *sc, const struct cs_render_settings
 	int fog = sc->fog_beta_per_m > 0.0 && sc->fog.on;
 	if (!sc->deck.on || !(sc->effects & CS_FX_SKY) || !(sc->effects & CS_FX_GROUND))
 		return fog ? CS_GROUND_LIT_CLEAR_FOG : CS_GROUND_LIT_CLEAR;
-	if (s->ground_sky != CS_GROUND_SKY_DOME)
+	if (s->ground_sky == CS_GROUND_SKY_COLUMNS)
 		return fog ? CS_GROUND_LIT_COLUMNS_FOG : CS_GROUND_LIT_COLUMNS;
-	return fog ? CS_GROUND_LIT_FOG : CS_GROUND_LIT_DOME;
+	if (fog)
+		return CS_GROUND_LIT_FOG;
+	return s->ground_sky == CS_GROUND_SKY_FIELD ? CS_GROUND_LIT_FIELD : CS_GROUND_LIT_DOME;
 }
 
-static int ground_dome(const struct cs_scene *sc, const struct cs_render_settings *s)
+/* Whether the frame traces the ground's light (the dome or the field). */
+static int ground_traced(const struct cs_scene *sc, const struct cs_render_settings *s)
 {
-	return ground_lit(sc, s) == CS_GROUND_LIT_DOME;
+	int lit = ground_lit(sc, s);
+	return lit == CS_GROUND_LIT_DOME || lit == CS_GROUND_LIT_FIELD;
 }
 
 const char *cs_ground_lit_name(int ground_lit)
@@ -148,12 +152,13 @@ const char *cs_ground_lit_name(int ground_lit)
 	static const char *const names[] = {
 		[CS_GROUND_LIT_COLUMNS] = "the columns'",
 		[CS_GROUND_LIT_DOME] = "the dome's",
+		[CS_GROUND_LIT_FIELD] = "the field's",
 		[CS_GROUND_LIT_COLUMNS_FOG] = "the columns' and the fog's",
 		[CS_GROUND_LIT_CLEAR] = "the clear sky's (no clouds)",
 		[CS_GROUND_LIT_CLEAR_FOG] = "the clear sky's and the fog's (no clouds over the fog)",
-		[CS_GROUND_LIT_FOG] = ("the columns' and the fog's, no dome (fog: its light is "
+		[CS_GROUND_LIT_FOG] = ("the columns' and the fog's, none traced (fog: its light is "
 				       "solved from the columns')"),
-		[CS_GROUND_LIT_UNSEEN] = "the columns', no dome (the frame sees no ground)",
+		[CS_GROUND_LIT_UNSEEN] = "the columns', none traced (the frame sees no ground)",
 	};
 	if (ground_lit < 0 || ground_lit >= (int)(sizeof names / sizeof names[0]))
 		return "?";
@@ -171,6 +176,7 @@ int cs_light_cache_build(struct cs_scene *sc, const struct cs_render_settings *s
 		sc->column_cache[n] = (struct cs_light_cache){0};
 		sc->tower_light[n] = (struct cs_light_cache){0};
 	}
+	sc->ground_field = (struct cs_ground_field){0};
 	/* the heaps' tilted columns where the settings light them so */
 	cs_scene_tilt_fields(sc, s, nthreads);
 	cs_v3 sun = sc->sun_dir;
@@ -209,7 +215,7 @@ int cs_light_cache_build(struct cs_scene *sc, const struct cs_render_settings *s
 	}
 	/* last, the ground's diffuse light from the sky as the frame draws it
 	 * (with the caches and the towers' light just built) */
-	if (rc == CS_OK && ground_dome(sc, s))
+	if (rc == CS_OK && ground_lit(sc, s) == CS_GROUND_LIT_DOME)
 		rc = cs_ground_sky_dome(sc, s, nthreads, sc->deck.sky_ground);
 	if (rc != CS_OK) {
 		cs_light_cache_free(sc);
@@ -270,7 +276,7 @@ int cs_camera_sees_ground(const struct cs_scene *sc, const struct cs_camera *cam
 
 int cs_frame_volumes_needed(const struct cs_scene *sc, const struct cs_render_settings *s)
 {
-	return ground_dome(sc, s) || CS_LIGHT_CACHED(s->light_march) || cs_tower_light_wanted(sc, s) ||
+	return ground_traced(sc, s) || CS_LIGHT_CACHED(s->light_march) || cs_tower_light_wanted(sc, s) ||
 	       cs_scene_tilt_wanted(sc, s);
 }
 
@@ -281,10 +287,11 @@ int cs_frame_scene(const struct cs_scene *sc, const struct cs_camera *cam,
 	*out = NULL;
 	*evaluations = 0;
 	*ground = ground_lit(sc, s);
-	/* no dome for a frame that sees no ground: nothing else takes its
-	 * light */
+	/* no dome or field for a frame that sees no ground: nothing else
+	 * takes their light */
 	struct cs_render_settings fs = *s;
-	if (*ground == CS_GROUND_LIT_DOME && !cs_camera_sees_ground(sc, cam)) {
+	if ((*ground == CS_GROUND_LIT_DOME || *ground == CS_GROUND_LIT_FIELD) &&
+	    !cs_camera_sees_ground(sc, cam)) {
 		fs.ground_sky = CS_GROUND_SKY_COLUMNS;
 		*ground = CS_GROUND_LIT_UNSEEN;
 	}
@@ -296,6 +303,13 @@ int cs_frame_scene(const struct cs_scene *sc, const struct cs_camera *cam,
 	*copy = *sc;
 	int rc = cs_light_cache_build(copy, &fs, (double)cam->width * cam->height, nthreads,
 				      evaluations);
+	if (rc == CS_OK && *ground == CS_GROUND_LIT_FIELD) {
+		rc = cs_ground_sky_field(copy, &fs, cam, nthreads, &copy->ground_field);
+		for (int c = 0; c < 3 && rc == CS_OK; c++)
+			copy->deck.sky_ground[c] = copy->ground_field.mean[c];
+		if (rc != CS_OK)
+			cs_light_cache_free(copy);
+	}
 	if (rc != CS_OK) {
 		free(copy);
 		return rc;
@@ -331,4 +345,6 @@ void cs_light_cache_free(struct cs_scene *sc)
 		sc->column_cache[n] = (struct cs_light_cache){0};
 		sc->tower_light[n] = (struct cs_light_cache){0};
 	}
+	free((void *)sc->ground_field.rgb);
+	sc->ground_field = (struct cs_ground_field){0};
 }

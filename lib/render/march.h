@@ -125,6 +125,13 @@ CS_HD double cs_find_ground(const struct cs_scene *sc, cs_v3 o, cs_v3 d,
  * (integrator.c). */
 CS_HD double cs_rain_shaft(const struct cs_scene *sc, double x, double y);
 
+/* The diffuse light on the ground at p under clouds (deck.on; ground.c),
+ * the radiance of a cosine-weighted mean, kcd/m^2: the frame's field where
+ * it has one (sc->ground_field: bilinear between its points, fading to
+ * their mean beyond them), else the one value of the frame
+ * (deck.sky_ground). */
+CS_HD void cs_ground_sky(const struct cs_scene *sc, cs_v3 p, double rgb[3]);
+
 /* The ground's surface at p (ground.c): its unit normal and its albedo
  * (land cover, terrain colour, wetness). */
 CS_HD void cs_ground_surface(const struct cs_scene *sc, cs_v3 p, int on_terrain,

@@ -15,6 +15,7 @@
 #include "core/color.h"
 #include "core/err.h"
 #include "core/pool.h"
+#include "render/camera.h"
 #include "terrain/heightfield.h"
 
 #include <math.h>
@@ -148,16 +149,20 @@ void cs_irradiance_from_klux(const struct cs_scene *sc, cs_v3 p, double dni_klux
 	out->ghi_w_m2 = out->dni_w_m2 * (mu0 > 0.0 ? mu0 : 0.0) + out->dhi_w_m2;
 }
 
-cs_v3 cs_irradiance_area_point(const struct cs_scene *sc, double size_m, int n, int i, int j)
+/* 2 m above the ground at (x, y): the terrain where it is, else the flat
+ * ground, on the sphere */
+static cs_v3 above_ground(const struct cs_scene *sc, double x, double y)
 {
-	double x = ((i + 0.5) / n - 0.5) * size_m, y = ((j + 0.5) / n - 0.5) * size_m;
-	/* 2 m above the ground at (x, y): the terrain where it is, else the
-	 * flat ground, on the sphere */
 	double R = sc->earth_radius_m, h = sc->ground_alt_m, th;
 	if (sc->terrain && cs_hfield_height(sc->terrain, x, y, &th))
 		h = th;
 	h += 2.0;
 	return v3(x, y, sqrt((R + h) * (R + h) - x * x - y * y) - R);
+}
+
+cs_v3 cs_irradiance_area_point(const struct cs_scene *sc, double size_m, int n, int i, int j)
+{
+	return above_ground(sc, ((i + 0.5) / n - 0.5) * size_m, ((j + 0.5) / n - 0.5) * size_m);
 }
 
 void cs_irradiance_area(const struct cs_scene *sc, const struct cs_render_settings *s,
@@ -178,40 +183,57 @@ void cs_irradiance_area(const struct cs_scene *sc, const struct cs_render_settin
 	out->dhi_w_m2 = sum.dhi_w_m2 / (n * n);
 }
 
+/* The sum of the radiance of m x m rays over p's sky in strata, their
+ * offsets in the strata turned from point to point by the point's index k
+ * (the R2 sequence, Roberts 2018) so that a grid's rays fill the
+ * hemisphere between the strata's corners. */
+static void sky_rays(const struct cs_scene *sc, const struct cs_render_settings *s, cs_v3 p,
+		     int k, int m, struct cs_render_stats *st, double sum[3])
+{
+	double ou = fmod(0.5 + k * 0.7548776662466927, 1.0);
+	double ov = fmod(0.5 + k * 0.5698402909980532, 1.0);
+	for (int a = 0; a < m; a++)
+		for (int b = 0; b < m; b++) {
+			struct cs_ray_result r;
+			cs_render_ray(sc, s, p, dome_dir(sc, p, (a + ou) / m, (b + ov) / m), 0.5, st, &r);
+			for (int c = 0; c < 3; c++)
+				sum[c] += r.rgb[c];
+		}
+}
+
 struct dome_job {
 	const struct cs_scene *sc;
 	const struct cs_render_settings *s;
 	double (*row)[3]; /* each row's sum of radiance */
 };
 
-/* Row j of the dome's points: each point's rays in 2 x 2 strata, their
- * offsets in the strata turned from point to point (the R2 sequence,
- * Roberts 2018) so that the grid's rays fill the hemisphere between the
- * strata's corners. */
+/* Row j of the dome's points, 2 x 2 rays each. */
 static void dome_row(void *user, int j, int worker)
 {
 	(void)worker;
 	const struct dome_job *job = user;
-	const int n = CS_GROUND_DOME_POINTS, m = 2;
+	const int n = CS_GROUND_DOME_POINTS;
 	struct cs_render_stats st = {0};
 	double sum[3] = {0.0, 0.0, 0.0};
-	for (int i = 0; i < n; i++) {
-		cs_v3 p = cs_irradiance_area_point(job->sc, CS_DECK_AREA_M, n, i, j);
-		double k = (double)(j * n + i);
-		double ou = fmod(0.5 + k * 0.7548776662466927, 1.0);
-		double ov = fmod(0.5 + k * 0.5698402909980532, 1.0);
-		for (int a = 0; a < m; a++)
-			for (int b = 0; b < m; b++) {
-				struct cs_ray_result r;
-				cs_render_ray(job->sc, job->s, p,
-					      dome_dir(job->sc, p, (a + ou) / m, (b + ov) / m), 0.5, &st,
-					      &r);
-				for (int c = 0; c < 3; c++)
-					sum[c] += r.rgb[c];
-			}
-	}
+	for (int i = 0; i < n; i++)
+		sky_rays(job->sc, job->s, cs_irradiance_area_point(job->sc, CS_DECK_AREA_M, n, i, j),
+			 j * n + i, 2, &st, sum);
 	for (int c = 0; c < 3; c++)
 		job->row[j][c] = sum[c];
+}
+
+/* The scene whose sky lights the ground: the open sky over flat ground,
+ * the terrain's own horizon being its ambient occlusion's
+ * (cs_ground_light), and no star's disc.  NULL: out of memory. */
+static struct cs_scene *open_sky(const struct cs_scene *sc)
+{
+	struct cs_scene *flat = malloc(sizeof *flat);
+	if (flat == NULL)
+		return NULL;
+	*flat = *sc;
+	flat->terrain = NULL;
+	flat->effects &= ~(unsigned)(CS_FX_TERRAIN | CS_FX_WATER | CS_FX_STARS);
+	return flat;
 }
 
 int cs_ground_sky_dome(const struct cs_scene *sc, const struct cs_render_settings *s, int nthreads,
@@ -220,14 +242,9 @@ int cs_ground_sky_dome(const struct cs_scene *sc, const struct cs_render_setting
 	enum { N = CS_GROUND_DOME_POINTS };
 	_Static_assert(CS_GROUND_DOME_RAYS == 4, "dome_row's 2 x 2 strata");
 	double row[N][3];
-	/* the open sky over flat ground: the terrain's own horizon is its
-	 * ambient occlusion's (cs_ground_light), and no star's disc */
-	struct cs_scene *flat = malloc(sizeof *flat);
+	struct cs_scene *flat = open_sky(sc);
 	if (flat == NULL)
 		return cs_error(CS_ENOMEM, "out of memory");
-	*flat = *sc;
-	flat->terrain = NULL;
-	flat->effects &= ~(unsigned)(CS_FX_TERRAIN | CS_FX_WATER | CS_FX_STARS);
 	struct dome_job job = {flat, s, row};
 	int rc = cs_pool_run(N, nthreads, dome_row, &job, NULL, NULL, NULL);
 	free(flat);
@@ -239,5 +256,153 @@ int cs_ground_sky_dome(const struct cs_scene *sc, const struct cs_render_setting
 			sum[c] += row[j][c];
 	for (int c = 0; c < 3; c++)
 		rgb[c] = sum[c] / ((double)N * N * CS_GROUND_DOME_RAYS);
+	return CS_OK;
+}
+
+/* The most rays a point of the ground's field takes (the camera's own
+ * ground in a frame that sees little else) and the fewest. */
+#define FIELD_RAYS_MAX 4096
+#define FIELD_RAYS_MIN 1
+
+struct field_job {
+	const struct cs_scene *sc;
+	const struct cs_render_settings *s;
+	const struct cs_ground_field *f;
+	const int *rays;  /* each point's */
+	double *sum;      /* each point's sum of radiance, 3 a point */
+};
+
+static void field_row(void *user, int j, int worker)
+{
+	(void)worker;
+	const struct field_job *job = user;
+	const struct cs_ground_field *f = job->f;
+	struct cs_render_stats st = {0};
+	for (int i = 0; i < f->n; i++) {
+		size_t at = (size_t)j * f->n + i;
+		double *o = job->sum + 3 * at;
+		o[0] = o[1] = o[2] = 0.0;
+		cs_v3 p = above_ground(job->sc, f->x0_m + i * f->step_m, f->y0_m + j * f->step_m);
+		int m = (int)sqrt((double)job->rays[at]);
+		sky_rays(job->sc, job->s, p, (int)at, m, &st, o);
+	}
+}
+
+/* [1 2 1] / 4 along one axis of an n x n grid of k values a point, the
+ * edge's value repeated beyond it. */
+static void blur121(const double *in, double *out, int n, int k, int along_rows)
+{
+	for (int j = 0; j < n; j++)
+		for (int i = 0; i < n; i++) {
+			int a = along_rows ? i : j;
+			size_t at = (size_t)j * n + i, step = along_rows ? 1 : (size_t)n;
+			size_t lo = a > 0 ? at - step : at, hi = a < n - 1 ? at + step : at;
+			for (int c = 0; c < k; c++)
+				out[k * at + c] = 0.25 * in[k * lo + c] + 0.5 * in[k * at + c] +
+						  0.25 * in[k * hi + c];
+		}
+}
+
+/* Each point's share of the frame's ground: the camera's rays through
+ * every 4th pixel each way that meet the ground on the grid, each to its
+ * four points by the bilinear weights the ground's lookup takes. */
+static void ground_seen(const struct cs_scene *sc, const struct cs_camera *cam,
+			const struct cs_ground_field *f, double *share)
+{
+	struct cs_render_stats st = {0};
+	for (int j = 2; j < cam->height; j += 4)
+		for (int i = 2; i < cam->width; i += 4) {
+			cs_v3 d;
+			int on_terrain;
+			if (!cs_camera_ray(cam, i, j, &d))
+				continue;
+			double t = cs_find_ground(sc, cam->pos, d, &on_terrain, &st);
+			if (!isfinite(t))
+				continue;
+			cs_v3 p = v3_mad(cam->pos, d, t);
+			double u = (p.x - f->x0_m) / f->step_m, v = (p.y - f->y0_m) / f->step_m;
+			if (!(u >= 0.0 && v >= 0.0 && u <= f->n - 1 && v <= f->n - 1))
+				continue;
+			int a = (int)u < f->n - 2 ? (int)u : f->n - 2, b = (int)v < f->n - 2 ? (int)v : f->n - 2;
+			double x = u - a, y = v - b;
+			size_t at = (size_t)b * f->n + a;
+			share[at] += (1.0 - x) * (1.0 - y);
+			share[at + 1] += x * (1.0 - y);
+			share[at + f->n] += (1.0 - x) * y;
+			share[at + f->n + 1] += x * y;
+		}
+}
+
+int cs_ground_sky_field(const struct cs_scene *sc, const struct cs_render_settings *s,
+			const struct cs_camera *cam, int nthreads, struct cs_ground_field *out)
+{
+	*out = (struct cs_ground_field){0};
+	const int n = CS_GROUND_FIELD_POINTS;
+	const double side = CS_DECK_AREA_M;
+	struct cs_ground_field f = {
+		.n = n, .step_m = side / n,
+		.x0_m = cam->pos.x - 0.5 * side + 0.5 * side / n,
+		.y0_m = cam->pos.y - 0.5 * side + 0.5 * side / n,
+		.fade_m = side / 8.0,
+	};
+	size_t points = (size_t)n * n;
+	double *sum = malloc(points * 8 * sizeof *sum); /* sums and rays, and the blur's */
+	int *rays = malloc(points * sizeof *rays);
+	float *rgb = malloc(points * 3 * sizeof *rgb);
+	struct cs_scene *flat = open_sky(sc);
+	if (sum == NULL || rays == NULL || rgb == NULL || flat == NULL) {
+		free(sum);
+		free(rays);
+		free(rgb);
+		free(flat);
+		return cs_error(CS_ENOMEM, "out of memory for the ground's light (%d x %d points)", n, n);
+	}
+	/* rays where the frame sees the ground: the error of the ground's
+	 * mean is least for a point's rays in proportion to its share */
+	double *share = sum, total = 0.0;
+	for (size_t k = 0; k < points; k++)
+		share[k] = 0.0;
+	ground_seen(sc, cam, &f, share);
+	for (size_t k = 0; k < points; k++)
+		total += share[k];
+	for (size_t k = 0; k < points; k++) {
+		double want = FIELD_RAYS_MIN +
+			      (total > 0.0 ? CS_GROUND_FIELD_RAYS * share[k] / total : 0.0);
+		int m = (int)sqrt(want < FIELD_RAYS_MAX ? want : FIELD_RAYS_MAX);
+		rays[k] = m * m;
+	}
+	struct field_job job = {flat, s, &f, rays, sum};
+	int rc = cs_pool_run(n, nthreads, field_row, &job, NULL, NULL, NULL);
+	free(flat);
+	if (rc != CS_OK) {
+		free(sum);
+		free(rays);
+		free(rgb);
+		return rc;
+	}
+	/* the area's mean: of the points' own means */
+	double mean[3] = {0.0, 0.0, 0.0};
+	for (size_t k = 0; k < points; k++)
+		for (int c = 0; c < 3; c++)
+			mean[c] += sum[3 * k + c] / rays[k];
+	for (int c = 0; c < 3; c++)
+		f.mean[c] = mean[c] / (double)points;
+	/* each point the mean of its rays and its neighbours', every ray of
+	 * the same weight in the blur: a point of many rays keeps its own */
+	double *a = sum + 4 * points; /* 4 values a point: sums and rays */
+	for (size_t k = 0; k < points; k++) {
+		for (int c = 0; c < 3; c++)
+			a[4 * k + c] = sum[3 * k + c];
+		a[4 * k + 3] = rays[k];
+	}
+	blur121(a, sum, n, 4, 1); /* (the sums are in a now) */
+	blur121(sum, a, n, 4, 0);
+	for (size_t k = 0; k < points; k++)
+		for (int c = 0; c < 3; c++)
+			rgb[3 * k + c] = (float)(a[4 * k + c] / a[4 * k + 3]);
+	free(sum);
+	free(rays);
+	f.rgb = rgb;
+	*out = f;
 	return CS_OK;
 }

@@ -64,9 +64,11 @@ struct cs_render_settings {
 enum {
 	CS_GROUND_SKY_COLUMNS, /* the deck's: the area mean of its slab columns
 				  (deck.sky_below) */
-	CS_GROUND_SKY_DOME     /* the frame's: the area mean of the sky the
+	CS_GROUND_SKY_DOME,    /* the frame's: the area mean of the sky the
 				  renderer draws over the ground, traced with
 				  its own rays (cs_ground_sky_dome) */
+	CS_GROUND_SKY_FIELD    /* the same sky's light as it varies over the
+				  ground (cs_ground_sky_field) */
 };
 
 /* The view march (cs_render_settings.march). */
@@ -392,6 +394,21 @@ struct cs_light_cache {
 	double path_per_m;         /* the ray's length per metre of height */
 };
 
+/* The ground's diffuse light as it varies under the clouds
+ * (CS_GROUND_SKY_FIELD, cs_ground_sky_field): the cosine-weighted mean
+ * radiance of the sky the renderer draws at the points of a square grid
+ * 2 m above the flat ground, as deck.sky_ground is the dome's; the ground
+ * takes it bilinear between the points, and beyond the outer ones fading
+ * to their mean over fade_m. */
+struct cs_ground_field {
+	const float *rgb;   /* n x n points of 3, rows south to north; NULL: none */
+	int n;
+	double x0_m, y0_m;  /* the first point's east and north */
+	double step_m;      /* between neighbours */
+	double fade_m;
+	double mean[3];     /* the points' mean before the blur */
+};
+
 struct cs_scene {
 	double earth_radius_m;
 	double ground_alt_m;          /* flat ground: the sphere at this altitude */
@@ -447,6 +464,7 @@ struct cs_scene {
 	 * unit irradiance facing it (tower_light.c): the fluence, W/m^2 per
 	 * W/m^2, on an unsheared lattice; depth NULL where none */
 	struct cs_light_cache tower_light[CS_SCENE_MAX_LAYERS];
+	struct cs_ground_field ground_field; /* CS_GROUND_SKY_FIELD's, for a frame */
 };
 
 /* Optical extinction (1/m) of rain falling at rate_mm_h, from the
@@ -547,7 +565,10 @@ struct cs_render_stats {
 };
 
 /* Transmittance of the clouds from p toward the sun (1 without clouds or
- * sun): what makes cloud shadows on the ground. */
+ * sun): what makes cloud shadows on the ground.  Marched through every
+ * layer by the settings' rule (the cache's modes: geometric steps; never
+ * the cache's depths) with their light steps, at least CS_SHADOW_STEPS. */
+#define CS_SHADOW_STEPS 32
 CS_HD double cs_render_sun_transmittance(const struct cs_scene *sc,
 				   const struct cs_render_settings *s, cs_v3 p,
 				   struct cs_render_stats *st);
@@ -598,6 +619,29 @@ void cs_irradiance_area(const struct cs_scene *sc, const struct cs_render_settin
 #define CS_GROUND_DOME_RAYS 4 /* 2 x 2 strata of the cosine-weighted hemisphere */
 int cs_ground_sky_dome(const struct cs_scene *sc, const struct cs_render_settings *s, int nthreads,
 		       double rgb[3]);
+/* The ground's diffuse light over the frame's ground (CS_GROUND_SKY_FIELD)
+ * into *out, for cs_ground_light to read (out->rgb malloc'd: the caller
+ * frees it, cs_light_cache_free for a frame's scene): a grid of
+ * CS_GROUND_FIELD_POINTS^2 points over the deck's square (CS_DECK_AREA_M)
+ * centred under the camera, each the cosine-weighted mean radiance of its
+ * rays over the sky (cs_ground_sky_dome's, in m x m strata turned by the
+ * R2 sequence from point to point); one ray a point, and
+ * CS_GROUND_FIELD_RAYS more shared out by the point's share of the
+ * frame's ground (the camera's rays through every 4th pixel each way,
+ * each to its four points by bilinear weights; at most 4096 a point), so
+ * that the ground the frame shows most, around the camera, is lit by the
+ * most rays; then each point the mean of its and its 8 neighbours' rays,
+ * weighted [1 2 1] x [1 2 1] (a point of many rays keeps nearly its own
+ * light).  The mean of the points' own values (before the blur) is the
+ * area's (out->mean).  One row of points a task on nthreads of the CPU
+ * pool, each point's rays in order: the same for any thread count.  Its
+ * rays are not in the frame's statistics.  CS_OK, CS_ENOMEM or the
+ * pool's error (then *out is empty). */
+#define CS_GROUND_FIELD_POINTS 64 /* 375 m apart */
+#define CS_GROUND_FIELD_RAYS 8192
+struct cs_camera;
+int cs_ground_sky_field(const struct cs_scene *sc, const struct cs_render_settings *s,
+			const struct cs_camera *cam, int nthreads, struct cs_ground_field *out);
 /* The point (i, j) of cs_irradiance_area's n x n grid. */
 cs_v3 cs_irradiance_area_point(const struct cs_scene *sc, double size_m, int n, int i, int j);
 /* W/m^2 at p from the beam (on a plane facing the sun) and the diffuse
@@ -669,7 +713,8 @@ int cs_render_image(const struct cs_scene *sc, const struct cs_camera *cam,
  * are on (sc->column_cache).  Last, the ground's light
  * (sc->deck.sky_ground): the columns' (sky_below), or with
  * CS_GROUND_SKY_DOME under clouds and without fog the dome's
- * (cs_ground_sky_dome), traced with the volumes just built.  CS_OK,
+ * (cs_ground_sky_dome), traced with the volumes just built; the field of
+ * CS_GROUND_SKY_FIELD needs a camera: cs_frame_scene builds it.  CS_OK,
  * CS_ENOMEM or the pool's error (then none is left built and *evaluations
  * is 0). */
 int cs_light_cache_build(struct cs_scene *sc, const struct cs_render_settings *s, double pixels,
@@ -696,27 +741,31 @@ enum cs_ground_lit {
 	CS_GROUND_LIT_CLEAR,         /* no deck (no clouds): the clear sky's
 					ambient, whatever the settings */
 	CS_GROUND_LIT_CLEAR_FOG,     /* the same with fog */
-	CS_GROUND_LIT_FOG,           /* the dome asked for under clouds and
-					fog: the columns' (the fog's field is
-					solved from them) */
-	CS_GROUND_LIT_UNSEEN         /* the dome asked for; the frame sees no
-					ground */
+	CS_GROUND_LIT_FOG,           /* the dome or the field asked for under
+					clouds and fog: the columns' (the
+					fog's light is solved from them) */
+	CS_GROUND_LIT_UNSEEN,        /* the dome or the field asked for; the
+					frame sees no ground */
+	CS_GROUND_LIT_FIELD          /* the frame's field (cs_ground_sky_field) */
 };
-/* Its words for -v ("the dome's", "the columns', no dome (the frame sees
- * no ground)"); "?" for a value out of range. */
+/* Its words for -v ("the field's", "the columns', none traced (the frame
+ * sees no ground)"); "?" for a value out of range. */
 const char *cs_ground_lit_name(int ground_lit);
 
 /* Whether a frame of sc with settings s reads volumes built for it
- * (cs_light_cache_build): the ground's dome, the light caches, or the towers' diffused light
+ * (cs_light_cache_build): the ground's dome or field, the light caches, or the
+ * towers' diffused light
  * (sc->tower_light: a layer with a towers' share, cs_tower_share, under a
  * key light, with the diffuse light on and s->tower_cell_m > 0). */
 int cs_frame_volumes_needed(const struct cs_scene *sc, const struct cs_render_settings *s);
 /* The scene a frame of sc through cam with settings s renders, for the
  * CPU (cs_render_image) and the GPU alike: *out NULL where the frame
  * needs no volumes of its own (sc as it is), else a copy of sc with them
- * built (cs_light_cache_build; the ground's dome only where the camera
- * sees ground, cs_camera_sees_ground: the pixels are the same either
- * way), for cs_frame_scene_free; *evaluations the build's, *ground_lit
+ * built (cs_light_cache_build, then with CS_GROUND_SKY_FIELD the
+ * ground's field for cam, cs_ground_sky_field, and deck.sky_ground its
+ * mean; the ground's dome or field only where the camera sees ground,
+ * cs_camera_sees_ground: the pixels are the same either way), for
+ * cs_frame_scene_free; *evaluations the build's, *ground_lit
  * what lights its ground (enum cs_ground_lit).  CS_OK, CS_ENOMEM or the
  * build's error (then *out is NULL). */
 int cs_frame_scene(const struct cs_scene *sc, const struct cs_camera *cam,

@@ -70,27 +70,31 @@ done
 same_pixels "$T/cb-on.exr" "$T/cb-off.exr" || bad "--heap-towers changed the pixels of a scene without cumulus"
 end
 
-# --ground-sky: the ground under the built-in cumulus takes the dome's
-# light at high, the columns' at medium or with columns asked for; -v says
-# which, and the ground's pixels change with it; under a clear sky there is
-# no deck and the same bytes either way.  -v says why a dome asked for was
-# not traced: no clouds, fog, a frame that sees no ground
+# --ground-sky: the ground under the built-in cumulus takes the field's
+# light at high, the columns' at medium or with columns asked for, the
+# dome's with dome asked for; -v says which, and the ground's pixels change
+# with each; under a clear sky there is no deck and the same bytes either
+# way.  -v says why a field or dome asked for was not traced: no clouds,
+# fog, a frame that sees no ground
 begin cloudrender_ground_sky_follows_the_preset_and_the_option
-domes() { grep -c "^cloudrender: ground's diffuse light: the dome's$" "$T/err"; }
-for q in "high:1" "high --ground-sky columns:0" "medium:0" "medium --ground-sky dome:1"; do
+lit() { sed -n "s/^cloudrender: ground's diffuse light: \(.*\)$/\1/p" "$T/err"; }
+for q in "high:field's" "high --ground-sky columns:columns'" "medium:columns'" "medium --ground-sky dome:dome's" \
+	"medium --ground-sky field:field's"; do
 	opts=${q%%:*} want=${q#*:}
 	# shellcheck disable=SC2086
 	run "$CR" -v --quality $opts --noise-size 32 --size 64x36 -o "$T/g.exr"; expect_rc 0
-	[ "$(domes)" = "$want" ] || bad "--quality $opts: '$(domes)' dome lines, expected '$want'"
-	cp "$T/g.exr" "$T/g$want.exr"
+	[ "$(lit)" = "the $want" ] || bad "--quality $opts: '$(lit)', expected 'the $want'"
+	cp "$T/g.exr" "$T/g-${want%%\'*}.exr"
 done
-same_pixels "$T/g0.exr" "$T/g1.exr" && bad "--ground-sky dome left the ground under cumulus as it was"
+same_pixels "$T/g-columns.exr" "$T/g-dome.exr" && bad "--ground-sky dome left the ground under cumulus as it was"
+same_pixels "$T/g-dome.exr" "$T/g-field.exr" && bad "--ground-sky field left the ground as the dome lit it"
 printf '%s\n' '{"schema":"cloudwx/1","time_utc":"2021-06-14T11:00:00Z","site":{"name":"Bern","lat_deg":46.95,"lon_deg":7.44,"alt_m":540},"layers":[],"precipitation_mm_h":0,"wind":{"speed_m_s":4,"from_deg":250},"visibility_m":40000}' >"$T/clear.json"
-for g in dome columns; do
+for g in field dome columns; do
 	run "$CR" --wx "$T/clear.json" --quality high --ground-sky $g --noise-size 32 --size 48x27 \
 		--look 150,-5 -o "$T/clear-$g.exr"; expect_rc 0
 done
-same_pixels "$T/clear-dome.exr" "$T/clear-columns.exr" || bad "--ground-sky changed a clear sky's pixels"
+same_pixels "$T/clear-dome.exr" "$T/clear-columns.exr" && same_pixels "$T/clear-field.exr" "$T/clear-columns.exr" ||
+	bad "--ground-sky changed a clear sky's pixels"
 # fog under a clear sky, and under stratocumulus (80 %, 1.5 to 2.1 km)
 sed 's/"visibility_m":40000/"visibility_m":300/' "$T/clear.json" >"$T/clear-fog.json"
 sed 's/"layers":\[\]/"layers":[{"genus":"stratocumulus","coverage":0.8,"base_m":1500,"top_m":2100}]/' \
@@ -98,9 +102,9 @@ sed 's/"layers":\[\]/"layers":[{"genus":"stratocumulus","coverage":0.8,"base_m":
 for c in "--wx $T/clear.json --quality high|the clear sky's (no clouds)" \
 	"--wx $T/clear.json --quality medium|the clear sky's (no clouds)" \
 	"--wx $T/clear-fog.json --quality high|the clear sky's and the fog's (no clouds over the fog)" \
-	"--wx $T/cloud-fog.json --quality high|the columns' and the fog's, no dome (fog: its light is solved from the columns')" \
+	"--wx $T/cloud-fog.json --quality high|the columns' and the fog's, none traced (fog: its light is solved from the columns')" \
 	"--wx $T/cloud-fog.json --quality medium|the columns' and the fog's" \
-	"--look 150,40 --quality high|the columns', no dome (the frame sees no ground)"; do
+	"--look 150,40 --quality high|the columns', none traced (the frame sees no ground)"; do
 	# shellcheck disable=SC2086
 	run "$CR" -v ${c%%|*} --noise-size 32 --size 48x27 -o "$T/why.exr"; expect_rc 0
 	line=$(sed -n "s/^cloudrender: ground's diffuse light: //p" "$T/err")

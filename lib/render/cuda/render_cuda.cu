@@ -284,6 +284,8 @@ struct cs_cuda_scene {
 						  toward the sun, the columns' and
 						  the towers' diffused light */
 	size_t cache_n[3 * CS_SCENE_MAX_LAYERS]; /* their sizes, bytes */
+	float *field;              /* device: the ground's light (CS_GROUND_SKY_FIELD) */
+	size_t field_n;            /* its size, bytes */
 	unsigned long long *stats; /* device: NSTATS counters */
 	float *frame;              /* device: 5 floats a pixel */
 	size_t frame_px;
@@ -559,6 +561,27 @@ static const struct kernel *kernel_for(const struct cs_cuda_scene *c,
 	return &kernels[NKERNELS - 1];
 }
 
+/* Copies bytes of host floats into *dev, device memory kept from frame to
+ * frame while its size (*dev_n) stays: the new memory first, so that
+ * where it fails, the device's scene of the frame before keeps valid
+ * memory. */
+static int reupload(float **dev, size_t *dev_n, const float *host, size_t bytes, const char *what)
+{
+	cudaError_t e;
+	if (*dev == NULL || *dev_n != bytes) {
+		float *mem = NULL;
+		if ((e = cudaMalloc((void **)&mem, bytes)) != cudaSuccess)
+			return cs_error(CS_EIO, "CUDA: device memory for %s: %s", what,
+					cudaGetErrorString(e));
+		cudaFree(*dev);
+		*dev = mem;
+		*dev_n = bytes;
+	}
+	if ((e = cudaMemcpy(*dev, host, bytes, cudaMemcpyHostToDevice)) != cudaSuccess)
+		return cs_error(CS_EIO, "CUDA: uploading %s: %s", what, cudaGetErrorString(e));
+	return CS_OK;
+}
+
 /* The scene's struct on the device, pointing at the device arrays (each
  * uploaded once for as long as the host's array stays the same). */
 static int scene_struct(struct cs_cuda_scene *c, const struct cs_scene *sc)
@@ -621,21 +644,15 @@ static int scene_struct(struct cs_cuda_scene *c, const struct cs_scene *sc)
 		if (lc->depth == NULL)
 			continue;
 		size_t bytes = (size_t)lc->nu * lc->nv * (lc->nh + 1) * sizeof(float);
-		if (c->cache[n] == NULL || c->cache_n[n] != bytes) {
-			/* the new memory first: where it fails, the device's
-			 * scene of the frame before keeps valid memory */
-			float *mem = NULL;
-			if ((e = cudaMalloc((void **)&mem, bytes)) != cudaSuccess) {
-				rc = cuda_error(e, "device memory for the light cache");
-				break;
-			}
-			cudaFree(c->cache[n]);
-			c->cache[n] = mem;
-			c->cache_n[n] = bytes;
-		}
-		if ((e = cudaMemcpy(c->cache[n], lc->depth, bytes, cudaMemcpyHostToDevice)) != cudaSuccess)
-			rc = cuda_error(e, "uploading the light cache");
+		rc = reupload(&c->cache[n], &c->cache_n[n], lc->depth, bytes, "the light cache");
 		lc->depth = c->cache[n];
+	}
+	/* and the ground's light field, built with them */
+	struct cs_ground_field *gf = &h->sc.ground_field;
+	if (rc == CS_OK && gf->rgb != NULL) {
+		rc = reupload(&c->field, &c->field_n, gf->rgb, (size_t)gf->n * gf->n * 3 * sizeof(float),
+			      "the ground's light");
+		gf->rgb = c->field;
 	}
 	if (rc == CS_OK && (e = cudaMemcpy(c->d, h, sizeof *h, cudaMemcpyHostToDevice)) != cudaSuccess)
 		rc = cuda_error(e, "uploading the scene");
@@ -693,6 +710,7 @@ extern "C" void cs_cuda_scene_free(struct cs_cuda_scene *c)
 		cudaFree(c->arrays[k]);
 	for (int n = 0; n < 3 * CS_SCENE_MAX_LAYERS; n++)
 		cudaFree(c->cache[n]);
+	cudaFree(c->field);
 	if (c->noise_tex)
 		cudaDestroyTextureObject(c->noise_tex);
 	cudaFreeArray(c->noise_arr);
