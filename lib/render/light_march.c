@@ -81,7 +81,7 @@ CS_HD void cs_extinction_at_n(const struct cs_scene *sc, unsigned mask, int n, c
  * the rest of its batch too). */
 CS_HD static double layer_depth(const struct cs_scene *sc, const struct cs_render_settings *s,
 				const struct cs_cloud_layer *l, cs_v3 p, cs_v3 dir, int steps,
-				int heap, double tau, struct cs_render_stats *st)
+				double max_step_m, int heap, double tau, struct cs_render_stats *st)
 {
 	double iv[2][2];
 	int n = cs_shell_intervals(sc, p, dir, sc->earth_radius_m + l->base_m,
@@ -105,23 +105,28 @@ CS_HD static double layer_depth(const struct cs_scene *sc, const struct cs_rende
 #endif
 	for (int k = 0; k < n; k++) {
 		double len = iv[k][1] - iv[k][0];
-		double dt = len / steps, n2 = (double)steps * steps;
+		/* more, and equal, where a step would be longer than max_step_m */
+		int ns = steps, equal = len > ns * max_step_m;
+		if (equal)
+			ns = len < CS_SHADOW_STEPS_MAX * max_step_m ? (int)ceil(len / max_step_m)
+								    : CS_SHADOW_STEPS_MAX;
+		double dt = len / ns, n2 = (double)ns * ns;
 		/* geometric: the ratio and the first step */
 		double r = 1.0, q = len / (l->top_m - l->base_m);
-		if (s->light_march >= CS_LIGHT_GEOMETRIC && q > 1.0 && steps > 1) { /* or cone */
+		if (s->light_march >= CS_LIGHT_GEOMETRIC && q > 1.0 && ns > 1 && !equal) { /* or cone */
 			/* in float: a GPU's double pow is long, and any r
 			 * gives a sound rule (the steps still cover len);
 			 * a path a hair longer than the thickness rounds
 			 * to r = 1 there: equal steps */
-			double rf = (double)powf((float)q, 2.0f / (float)steps);
+			double rf = (double)powf((float)q, 2.0f / (float)ns);
 			if (rf > 1.0) {
 				r = rf;
-				dt = len * (r - 1.0) / (pow_int(r, steps) - 1.0);
+				dt = len * (r - 1.0) / (pow_int(r, ns) - 1.0);
 			}
 		}
 		double t0 = iv[k][0], g = dt; /* geometric: the step's start, its length */
-		for (int j0 = 0; j0 < steps; j0 += CS_MARCH_BATCH) {
-			int m = steps - j0 < CS_MARCH_BATCH ? steps - j0 : CS_MARCH_BATCH;
+		for (int j0 = 0; j0 < ns; j0 += CS_MARCH_BATCH) {
+			int m = ns - j0 < CS_MARCH_BATCH ? ns - j0 : CS_MARCH_BATCH;
 			double qx[CS_MARCH_BATCH], qy[CS_MARCH_BATCH], qz[CS_MARCH_BATCH],
 				qa[CS_MARCH_BATCH], qw[CS_MARCH_BATCH], e[CS_MARCH_BATCH];
 			for (int b = 0; b < m; b++) {
@@ -130,7 +135,7 @@ CS_HD static double layer_depth(const struct cs_scene *sc, const struct cs_rende
 				if (r > 1.0) {
 					t = t0 + 0.5 * g, w = g;
 					t0 += g, g *= r;
-				} else if (s->light_march == CS_LIGHT_QUADRATIC) {
+				} else if (s->light_march == CS_LIGHT_QUADRATIC && !equal) {
 					t = iv[k][0] + len * (j + 0.5) * (j + 0.5) / n2;
 					w = len * (2 * j + 1) / n2;
 				} else {
@@ -140,7 +145,7 @@ CS_HD static double layer_depth(const struct cs_scene *sc, const struct cs_rende
 #ifndef __CUDA_ARCH__
 				if (cone) { /* the j-th of a golden-angle spiral
 					       over the disc of radius t tan */
-					double rad = t * CS_CONE_TAN * sqrt((j + 0.5) / steps);
+					double rad = t * CS_CONE_TAN * sqrt((j + 0.5) / ns);
 					double ang = 2.399963229728653 * j;
 					q3 = v3_add(q3, v3_add(v3_scale(e1, rad * cos(ang)),
 							       v3_scale(e2, rad * sin(ang))));
@@ -158,7 +163,7 @@ CS_HD static double layer_depth(const struct cs_scene *sc, const struct cs_rende
 				tau += e[b] * qw[b];
 			}
 		}
-		st->light_samples += (uint64_t)steps;
+		st->light_samples += (uint64_t)ns;
 		if (heap) /* the path has left the layer: so has the cloud */
 			return tau;
 	}
@@ -228,7 +233,7 @@ CS_HD CS_SHARED double cs_light_depth(const struct cs_scene *sc,
 			continue;
 		}
 		tau = layer_depth(sc, s, &sc->layers[i], p, sc->sun_dir,
-				  (mask & (1u << i)) ? s->light_steps : others, 0, tau, st);
+				  (mask & (1u << i)) ? s->light_steps : others, HUGE_VAL, 0, tau, st);
 	}
 	return tau;
 }
@@ -236,17 +241,23 @@ CS_HD CS_SHARED double cs_light_depth(const struct cs_scene *sc,
 double cs_layer_depth(const struct cs_scene *sc, const struct cs_render_settings *s, int li,
 		      cs_v3 p, cs_v3 dir, struct cs_render_stats *st)
 {
-	return layer_depth(sc, s, &sc->layers[li], p, dir, s->light_steps, 0, 0.0, st);
+	return layer_depth(sc, s, &sc->layers[li], p, dir, s->light_steps, HUGE_VAL, 0, 0.0, st);
 }
 
 CS_HD double cs_heap_depth(const struct cs_scene *sc, const struct cs_render_settings *s, int li,
 			   cs_v3 p, cs_v3 dir, struct cs_render_stats *st)
 {
-	return layer_depth(sc, s, &sc->layers[li], p, dir, s->light_steps, 1, 0.0, st);
+	return layer_depth(sc, s, &sc->layers[li], p, dir, s->light_steps, HUGE_VAL, 1, 0.0, st);
 }
 
 /* The ground's shadows: the light marched, never looked up in the cache,
- * and with CS_SHADOW_STEPS steps unless the settings take more.  The
+ * with CS_SHADOW_STEPS steps unless the settings take more, and along a
+ * path through a layer longer than those steps of CS_SHADOW_STEP_M, equal
+ * steps of that length (a cumulonimbus 9.8 km tall under a sun 15 deg up
+ * lies across 38 km of the path: 32 geometric steps grew to 2.8 km there
+ * and met a tower or missed it, and the study's cumulonimbus at a low sun
+ * had its area's GHI 29 % above the path tracer's, 5.7 % below it with
+ * the rule, for 4 % more time at 1280x720).  The
  * cache's columns, 120 to 200 m apart, blur a cumulus's shadow's edge,
  * and the exponential of a blurred depth is too dark on average: over
  * 3600 ground points of the study's fair cumulus at high, the cached
@@ -266,7 +277,8 @@ CS_HD double cs_render_sun_transmittance(const struct cs_scene *sc,
 	m.light_steps = s->light_steps > CS_SHADOW_STEPS ? s->light_steps : CS_SHADOW_STEPS;
 	double tau = 0.0;
 	for (int i = 0; i < sc->nlayers; i++)
-		tau = layer_depth(sc, &m, &sc->layers[i], p, sc->sun_dir, m.light_steps, 0, tau, st);
+		tau = layer_depth(sc, &m, &sc->layers[i], p, sc->sun_dir, m.light_steps,
+				  CS_SHADOW_STEP_M, 0, tau, st);
 	return exp(-tau);
 }
 

@@ -567,8 +567,13 @@ struct cs_render_stats {
 /* Transmittance of the clouds from p toward the sun (1 without clouds or
  * sun): what makes cloud shadows on the ground.  Marched through every
  * layer by the settings' rule (the cache's modes: geometric steps; never
- * the cache's depths) with their light steps, at least CS_SHADOW_STEPS. */
+ * the cache's depths) with their light steps, at least CS_SHADOW_STEPS,
+ * and where the path through a layer is longer than that many steps of
+ * CS_SHADOW_STEP_M, equal steps of at most that length (at most
+ * CS_SHADOW_STEPS_MAX). */
 #define CS_SHADOW_STEPS 32
+#define CS_SHADOW_STEP_M 400.0 /* more steps where they would be longer */
+#define CS_SHADOW_STEPS_MAX 1024 /* (a path through a layer of 150 km) */
 CS_HD double cs_render_sun_transmittance(const struct cs_scene *sc,
 				   const struct cs_render_settings *s, cs_v3 p,
 				   struct cs_render_stats *st);
