@@ -118,7 +118,7 @@ CS_HD void cs_ground_sky(const struct cs_scene *sc, cs_v3 p, double out[3])
 		return;
 	}
 	double u = (p.x - f->x0_m) / f->step_m, v = (p.y - f->y0_m) / f->step_m, top = f->n - 1;
-	double cu = u < 0.0 ? 0.0 : u > top ? top : u, cv = v < 0.0 ? 0.0 : v > top ? top : v;
+	double cu = fmin(fmax(u, 0.0), top), cv = fmin(fmax(v, 0.0), top); /* (NaN: 0) */
 	double out_m = fmax(fabs(u - cu), fabs(v - cv)) * f->step_m;
 	double w = out_m >= f->fade_m ? 1.0 : out_m / f->fade_m;
 	int i = (int)cu, j = (int)cv;

@@ -105,15 +105,11 @@ CS_HD static double layer_depth(const struct cs_scene *sc, const struct cs_rende
 #endif
 	for (int k = 0; k < n; k++) {
 		double len = iv[k][1] - iv[k][0];
-		/* more, and equal, where a step would be longer than max_step_m */
-		int ns = steps, equal = len > ns * max_step_m;
-		if (equal)
-			ns = len < CS_SHADOW_STEPS_MAX * max_step_m ? (int)ceil(len / max_step_m)
-								    : CS_SHADOW_STEPS_MAX;
+		int ns = steps, equal = 0;
 		double dt = len / ns, n2 = (double)ns * ns;
 		/* geometric: the ratio and the first step */
 		double r = 1.0, q = len / (l->top_m - l->base_m);
-		if (s->light_march >= CS_LIGHT_GEOMETRIC && q > 1.0 && ns > 1 && !equal) { /* or cone */
+		if (s->light_march >= CS_LIGHT_GEOMETRIC && q > 1.0 && ns > 1) { /* or cone */
 			/* in float: a GPU's double pow is long, and any r
 			 * gives a sound rule (the steps still cover len);
 			 * a path a hair longer than the thickness rounds
@@ -123,6 +119,17 @@ CS_HD static double layer_depth(const struct cs_scene *sc, const struct cs_rende
 				r = rf;
 				dt = len * (r - 1.0) / (pow_int(r, ns) - 1.0);
 			}
+		}
+		/* where the longest step would be longer than max_step_m, equal
+		 * steps of at most that (and no fewer than asked for) */
+		double longest = r > 1.0 ? dt * pow_int(r, ns - 1)
+				 : s->light_march == CS_LIGHT_QUADRATIC ? len * (2 * ns - 1) / n2
+									  : dt;
+		if (longest > max_step_m) {
+			double want = ceil(len / max_step_m);
+			equal = 1;
+			ns = want > CS_SHADOW_STEPS_MAX ? CS_SHADOW_STEPS_MAX : want < ns ? ns : (int)want;
+			r = 1.0, dt = len / ns, n2 = (double)ns * ns;
 		}
 		double t0 = iv[k][0], g = dt; /* geometric: the step's start, its length */
 		for (int j0 = 0; j0 < ns; j0 += CS_MARCH_BATCH) {
@@ -251,9 +258,10 @@ CS_HD double cs_heap_depth(const struct cs_scene *sc, const struct cs_render_set
 }
 
 /* The ground's shadows: the light marched, never looked up in the cache,
- * with CS_SHADOW_STEPS steps unless the settings take more, and along a
- * path through a layer longer than those steps of CS_SHADOW_STEP_M, equal
- * steps of that length (a cumulonimbus 9.8 km tall under a sun 15 deg up
+ * with CS_SHADOW_STEPS steps unless the settings take more, and where the
+ * longest of them through a layer would be longer than CS_SHADOW_STEP_M,
+ * equal steps of at most that length (a cumulonimbus 9.8 km tall under a
+ * sun 15 deg up
  * lies across 38 km of the path: 32 geometric steps grew to 2.8 km there
  * and met a tower or missed it, and the study's cumulonimbus at a low sun
  * had its area's GHI 29 % above the path tracer's, 5.7 % below it with

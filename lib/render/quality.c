@@ -62,12 +62,12 @@
  * and the reference light the ground under clouds by the sky the frame
  * draws as it varies over the ground (ground_sky, CS_GROUND_SKY_FIELD):
  * on the study's twelve scenes that see ground, 320x180, its mean bias
- * against the path tracer 2.4 % against 4.1 % by the area's mean
+ * against the path tracer 2.3 % against 4.1 % by the area's mean
  * (CS_GROUND_SKY_DOME; 6.2 % by the columns, which an earlier release
- * measured), the relative MSE the same (0.01378 and 0.01379), for about
- * 12300 rays a frame against 4096; medium keeps the columns: its heaps'
- * bases, a slab's, are too bright, and its dome with them (cloudrender(1),
- * Light). */
+ * measured), the relative MSE the same (0.01378 and 0.01379), for some
+ * 11000 to 12000 rays a frame against 4096; medium keeps the columns:
+ * its heaps' bases, a slab's, are too bright, and its dome with them
+ * (cloudrender(1), Light). */
 #include "render/render.h"
 
 #include "core/err.h"

@@ -339,10 +339,14 @@ int cs_ground_sky_field(const struct cs_scene *sc, const struct cs_render_settin
 	*out = (struct cs_ground_field){0};
 	const int n = CS_GROUND_FIELD_POINTS;
 	const double side = CS_DECK_AREA_M;
+	/* the points on a lattice of the world, the square's middle the point
+	 * nearest the camera: a camera that moves from frame to frame keeps
+	 * the points where they were, and their light */
+	const double step = side / n;
 	struct cs_ground_field f = {
-		.n = n, .step_m = side / n,
-		.x0_m = cam->pos.x - 0.5 * side + 0.5 * side / n,
-		.y0_m = cam->pos.y - 0.5 * side + 0.5 * side / n,
+		.n = n, .step_m = step,
+		.x0_m = (floor(cam->pos.x / step + 0.5) - n / 2) * step,
+		.y0_m = (floor(cam->pos.y / step + 0.5) - n / 2) * step,
 		.fade_m = side / 8.0,
 	};
 	size_t points = (size_t)n * n;

@@ -568,12 +568,12 @@ struct cs_render_stats {
  * sun): what makes cloud shadows on the ground.  Marched through every
  * layer by the settings' rule (the cache's modes: geometric steps; never
  * the cache's depths) with their light steps, at least CS_SHADOW_STEPS,
- * and where the path through a layer is longer than that many steps of
- * CS_SHADOW_STEP_M, equal steps of at most that length (at most
- * CS_SHADOW_STEPS_MAX). */
+ * and where the longest of those steps through a layer would be longer
+ * than CS_SHADOW_STEP_M, equal steps of at most that length (no fewer
+ * than before, at most CS_SHADOW_STEPS_MAX). */
 #define CS_SHADOW_STEPS 32
-#define CS_SHADOW_STEP_M 400.0 /* more steps where they would be longer */
-#define CS_SHADOW_STEPS_MAX 1024 /* (a path through a layer of 150 km) */
+#define CS_SHADOW_STEP_M 400.0 /* equal steps where one would be longer */
+#define CS_SHADOW_STEPS_MAX 1024 /* (409.6 km: more than any path, 150 km at most) */
 CS_HD double cs_render_sun_transmittance(const struct cs_scene *sc,
 				   const struct cs_render_settings *s, cs_v3 p,
 				   struct cs_render_stats *st);
@@ -628,20 +628,22 @@ int cs_ground_sky_dome(const struct cs_scene *sc, const struct cs_render_setting
  * into *out, for cs_ground_light to read (out->rgb malloc'd: the caller
  * frees it, cs_light_cache_free for a frame's scene): a grid of
  * CS_GROUND_FIELD_POINTS^2 points over the deck's square (CS_DECK_AREA_M)
- * centred under the camera, each the cosine-weighted mean radiance of its
- * rays over the sky (cs_ground_sky_dome's, in m x m strata turned by the
- * R2 sequence from point to point); one ray a point, and
- * CS_GROUND_FIELD_RAYS more shared out by the point's share of the
- * frame's ground (the camera's rays through every 4th pixel each way,
- * each to its four points by bilinear weights; at most 4096 a point), so
- * that the ground the frame shows most, around the camera, is lit by the
- * most rays; then each point the mean of its and its 8 neighbours' rays,
- * weighted [1 2 1] x [1 2 1] (a point of many rays keeps nearly its own
- * light).  The mean of the points' own values (before the blur) is the
- * area's (out->mean).  One row of points a task on nthreads of the CPU
- * pool, each point's rays in order: the same for any thread count.  Its
- * rays are not in the frame's statistics.  CS_OK, CS_ENOMEM or the
- * pool's error (then *out is empty). */
+ * around the camera (on a lattice of the world: the point nearest under
+ * the camera its middle, (n/2, n/2)), each the cosine-weighted mean
+ * radiance of its rays over the sky (cs_ground_sky_dome's, in m x m
+ * strata turned by the R2 sequence from point to point); one ray a point,
+ * and up to CS_GROUND_FIELD_RAYS more shared out by the point's share of
+ * the frame's ground (the camera's rays through every 4th pixel each way,
+ * each to its four points by bilinear weights; each point's count rounded
+ * down to a square, at most 4096), so that the ground the frame shows
+ * most, around the camera, is lit by the most rays; then each point the
+ * mean of its and its 8 neighbours' rays, weighted [1 2 1] x [1 2 1] (a
+ * point of many rays keeps nearly its own light).  The mean of the
+ * points' own values (before the blur) is the area's (out->mean).  One
+ * row of points a task on nthreads of the CPU pool, each point's rays in
+ * order: the same for any thread count.  Its rays are not in the frame's
+ * statistics.  CS_OK, CS_ENOMEM or the pool's error (then *out is
+ * empty). */
 #define CS_GROUND_FIELD_POINTS 64 /* 375 m apart */
 #define CS_GROUND_FIELD_RAYS 8192
 struct cs_camera;

@@ -300,7 +300,7 @@ static double field_dhi(const struct cs_scene *sc, cs_v3 p)
  * tracer's diffuse irradiance from point to point where the frame sees
  * the ground: 5 x 5 points 500 m apart, 1 to 3 km north and 1 km either
  * side, 4096 paths each.  The path tracer's 52 to 87 W/m^2 differ from
- * the area's mean by 0.148 rms (relative), from the field by 0.044. */
+ * the area's mean by 0.151 rms (relative), from the field by 0.046. */
 static void field_under_heaps_follows_the_path_tracer_point_by_point(void)
 {
 	static struct cs_volume noise;

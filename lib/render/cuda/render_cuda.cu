@@ -549,7 +549,8 @@ static const struct kernel *kernel_for(const struct cs_cuda_scene *c,
 	/* the light marched: toward the key light (every such march is
 	 * under CS_FX_IS(sc, CS_FX_KEY)) and up the column (under a deck,
 	 * with the diffuse light), where the settings or a missing cache
-	 * ask for it */
+	 * ask for it (the ground's shadows are marched in every kernel:
+	 * cs_render_sun_transmittance never reads the cache) */
 	int cached = CS_LIGHT_CACHED(s->light_march);
 	if ((c->needs & CS_FX_KEY) && (!cached || c->no_sun_cache))
 		need |= CS_BUILT_LIGHT_MARCH;
