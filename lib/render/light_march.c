@@ -75,7 +75,9 @@ CS_HD void cs_extinction_at_n(const struct cs_scene *sc, unsigned mask, int n, c
 
 /* tau plus the optical depth of layer l from p along the unit vector dir,
  * steps samples over each part of the path in the layer (cs_light_depth's
- * rule, which sums its layers in one running tau); with heap set, only up
+ * rule, which sums its layers in one running tau), and where the rule's
+ * longest step would be longer than max_step_m (HUGE_VAL: never), equal
+ * steps of at most that, no fewer; with heap set, only up
  * to the first sample without cloud: the depth of the cloud the path
  * starts in (light_samples counts the samples up to it; the CPU looks up
  * the rest of its batch too). */
@@ -261,12 +263,11 @@ CS_HD double cs_heap_depth(const struct cs_scene *sc, const struct cs_render_set
  * with CS_SHADOW_STEPS steps unless the settings take more, and where the
  * longest of them through a layer would be longer than CS_SHADOW_STEP_M,
  * equal steps of at most that length (a cumulonimbus 9.8 km tall under a
- * sun 15 deg up
- * lies across 38 km of the path: 32 geometric steps grew to 2.8 km there
- * and met a tower or missed it, and the study's cumulonimbus at a low sun
- * had its area's GHI 29 % above the path tracer's, 5.7 % below it with
- * the rule, for 4 % more time at 1280x720).  The
- * cache's columns, 120 to 200 m apart, blur a cumulus's shadow's edge,
+ * sun 15 deg up lies across 38 km of the path: 32 geometric steps grew to
+ * 2.8 km there and met a tower or missed it, and the study's cumulonimbus
+ * at a low sun had its area's GHI 29 % above the path tracer's, 5.7 %
+ * below it with the rule, for 4 % more time at 1280x720).  The cache's
+ * columns, 120 to 200 m apart, blur a cumulus's shadow's edge,
  * and the exponential of a blurred depth is too dark on average: over
  * 3600 ground points of the study's fair cumulus at high, the cached
  * transmittance was off by 0.117 rms and 0.027 too low on average,

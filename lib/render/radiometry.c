@@ -268,8 +268,7 @@ struct field_job {
 	const struct cs_scene *sc;
 	const struct cs_render_settings *s;
 	const struct cs_ground_field *f;
-	const int *rays;  /* each point's */
-	double *sum;      /* each point's sum of radiance, 3 a point */
+	double *acc; /* 4 a point: its rays' sum of radiance, then their count */
 };
 
 static void field_row(void *user, int j, int worker)
@@ -280,11 +279,10 @@ static void field_row(void *user, int j, int worker)
 	struct cs_render_stats st = {0};
 	for (int i = 0; i < f->n; i++) {
 		size_t at = (size_t)j * f->n + i;
-		double *o = job->sum + 3 * at;
+		double *o = job->acc + 4 * at;
 		o[0] = o[1] = o[2] = 0.0;
 		cs_v3 p = above_ground(job->sc, f->x0_m + i * f->step_m, f->y0_m + j * f->step_m);
-		int m = (int)sqrt((double)job->rays[at]);
-		sky_rays(job->sc, job->s, p, (int)at, m, &st, o);
+		sky_rays(job->sc, job->s, p, (int)at, (int)sqrt(o[3]), &st, o);
 	}
 }
 
@@ -350,20 +348,21 @@ int cs_ground_sky_field(const struct cs_scene *sc, const struct cs_render_settin
 		.fade_m = side / 8.0,
 	};
 	size_t points = (size_t)n * n;
-	double *sum = malloc(points * 8 * sizeof *sum); /* sums and rays, and the blur's */
-	int *rays = malloc(points * sizeof *rays);
+	double *share = malloc(points * sizeof *share);
+	double *acc = malloc(points * 4 * sizeof *acc), *tmp = malloc(points * 4 * sizeof *tmp);
 	float *rgb = malloc(points * 3 * sizeof *rgb);
 	struct cs_scene *flat = open_sky(sc);
-	if (sum == NULL || rays == NULL || rgb == NULL || flat == NULL) {
-		free(sum);
-		free(rays);
+	if (share == NULL || acc == NULL || tmp == NULL || rgb == NULL || flat == NULL) {
+		free(share);
+		free(acc);
+		free(tmp);
 		free(rgb);
 		free(flat);
 		return cs_error(CS_ENOMEM, "out of memory for the ground's light (%d x %d points)", n, n);
 	}
 	/* rays where the frame sees the ground: the error of the ground's
 	 * mean is least for a point's rays in proportion to its share */
-	double *share = sum, total = 0.0;
+	double total = 0.0;
 	for (size_t k = 0; k < points; k++)
 		share[k] = 0.0;
 	ground_seen(sc, cam, &f, share);
@@ -373,14 +372,15 @@ int cs_ground_sky_field(const struct cs_scene *sc, const struct cs_render_settin
 		double want = FIELD_RAYS_MIN +
 			      (total > 0.0 ? CS_GROUND_FIELD_RAYS * share[k] / total : 0.0);
 		int m = (int)sqrt(want < FIELD_RAYS_MAX ? want : FIELD_RAYS_MAX);
-		rays[k] = m * m;
+		acc[4 * k + 3] = m * m;
 	}
-	struct field_job job = {flat, s, &f, rays, sum};
+	free(share);
+	struct field_job job = {flat, s, &f, acc};
 	int rc = cs_pool_run(n, nthreads, field_row, &job, NULL, NULL, NULL);
 	free(flat);
 	if (rc != CS_OK) {
-		free(sum);
-		free(rays);
+		free(acc);
+		free(tmp);
 		free(rgb);
 		return rc;
 	}
@@ -388,24 +388,19 @@ int cs_ground_sky_field(const struct cs_scene *sc, const struct cs_render_settin
 	double mean[3] = {0.0, 0.0, 0.0};
 	for (size_t k = 0; k < points; k++)
 		for (int c = 0; c < 3; c++)
-			mean[c] += sum[3 * k + c] / rays[k];
+			mean[c] += acc[4 * k + c] / acc[4 * k + 3];
 	for (int c = 0; c < 3; c++)
 		f.mean[c] = mean[c] / (double)points;
 	/* each point the mean of its rays and its neighbours', every ray of
-	 * the same weight in the blur: a point of many rays keeps its own */
-	double *a = sum + 4 * points; /* 4 values a point: sums and rays */
-	for (size_t k = 0; k < points; k++) {
-		for (int c = 0; c < 3; c++)
-			a[4 * k + c] = sum[3 * k + c];
-		a[4 * k + 3] = rays[k];
-	}
-	blur121(a, sum, n, 4, 1); /* (the sums are in a now) */
-	blur121(sum, a, n, 4, 0);
+	 * the same weight in the blur (the sums and the counts blurred
+	 * alike): a point of many rays keeps its own */
+	blur121(acc, tmp, n, 4, 1);
+	blur121(tmp, acc, n, 4, 0);
 	for (size_t k = 0; k < points; k++)
 		for (int c = 0; c < 3; c++)
-			rgb[3 * k + c] = (float)(a[4 * k + c] / a[4 * k + 3]);
-	free(sum);
-	free(rays);
+			rgb[3 * k + c] = (float)(acc[4 * k + c] / acc[4 * k + 3]);
+	free(acc);
+	free(tmp);
 	f.rgb = rgb;
 	*out = f;
 	return CS_OK;
