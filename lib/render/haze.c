@@ -136,9 +136,17 @@ CS_HD CS_SHARED void cs_field_source(const struct cs_fog_field *f, double h, dou
 /* The light of a point of a column of optical depth tau_above +
  * tau_below from the plane-parallel fields of a set (fields at depths t,
  * CS_DECK_DEPTHS of them): between two depths the sources are
- * interpolated in log depth, beyond the first and last the nearest is
- * read, at the point's share of the depth from the top. */
-CS_HD static void fields_source(const struct cs_fog_field *fields, const double *t,
+ * interpolated in log depth, below the first the first is read, at the
+ * point's share of the depth from the top.  Beyond the last (at most
+ * CS_DECK_FIELD_TAU_MAX) the last is read there and scaled as diffusion
+ * scales it: deep in a conservative slab of depth tc the light falls
+ * linearly to the base, as (tau_below + z) / (tc + 2 z) with z the
+ * extrapolation depth, 2 z = 1.42 / (3 (1 - g) / 4) (the transmittance
+ * 1 / (3 (1 - g) (tc + 2 z) / 4), deck.c's slab_extend), so that the
+ * base of a column twice the last field's depth is half as bright (read
+ * unscaled, the base of a nimbostratus of optical depth 256 or 512 was
+ * 2 or 4 times too bright against the path tracer); z2 0: read unscaled. */
+CS_HD static void fields_source(const struct cs_fog_field *fields, const double *t, double z2,
 				double tau_above, double tau_below, double up_out, double cos_phi,
 				double out[3])
 {
@@ -156,6 +164,19 @@ CS_HD static void fields_source(const struct cs_fog_field *fields, const double 
 	double h = tc > 0.0 ? 1.0 - tau_above / tc : 1.0, wt[2] = {1.0 - f, f};
 	const struct cs_fog_field *two[2] = {&fields[k], &fields[k + 1]};
 	field_mix(two, wt, 2, h, up_out, cos_phi, out);
+	double tm = t[CS_DECK_DEPTHS - 1];
+	if (z2 > 0.0 && tc > tm && tm > 0.0) {
+		double z = 0.5 * z2, deep = (h * tc + z) / (h * tm + z) * (tm + z2) / (tc + z2);
+		for (int c = 0; c < 3; c++)
+			out[c] *= deep;
+	}
+}
+
+/* 2 z of fields_source for the deck's phase function (its mean cosine). */
+CS_HD static double extrapolation_2z(const struct cs_deck *d)
+{
+	double g = d->g < 0.99 ? d->g : 0.99;
+	return 1.42 / (0.75 * (1.0 - g));
 }
 
 /* Broken cloud, column by column (the independent column approximation):
@@ -180,7 +201,8 @@ CS_HD CS_SHARED void cs_deck_field_source(const struct cs_deck *d, int fi,
 					  double tau_above, double tau_below, double up_out,
 					  double cos_phi, double out[3])
 {
-	fields_source(d->field[fi], d->field_tau[fi], tau_above, tau_below, up_out, cos_phi, out);
+	fields_source(d->field[fi], d->field_tau[fi], extrapolation_2z(d), tau_above, tau_below, up_out,
+		      cos_phi, out);
 }
 
 /* Tilted columns (the tilted independent pixel approximation of Varnai
@@ -194,7 +216,13 @@ CS_HD CS_SHARED void cs_deck_field_source(const struct cs_deck *d, int fi,
 CS_HD CS_SHARED void cs_deck_tilt_source(const struct cs_deck *d, double tau_sun, double tau_away,
 					 double to_sun, double out[3])
 {
-	fields_source(d->tilt, d->tilt_tau, tau_sun, tau_away, to_sun, 1.0, out);
+	/* unscaled beyond the deepest (z2 0): a tower is narrow, and the
+	 * light of a long tilted path through it leaks out of its sides, as
+	 * a deck's does not (scaled, the study's cumulonimbus lost 2.4 %
+	 * of its mean luminance seen from the side and 1.5 % under a low
+	 * sun at 96x54, the side view already -4.3 % against the path
+	 * tracer at 1280x720) */
+	fields_source(d->tilt, d->tilt_tau, 0.0, tau_sun, tau_away, to_sun, 1.0, out);
 }
 
 CS_HD void cs_fog_source(const struct cs_scene *sc, double alt_m, double up_out, double cos_phi,

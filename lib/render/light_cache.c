@@ -159,6 +159,8 @@ const char *cs_ground_lit_name(int ground_lit)
 		[CS_GROUND_LIT_FOG] = ("the columns' and the fog's, none traced (fog: its light is "
 				       "solved from the columns')"),
 		[CS_GROUND_LIT_UNSEEN] = "the columns', none traced (the frame sees no ground)",
+		[CS_GROUND_LIT_FIELD_AIR] = ("the field's, for the haze and the rain under the clouds "
+					     "(the frame sees no ground)"),
 	};
 	if (ground_lit < 0 || ground_lit >= (int)(sizeof names / sizeof names[0]))
 		return "?";
@@ -287,13 +289,20 @@ int cs_frame_scene(const struct cs_scene *sc, const struct cs_camera *cam,
 	*out = NULL;
 	*evaluations = 0;
 	*ground = ground_lit(sc, s);
-	/* no dome or field for a frame that sees no ground: nothing else
-	 * takes their light */
+	/* no dome or field for a frame that sees no ground, unless the
+	 * field lights its haze or rain under the clouds (cs_ground_sky):
+	 * nothing else takes their light */
 	struct cs_render_settings fs = *s;
 	if ((*ground == CS_GROUND_LIT_DOME || *ground == CS_GROUND_LIT_FIELD) &&
 	    !cs_camera_sees_ground(sc, cam)) {
-		fs.ground_sky = CS_GROUND_SKY_COLUMNS;
-		*ground = CS_GROUND_LIT_UNSEEN;
+		int air = sc->deck.on && ((CS_FX_IS(sc, CS_FX_HAZE) && sc->haze_beta0_per_m > 0.0) ||
+					  CS_FX_IS(sc, CS_FX_RAIN | CS_FX_SNOW));
+		if (*ground == CS_GROUND_LIT_FIELD && air) {
+			*ground = CS_GROUND_LIT_FIELD_AIR;
+		} else {
+			fs.ground_sky = CS_GROUND_SKY_COLUMNS;
+			*ground = CS_GROUND_LIT_UNSEEN;
+		}
 	}
 	if (!cs_frame_volumes_needed(sc, &fs))
 		return CS_OK;
@@ -303,7 +312,7 @@ int cs_frame_scene(const struct cs_scene *sc, const struct cs_camera *cam,
 	*copy = *sc;
 	int rc = cs_light_cache_build(copy, &fs, (double)cam->width * cam->height, nthreads,
 				      evaluations);
-	if (rc == CS_OK && *ground == CS_GROUND_LIT_FIELD) {
+	if (rc == CS_OK && (*ground == CS_GROUND_LIT_FIELD || *ground == CS_GROUND_LIT_FIELD_AIR)) {
 		rc = cs_ground_sky_field(copy, &fs, cam, nthreads, &copy->ground_field);
 		for (int c = 0; c < 3 && rc == CS_OK; c++)
 			copy->deck.sky_ground[c] = copy->ground_field.mean[c];

@@ -126,7 +126,8 @@ CS_HD double cs_find_ground(const struct cs_scene *sc, cs_v3 o, cs_v3 d,
 CS_HD double cs_rain_shaft(const struct cs_scene *sc, double x, double y);
 
 /* The diffuse light on the ground at p under clouds (deck.on; ground.c),
- * the radiance of a cosine-weighted mean, kcd/m^2: the frame's field where
+ * the radiance of a cosine-weighted mean, kcd/m^2, which lights the haze
+ * and the rain over p too (integrator.c): the frame's field where
  * it has one (sc->ground_field: bilinear between its points, fading to
  * their mean beyond them), else the one value of the frame
  * (deck.sky_ground). */

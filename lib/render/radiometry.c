@@ -331,6 +331,35 @@ static void ground_seen(const struct cs_scene *sc, const struct cs_camera *cam,
 		}
 }
 
+/* The field's points traced with acc[4 k + 3] rays each (a square), their
+ * area mean into f->mean, and each point's blurred mean into rgb; acc and
+ * tmp are overwritten. */
+static int field_pass(const struct cs_scene *flat, const struct cs_render_settings *s,
+		      struct cs_ground_field *f, int nthreads, double *acc, double *tmp, float *rgb)
+{
+	size_t points = (size_t)f->n * f->n;
+	struct field_job job = {flat, s, f, acc};
+	int rc = cs_pool_run(f->n, nthreads, field_row, &job, NULL, NULL, NULL);
+	if (rc != CS_OK)
+		return rc;
+	/* the area's mean: of the points' own means */
+	double mean[3] = {0.0, 0.0, 0.0};
+	for (size_t k = 0; k < points; k++)
+		for (int c = 0; c < 3; c++)
+			mean[c] += acc[4 * k + c] / acc[4 * k + 3];
+	for (int c = 0; c < 3; c++)
+		f->mean[c] = mean[c] / (double)points;
+	/* each point the mean of its rays and its neighbours', every ray of
+	 * the same weight in the blur (the sums and the counts blurred
+	 * alike): a point of many rays keeps its own */
+	blur121(acc, tmp, f->n, 4, 1);
+	blur121(tmp, acc, f->n, 4, 0);
+	for (size_t k = 0; k < points; k++)
+		for (int c = 0; c < 3; c++)
+			rgb[3 * k + c] = (float)(acc[4 * k + c] / acc[4 * k + 3]);
+	return CS_OK;
+}
+
 int cs_ground_sky_field(const struct cs_scene *sc, const struct cs_render_settings *s,
 			const struct cs_camera *cam, int nthreads, struct cs_ground_field *out)
 {
@@ -350,15 +379,36 @@ int cs_ground_sky_field(const struct cs_scene *sc, const struct cs_render_settin
 	size_t points = (size_t)n * n;
 	double *share = malloc(points * sizeof *share);
 	double *acc = malloc(points * 4 * sizeof *acc), *tmp = malloc(points * 4 * sizeof *tmp);
-	float *rgb = malloc(points * 3 * sizeof *rgb);
+	float *rgb = malloc(points * 3 * sizeof *rgb), *first = NULL;
 	struct cs_scene *flat = open_sky(sc);
-	if (share == NULL || acc == NULL || tmp == NULL || rgb == NULL || flat == NULL) {
+	/* the haze and the rain under the clouds are lit by the field
+	 * (cs_ground_sky), and the field's rays see them: a first pass of
+	 * one ray a point lights them for the second (traced with the area's
+	 * mean alone, the haze over the camera under a thick part of a
+	 * broken deck added half of the light) */
+	int again = flat != NULL && flat->deck.on &&
+		    ((CS_FX_IS(flat, CS_FX_HAZE) && flat->haze_beta0_per_m > 0.0) ||
+		     CS_FX_IS(flat, CS_FX_RAIN | CS_FX_SNOW));
+	if (again)
+		first = malloc(points * 3 * sizeof *first);
+	if (share == NULL || acc == NULL || tmp == NULL || rgb == NULL || flat == NULL ||
+	    (again && first == NULL)) {
 		free(share);
 		free(acc);
 		free(tmp);
 		free(rgb);
+		free(first);
 		free(flat);
 		return cs_error(CS_ENOMEM, "out of memory for the ground's light (%d x %d points)", n, n);
+	}
+	int rc = CS_OK;
+	flat->ground_field = (struct cs_ground_field){0};
+	if (again) {
+		for (size_t k = 0; k < points; k++)
+			acc[4 * k + 3] = FIELD_RAYS_MIN;
+		rc = field_pass(flat, s, &f, nthreads, acc, tmp, first);
+		flat->ground_field = f;
+		flat->ground_field.rgb = first;
 	}
 	/* rays where the frame sees the ground: the error of the ground's
 	 * mean is least for a point's rays in proportion to its share */
@@ -375,32 +425,16 @@ int cs_ground_sky_field(const struct cs_scene *sc, const struct cs_render_settin
 		acc[4 * k + 3] = m * m;
 	}
 	free(share);
-	struct field_job job = {flat, s, &f, acc};
-	int rc = cs_pool_run(n, nthreads, field_row, &job, NULL, NULL, NULL);
+	if (rc == CS_OK)
+		rc = field_pass(flat, s, &f, nthreads, acc, tmp, rgb);
 	free(flat);
+	free(first);
+	free(acc);
+	free(tmp);
 	if (rc != CS_OK) {
-		free(acc);
-		free(tmp);
 		free(rgb);
 		return rc;
 	}
-	/* the area's mean: of the points' own means */
-	double mean[3] = {0.0, 0.0, 0.0};
-	for (size_t k = 0; k < points; k++)
-		for (int c = 0; c < 3; c++)
-			mean[c] += acc[4 * k + c] / acc[4 * k + 3];
-	for (int c = 0; c < 3; c++)
-		f.mean[c] = mean[c] / (double)points;
-	/* each point the mean of its rays and its neighbours', every ray of
-	 * the same weight in the blur (the sums and the counts blurred
-	 * alike): a point of many rays keeps its own */
-	blur121(acc, tmp, n, 4, 1);
-	blur121(tmp, acc, n, 4, 0);
-	for (size_t k = 0; k < points; k++)
-		for (int c = 0; c < 3; c++)
-			rgb[3 * k + c] = (float)(acc[4 * k + c] / acc[4 * k + 3]);
-	free(acc);
-	free(tmp);
 	f.rgb = rgb;
 	*out = f;
 	return CS_OK;

@@ -642,8 +642,10 @@ int cs_ground_sky_dome(const struct cs_scene *sc, const struct cs_render_setting
  * points' own values (before the blur) is the area's (out->mean).  One
  * row of points a task on nthreads of the CPU pool, each point's rays in
  * order: the same for any thread count.  Its rays are not in the frame's
- * statistics.  CS_OK, CS_ENOMEM or the pool's error (then *out is
- * empty). */
+ * statistics.  Where the scene has haze or rain under clouds, which the
+ * field lights (cs_ground_sky) and its rays see, it is traced twice: a
+ * first pass of one ray a point lights them for the second.  CS_OK,
+ * CS_ENOMEM or the pool's error (then *out is empty). */
 #define CS_GROUND_FIELD_POINTS 64 /* 375 m apart */
 #define CS_GROUND_FIELD_RAYS 8192
 struct cs_camera;
@@ -753,7 +755,10 @@ enum cs_ground_lit {
 					fog's light is solved from them) */
 	CS_GROUND_LIT_UNSEEN,        /* the dome or the field asked for; the
 					frame sees no ground */
-	CS_GROUND_LIT_FIELD          /* the frame's field (cs_ground_sky_field) */
+	CS_GROUND_LIT_FIELD,         /* the frame's field (cs_ground_sky_field) */
+	CS_GROUND_LIT_FIELD_AIR      /* the field asked for; the frame sees no
+					ground, but its haze or rain under the
+					clouds takes the field's light */
 };
 /* Its words for -v ("the field's", "the columns', none traced (the frame
  * sees no ground)"); "?" for a value out of range. */
@@ -771,7 +776,9 @@ int cs_frame_volumes_needed(const struct cs_scene *sc, const struct cs_render_se
  * built (cs_light_cache_build, then with CS_GROUND_SKY_FIELD the
  * ground's field for cam, cs_ground_sky_field, and deck.sky_ground its
  * mean; the ground's dome or field only where the camera sees ground,
- * cs_camera_sees_ground: the pixels are the same either way), for
+ * cs_camera_sees_ground, or for the field where the scene has haze or
+ * rain under clouds, which it lights too: elsewhere the pixels are the
+ * same either way), for
  * cs_frame_scene_free; *evaluations the build's, *ground_lit
  * what lights its ground (enum cs_ground_lit).  CS_OK, CS_ENOMEM or the
  * build's error (then *out is NULL). */

@@ -234,7 +234,67 @@ static void frames_that_see_no_ground_trace_no_field(void)
 			CHECK(memcmp(frame->deck.sky_ground, sc.deck.sky_below, sizeof sc.deck.sky_below) != 0 &&
 			      frame->ground_field.rgb != NULL);
 		cs_frame_scene_free(frame);
+		/* with haze the field is traced all the same: the haze takes its
+		 * light (haze_under_a_thick_deck_is_lit_by_the_light_there) */
+		sc.haze_beta0_per_m = 3.912 / 20000.0;
+		CHECK(cs_frame_scene(&sc, &cam, &s, 2, &frame, &ev, &lit) == CS_OK);
+		CHECK(frame != NULL && frame->ground_field.rgb != NULL);
+		CHECK(lit == (v[k].ground ? CS_GROUND_LIT_FIELD : CS_GROUND_LIT_FIELD_AIR));
+		cs_frame_scene_free(frame);
+		sc.haze_beta0_per_m = 0.0;
 	}
+	cs_volume_free(&noise);
+}
+
+/* Haze under a thick cloud over the eye is lit by the light there: a disc
+ * of optical depth 64 and 10 km radius, 800 to 1600 m over the ground,
+ * overhead, in a veil of optical depth 2 (which diffuses much of a noon
+ * sun's beam: the light under it is several times that under the disc),
+ * haze of 10 km visibility.  Under a uniform deck the light around the haze is about
+ * the base's own, so the haze in front of the base adds about what it
+ * takes away (radiative transfer's L = L_base e^-tau + J (1 - e^-tau)
+ * with J ~ L_base): the zenith seen through it within 8 % of the zenith
+ * without it (measured -1.3 %).  Lit by the mean light of the 24 km
+ * square the deck's columns cover, most of it under the veil, the haze
+ * made the zenith 18 % brighter; under the thick part of the real rain
+ * hour's nimbostratus it made an all-sky camera's light 1.67 times as
+ * bright. */
+static void haze_under_a_thick_deck_is_lit_by_the_light_there(void)
+{
+	static struct cs_volume noise;
+	static struct cs_scene sc;
+	struct cs_render_settings s;
+	noon_heaps_without_volumes(&sc, &noise, &s);
+	struct cs_cloud_layer *l = &sc.layers[0];
+	l->kind = CS_LAYER_HOMOGENEOUS;
+	l->base_m = sc.ground_alt_m + 800.0, l->top_m = sc.ground_alt_m + 1600.0;
+	l->homog_a = 64.0 / 800.0, l->homog_b = 0.0;
+	l->homog_x = l->homog_y = 0.0, l->homog_radius_m = 10000.0;
+	sc.layers[1] = *l; /* and a veil everywhere, of optical depth 2 */
+	sc.layers[1].homog_a = 2.0 / 800.0, sc.layers[1].homog_radius_m = 0.0;
+	sc.nlayers = 2;
+	cs_scene_deck_light(&sc, 2);
+	struct cs_camera cam;
+	CHECK(cs_camera_init(&cam, &sc, v3(0, 0, sc.ground_alt_m + 2.0), 46.95, 150.0, 60.0, 70.0, 64,
+			     36) == CS_OK);
+	double zen[2];
+	for (int h = 0; h < 2; h++) {
+		sc.haze_beta0_per_m = h ? 3.912 / 10000.0 : 0.0;
+		struct cs_scene *frame;
+		uint64_t ev;
+		int lit;
+		CHECK(cs_frame_scene(&sc, &cam, &s, 2, &frame, &ev, &lit) == CS_OK);
+		CHECK((frame != NULL) == h); /* (no haze: no field, nothing takes it) */
+		const struct cs_scene *use = frame != NULL ? frame : &sc;
+		struct cs_render_stats st = {0};
+		struct cs_ray_result r;
+		cs_render_ray(use, &s, cam.pos, v3(0.0, 0.0, 1.0), 0.5, &st, &r);
+		zen[h] = r.rgb[1];
+		cs_frame_scene_free(frame);
+	}
+	printf("  the zenith under the disc: %.4f kcd/m^2 with haze, %.4f without (%+.1f %%)\n", zen[1],
+	       zen[0], 100.0 * (zen[1] / zen[0] - 1.0));
+	CHECK_NEAR(zen[1], zen[0], 0.08 * zen[0]);
 	cs_volume_free(&noise);
 }
 
@@ -460,6 +520,7 @@ static const struct t_case t_cases[] = {
 	CASE(dome_is_traced_only_where_asked_for_under_clouds),
 	CASE(frames_that_see_no_ground_trace_no_field),
 	CASE(terrain_in_view_is_ground_for_the_field),
+	CASE(haze_under_a_thick_deck_is_lit_by_the_light_there),
 	CASE(field_under_heaps_follows_the_path_tracer_point_by_point),
 	CASE(field_is_the_same_on_any_number_of_threads),
 	CASE(field_is_bilinear_inside_and_fades_to_its_mean_outside),

@@ -1139,6 +1139,86 @@ static void overcast_ground_sees_the_transmitted_light(void)
 	CHECK_NEAR(sc.deck.sky_below[1] / green, want, 0.05 * want);
 }
 
+/* The base of a deep overcast seen from below dims like 1 / tau beyond
+ * the deepest light field the deck solves (CS_DECK_FIELD_TAU_MAX, 128):
+ * homogeneous slabs of optical depth 128 and 256 (20 km thick, so that
+ * the view's steps are thin; the phase one Henyey-Greenstein lobe of
+ * 0.85, water droplets), the sun overhead, and the zenith's radiance
+ * against the published similarity transmittance T = 1 / (0.9 + 0.6
+ * (1 - g) tau) (RADIATION-NOTES: within about 10 % for (1 - g) tau of 2
+ * to 40) leaving the base with the escape function's 9/7 for the
+ * vertical: pi L / E = 9/7 T, within 15 %.  Read unscaled, the field
+ * of depth 128 lit the base of the 256 as its own (measured 1.29
+ * against 0.66 x E / pi; now 0.69: the diffusion's linear fall of the
+ * light to the base, haze.c's fields_source). */
+static void deep_overcast_base_dims_like_one_over_tau(void)
+{
+	static const double taus[] = {128.0, 256.0};
+	for (size_t k = 0; k < sizeof taus / sizeof taus[0]; k++) {
+		static struct cs_scene sc;
+		slab_scene(&sc, taus[k] / 20000.0, 0.0, 800.0, 20800.0);
+		sc.g_forward = sc.g_back = 0.85, sc.w_forward = 1.0;
+		sc.sun_illuminance[0] = sc.sun_illuminance[1] = sc.sun_illuminance[2] = 100.0;
+		sc.effects |= CS_FX_SUN | CS_FX_GROUND;
+		cs_scene_deck_light(&sc, 1);
+		CHECK(sc.deck.field_of[0] >= 0);
+		struct cs_render_settings s;
+		CHECK(cs_render_quality("high", &s) == CS_OK);
+		s.jitter = 0.0, s.ground_sky = CS_GROUND_SKY_COLUMNS;
+		struct cs_ray_result r;
+		trace(&sc, &s, v3(0.0, 0.0, 2.0), v3(0.0, 0.0, 1.0), &r);
+		double T = 1.0 / (0.9 + 0.6 * 0.15 * taus[k]), want = 9.0 / 7.0 * T;
+		double got = CS_PI * r.rgb[1] / 100.0;
+		printf("  tau %3.0f: the base's pi L / E %.4f, the similarity form's 9/7 T %.4f (%+.0f %%)\n",
+		       taus[k], got, want, 100.0 * (got / want - 1.0));
+		CHECK_NEAR(got, want, 0.15 * want);
+	}
+}
+
+/* Rain under a uniform overcast (optical depth 64, the sun 30 deg up, the
+ * sky's light too, over ground of albedo 0.2 made 0.7 times darker by the
+ * wet): the drops scatter isotropically, so far along a level ray through
+ * rain everywhere the radiance is the drops' albedo times the mean
+ * radiance around them, the diffuse light from above on the upper half of
+ * the sphere and the ground's reflection of it on the lower:
+ * 0.9 x (1 + 0.2 x 0.7) / 2 of the light under the deck, which is the
+ * published transmittance's (overcast_ground_sees_the_transmitted_light's
+ * closed form, not the renderer's), within 12 %.  (Lit by all of that
+ * light, the rain was 1.75 times this, and the real hour of rain of the
+ * meteoblue capture 4.1 times the path tracer's picture.) */
+static void rain_scatters_the_light_around_it(void)
+{
+	static struct cs_scene sc;
+	slab_scene(&sc, 64.0 / 3200.0, 0.0, 800.0, 4000.0);
+	sc.layers[0].extinction_per_m = 64.0 / 3200.0; /* cs_rain_shaft: 1 */
+	double e = 30.0 * CS_PI / 180.0;
+	sc.sun_dir = v3(0.0, cos(e), sin(e));
+	double sun[3] = {80.0, 65.0, 42.0}, sky[3] = {7.0, 9.5, 14.5}; /* klux, kcd/m^2 */
+	memcpy(sc.sun_illuminance, sun, sizeof sun);
+	memcpy(sc.ambient_up, sky, sizeof sky);
+	for (int c = 0; c < 3; c++)
+		sc.ground_albedo[c] = 0.2;
+	sc.ground_wet = 0.7;
+	sc.rain_layer = 0, sc.rain_top_m = 800.0, sc.rain_extinction_per_m = 2e-3;
+	sc.precip_albedo = 0.9;
+	sc.effects |= CS_FX_SUN | CS_FX_SKY | CS_FX_GROUND | CS_FX_RAIN;
+	cs_scene_deck_light(&sc, 1);
+	CHECK(cs_rain_shaft(&sc, 3000.0, -2000.0) == 1.0);
+	struct cs_render_settings s = plain(64, 16);
+	struct cs_ray_result r;
+	trace(&sc, &s, v3(0.0, 0.0, 100.0), v3(1.0, 0.0, 0.0), &r);
+	for (int c = 0; c < 3; c++) {
+		/* the light under the deck, as overcast_ground_sees_the_transmitted_light */
+		double below = 0.15 * ((1.0 + 2.0 * sin(e)) / 3.0 * sun[c] * sin(e) +
+				       7.0 / 9.0 * CS_PI * sky[c]) / CS_PI /
+			       (1.0 - 0.2 * (1.0 - 0.15 * 7.0 / 9.0));
+		double want = 0.9 * (1.0 + 0.2 * 0.7) / 2.0 * below;
+		printf("  channel %d: the rain's radiance %.4f, isotropic scattering's %.4f (%+.0f %%)\n",
+		       c, r.rgb[c], want, 100.0 * (r.rgb[c] / want - 1.0));
+		CHECK_NEAR(r.rgb[c], want, 0.12 * want);
+	}
+}
+
 /* Koschmieder: in fog of visibility V a black object at distance V keeps
  * about 2 % of its contrast against the fog's own light along the same
  * line of sight (exp(-3.912)): its radiance is 98 % of that light.  The
@@ -1635,6 +1715,8 @@ static const struct t_case t_cases[] = {
 	CASE(escape_function_is_chandrasekhars),
 	CASE(face_sky_share_is_the_view_factor),
 	CASE(fog_under_a_deck_adds_no_sunlight),
+	CASE(deep_overcast_base_dims_like_one_over_tau),
+	CASE(rain_scatters_the_light_around_it),
 	CASE(light_march_toward_any_sun_is_beer_lambert),
 	CASE(a_far_tower_shadows_the_ground_under_a_low_sun),
 	CASE(a_far_towers_shadow_at_the_presets_light_steps),
