@@ -388,10 +388,15 @@ static int sky_imager(const struct cs_camera *cam, const struct cs_scene *sc, co
  * (5 x 5 points): a forecast's radiation is a mean over its grid cell, and
  * under broken cloud one point is either in a shadow or not. */
 /* The ground irradiance by the integrator the run renders with (the
- * reference: 16 x spp paths a point). */
-static void measure_irradiance(const struct cs_cloudrender_opts *o, const struct cs_scene *sc,
-			       const struct cs_render_settings *s, cs_v3 pos,
-			       struct cs_cloudrender_result *r)
+ * reference: 16 x spp paths a point).  The march's rays see the sky as a
+ * frame looking up from the camera would draw it (cs_frame_scene of a
+ * small all-sky camera there): with the ground's field that lights the
+ * haze and the rain where they are (measured on the scene as it is, the
+ * haze over the camera under the thick part of the meteoblue capture's
+ * rain hour took the camera's DHI from 24 to 55 W/m^2). */
+static int measure_irradiance(const struct cs_cloudrender_opts *o, const struct cs_scene *sc,
+			      const struct cs_render_settings *s, cs_v3 pos,
+			      struct cs_cloudrender_result *r)
 {
 	struct cs_render_stats st = {0};
 	r->area_size_m = CS_IRRADIANCE_AREA_M;
@@ -400,10 +405,22 @@ static void measure_irradiance(const struct cs_cloudrender_opts *o, const struct
 		int paths = o->spp < 65536 ? 16 * o->spp : 1048576;
 		cs_reference_irradiance_at(sc, &rs, pos, paths, &r->irr_camera, &st);
 		cs_reference_irradiance_area(sc, &rs, r->area_size_m, 5, paths, &r->irr_area, &st);
-		return;
+		return CS_OK;
 	}
-	cs_irradiance_at(sc, s, pos, &r->irr_camera, &st);
-	cs_irradiance_area(sc, s, r->area_size_m, 5, &r->irr_area, &st);
+	struct cs_camera up;
+	struct cs_scene *frame = NULL;
+	uint64_t evaluations;
+	int lit, rc = cs_camera_init(&up, sc, pos, r->wx.site.lat_deg, 0.0, 90.0, 70.0, 64, 64);
+	up.projection = CS_PROJ_FISHEYE;
+	if (rc == CS_OK)
+		rc = cs_frame_scene(sc, &up, s, o->threads, &frame, &evaluations, &lit);
+	if (rc != CS_OK)
+		return rc;
+	const struct cs_scene *use = frame != NULL ? frame : sc;
+	cs_irradiance_at(use, s, pos, &r->irr_camera, &st);
+	cs_irradiance_area(use, s, r->area_size_m, 5, &r->irr_area, &st);
+	cs_frame_scene_free(frame);
+	return CS_OK;
 }
 
 /* --camera-agl and --look-at: in range, and no look given twice. */
@@ -770,10 +787,10 @@ static int render_frame(const struct cs_cloudrender_opts *o, struct cs_cloudrend
 		return rc;
 	if (o->irradiance) {
 		t0 = now_s();
-		measure_irradiance(o, sc, &r->settings, cam->pos, r);
+		rc = measure_irradiance(o, sc, &r->settings, cam->pos, r);
 		r->t_irradiance_s = now_s() - t0;
 	}
-	return CS_OK;
+	return rc;
 }
 
 int cs_cr_write(const struct cs_cloudrender_opts *o, struct cs_cloudrender_result *r, float *px)
