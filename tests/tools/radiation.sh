@@ -3,7 +3,7 @@
 # come from the forecast itself: its GHI, which the fit does not read (it
 # reads the DNI), against the area GHI our light transport produces.
 . "$TOP/tests/tools/lib.sh"
-plan 5
+plan 6
 CR="$BIN/cloudrender"
 WI="$BIN/wxinterp"
 REAL="${DATA:-$TOP/../shared/data}/weather/meteoblue-basic-clouds-solar-1h.json"
@@ -184,3 +184,37 @@ expect_out "cover 0.5-0.8: 1 hours, the clouds' transmission (GHI over our cloud
 expect_out "cover 0.8-0.95: 2 hours, the clouds' transmission (GHI over our cloudless GHI) 0.21, the forecast's 0.28, Kasten & Czeplak's 0.56"
 expect_out "cover 0.95-1: 1 hours, the clouds' transmission (GHI over our cloudless GHI) 0.42, the forecast's 0.32, Kasten & Czeplak's 0.37"
 end
+
+# mean_luma FILE.exr: the mean luminance (Rec. 709 weights) of its pixels
+mean_luma() {
+	printf '%.17g %.17g %.17g\n' $("$HELPERS/exrpixels" "$1" R G B | sed 1d) |
+		awk '{ s += 0.2126 * $1 + 0.7152 * $2 + 0.0722 * $3; n++ } END { if (n) printf "%.6g\n", s / n }'
+}
+
+# The capture's rain hour, 2024-10-07 19Z (nimbostratus 70 %, its depth
+# fitted 3.53 times, 0.6 mm/h): the march's picture (high, no haze, which
+# the path tracer does not simulate) against the path tracer's, 16x9, the
+# mean of two seeds of 128 paths a pixel (their means 0.78 and 0.50: thick
+# cloud's paths are heavy-tailed).  The march measured 0.88 of it; lit by
+# the area's mean light and by all of it, its rain made the picture 3.7
+# times as bright.  Outside 0.6 to 1.6 fails.
+begin cloudrender_rain_hour_as_bright_as_the_path_tracer_draws_it
+if [ -f "$REAL" ]; then
+	"$WI" "$REAL" --at 2024-10-07T19:00Z >"$T/rain.json" || bad "wxinterp failed"
+	run "$CR" --wx "$T/rain.json" --noise-size 32 --size 16x9 --quality high --no-haze -q \
+		-o "$T/march.exr"
+	expect_rc 0
+	for seed in 1 2; do
+		run "$CR" --wx "$T/rain.json" --noise-size 32 --size 16x9 --integrator reference \
+			--spp 128 --seed $seed -q -o "$T/ref$seed.exr"
+		expect_rc 0
+	done
+	m=$(mean_luma "$T/march.exr")
+	r=$(awk -v a="$(mean_luma "$T/ref1.exr")" -v b="$(mean_luma "$T/ref2.exr")" \
+		'BEGIN { printf "%.6g\n", (a + b) / 2 }')
+	awk -v m="$m" -v r="$r" 'BEGIN { exit !(r > 0 && m / r >= 0.6 && m / r <= 1.6) }' ||
+		bad "the march's mean luminance $m, the path tracer's $r: expected 0.6 to 1.6 times"
+	end
+else
+	skip cloudrender_rain_hour_as_bright_as_the_path_tracer_draws_it "no $REAL"
+fi
