@@ -149,6 +149,24 @@ static int above(const struct cs_scene *sc, int j, int i)
 	return j != i && sc->layers[j].base_m >= sc->layers[i].top_m - 1.0;
 }
 
+/* The share of layer j's column over layer i's top: 1 where j lies
+ * wholly above i, the part of its thickness above i's top where j's base
+ * is above i's base but below its top (a cumulus whose top reaches into
+ * a nimbostratus: lit as under the open sky, the capture's rain hour's
+ * cumulus of 8 % cover made its picture 1.9 times as bright as without
+ * it, where the path tracer's is 1.0 times), else 0 (j below i, or i
+ * inside j: the column above i's top holds j, but i is then lit as
+ * j's fields light it). */
+static double share_above(const struct cs_scene *sc, int j, int i)
+{
+	const struct cs_cloud_layer *a = &sc->layers[j], *b = &sc->layers[i];
+	if (above(sc, j, i))
+		return 1.0;
+	if (j == i || !(a->base_m > b->base_m) || !(a->top_m > b->top_m))
+		return 0.0;
+	return (a->top_m - b->top_m) / (a->top_m - a->base_m);
+}
+
 /* The share of the phase function taking light from the lower hemisphere
  * (travelling up) into each direction of travel (deck.below_share): the
  * integral over incoming directions mu_i > 0 and azimuth, by the midpoint
@@ -219,7 +237,7 @@ void cs_scene_deck_light(struct cs_scene *sc, int nthreads)
 			for (int i = 0; i < n; i++) { /* what reaches each layer's top */
 				double over = 0.0;
 				for (int j = 0; j < n; j++)
-					over += above(sc, j, i) ? tau[j] : 0.0;
+					over += share_above(sc, j, i) * tau[j];
 				under(d, over, e_sun_h, e_sky, NULL, &beam, dif);
 				for (int c = 0; c < 3; c++) {
 					d->sun_top[i][c] += e_sun_h[c] * beam;

@@ -725,6 +725,8 @@ void cs_scene_deck_fields(struct cs_scene *sc, int nthreads)
 			continue;
 		double w = (l->coverage - CS_DECK_FIELD_COVER) / (CS_DECK_FIELD_FULL - CS_DECK_FIELD_COVER);
 		d->field_weight[i] = w < 1.0 ? w : 1.0;
+		double deep = (l->coverage - CS_DECK_FIELD_FULL) / (1.0 - CS_DECK_FIELD_FULL);
+		d->field_deep[used] = deep < 0.0 ? 0.0 : deep < 1.0 ? deep : 1.0;
 		d->field_of[i] = used++;
 	}
 	tilt_fields(sc, nthreads); /* (after the fields: their weights) */

@@ -354,6 +354,12 @@ struct cs_deck {
 	 * to 1 at CS_DECK_FIELD_FULL, so that the light does not jump as a
 	 * layer's cover passes a threshold */
 	double field_weight[CS_SCENE_MAX_LAYERS];
+	/* for each set of fields, the share of diffusion's scaling that a
+	 * column deeper than the deepest field takes (cs_deck_field_source):
+	 * 0 at CS_DECK_FIELD_FULL cover, rising linearly to 1 at full cover
+	 * (a broken deck's thick cells take light through their sides, which
+	 * the columns do not count) */
+	double field_deep[CS_DECK_FIELDS];
 	/* Tilted columns (cs_deck_tilt_source): the light fields of slabs
 	 * facing the key light, lit by its beam square on and by nothing
 	 * else, of optical depths tilt_tau (CS_DECK_TILT_TAU0 times 4^k),

@@ -195,7 +195,7 @@ mean_luma() {
 # fitted 3.53 times, 0.6 mm/h): the march's picture (high, no haze, which
 # the path tracer does not simulate) against the path tracer's, 16x9, the
 # mean of two seeds of 128 paths a pixel (their means 0.78 and 0.50: thick
-# cloud's paths are heavy-tailed).  The march measured 0.88 of it; lit by
+# cloud's paths are heavy-tailed).  The march measured 0.76 of it; lit by
 # the area's mean light and by all of it, its rain made the picture 3.7
 # times as bright.  Outside 0.6 to 1.6 fails.
 begin cloudrender_rain_hour_as_bright_as_the_path_tracer_draws_it

@@ -1175,6 +1175,36 @@ static void deep_overcast_base_dims_like_one_over_tau(void)
 	}
 }
 
+/* A cloud whose top reaches into a deck above it is lit through the part
+ * of the deck over its top: a thin layer (optical depth 1) from 650 to
+ * 1850 m under a homogeneous deck of optical depth 64 from 834 to 4034 m
+ * (the capture's rain hour's cumulus and nimbostratus), the sun
+ * overhead: the light reaching its top is that under the 68 % of the
+ * deck above 1850 m, optical depth 43.7, whose published similarity
+ * transmittance is 1 / (0.9 + 0.6 (1 - g) tau) (RADIATION-NOTES; g 0.85),
+ * within 10 %.  Taken for side by side (neither wholly above the other),
+ * the thin layer was lit by the open sun: 4.8 times that. */
+static void a_cloud_reaching_into_a_deck_is_lit_through_it(void)
+{
+	static struct cs_scene sc;
+	slab_scene(&sc, 64.0 / 3200.0, 0.0, 834.0, 4034.0);
+	sc.layers[1] = sc.layers[0];
+	sc.layers[0].base_m = 650.0, sc.layers[0].top_m = 1850.0;
+	sc.layers[0].homog_a = 1.0 / 1200.0;
+	sc.nlayers = 2;
+	sc.g_forward = sc.g_back = 0.85, sc.w_forward = 1.0;
+	sc.sun_illuminance[0] = sc.sun_illuminance[1] = sc.sun_illuminance[2] = 100.0;
+	sc.effects |= CS_FX_SUN;
+	cs_scene_deck_light(&sc, 1);
+	double tau = 64.0 * (4034.0 - 1850.0) / 3200.0, want = 100.0 / (0.9 + 0.6 * 0.15 * tau);
+	double got = sc.deck.sun_top[0][1] + sc.deck.dif_top[0][1];
+	printf("  the light on the lower layer's top: %.2f klux, under optical depth %.1f %.2f "
+	       "(%+.0f %%); on the deck's top %.1f\n", got, tau, want, 100.0 * (got / want - 1.0),
+	       sc.deck.sun_top[1][1] + sc.deck.dif_top[1][1]);
+	CHECK_NEAR(got, want, 0.1 * want);
+	CHECK_NEAR(sc.deck.sun_top[1][1] + sc.deck.dif_top[1][1], 100.0, 1e-9);
+}
+
 /* Rain under a uniform overcast (optical depth 64, the sun 30 deg up, the
  * sky's light too, over ground of albedo 0.2 made 0.7 times darker by the
  * wet): the drops scatter isotropically, so far along a level ray through
@@ -1717,6 +1747,7 @@ static const struct t_case t_cases[] = {
 	CASE(fog_under_a_deck_adds_no_sunlight),
 	CASE(deep_overcast_base_dims_like_one_over_tau),
 	CASE(rain_scatters_the_light_around_it),
+	CASE(a_cloud_reaching_into_a_deck_is_lit_through_it),
 	CASE(light_march_toward_any_sun_is_beer_lambert),
 	CASE(a_far_tower_shadows_the_ground_under_a_low_sun),
 	CASE(a_far_towers_shadow_at_the_presets_light_steps),
