@@ -149,15 +149,7 @@ static int above(const struct cs_scene *sc, int j, int i)
 	return j != i && sc->layers[j].base_m >= sc->layers[i].top_m - 1.0;
 }
 
-/* The share of layer j's column over layer i's top: 1 where j lies
- * wholly above i, the part of its thickness above i's top where j's base
- * is above i's base but below its top (a cumulus whose top reaches into
- * a nimbostratus: lit as under the open sky, the capture's rain hour's
- * cumulus of 8 % cover made its picture 1.9 times as bright as without
- * it, where the path tracer's is 1.0 times), else 0 (j below i, or i
- * inside j: the column above i's top holds j, but i is then lit as
- * j's fields light it). */
-static double share_above(const struct cs_scene *sc, int j, int i)
+double cs_layer_share_above(const struct cs_scene *sc, int j, int i)
 {
 	const struct cs_cloud_layer *a = &sc->layers[j], *b = &sc->layers[i];
 	if (above(sc, j, i))
@@ -237,7 +229,7 @@ void cs_scene_deck_light(struct cs_scene *sc, int nthreads)
 			for (int i = 0; i < n; i++) { /* what reaches each layer's top */
 				double over = 0.0;
 				for (int j = 0; j < n; j++)
-					over += share_above(sc, j, i) * tau[j];
+					over += cs_layer_share_above(sc, j, i) * tau[j];
 				under(d, over, e_sun_h, e_sky, NULL, &beam, dif);
 				for (int c = 0; c < 3; c++) {
 					d->sun_top[i][c] += e_sun_h[c] * beam;
@@ -256,7 +248,8 @@ void cs_scene_deck_light(struct cs_scene *sc, int nthreads)
 		d->tau_in[i] = incloud[i] > 0 ? d->tau_in[i] / incloud[i] : 0.0;
 		int over_layer = 0, under_layer = 0;
 		for (int j = 0; j < n; j++)
-			over_layer |= above(sc, i, j), under_layer |= above(sc, j, i);
+			over_layer |= above(sc, i, j),
+			under_layer |= cs_layer_share_above(sc, j, i) > 0.0;
 		/* a layer no column met (sparse heaps) has no measured depth:
 		 * it is not taken for a thin veil (with tau_in 0 a cumulus
 		 * passed a fifth of the sky behind it) */

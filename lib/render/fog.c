@@ -679,7 +679,7 @@ void cs_scene_deck_fields(struct cs_scene *sc, int nthreads)
 		/* under other layers: their diffuse light, isotropic */
 		int under = 0;
 		for (int j = 0; j < sc->nlayers; j++)
-			under |= j != i && sc->layers[j].base_m >= l->top_m - 1.0;
+			under |= cs_layer_share_above(sc, j, i) > 0.0;
 		double sun[3], dome[3];
 		for (int c = 0; c < 3; c++) {
 			sun[c] = d->mu0 > 0.0 ? d->sun_top[i][c] / d->mu0 : 0.0;
@@ -719,8 +719,12 @@ void cs_scene_deck_fields(struct cs_scene *sc, int nthreads)
 		ok = cs_fog_solve_n(p + first, last - first + 1, d->field[used] + first, nthreads) ==
 		     CS_OK;
 		for (int k = 0; k < CS_DECK_DEPTHS && ok; k++)
-			if (k < first || k > last)
+			if (k < first || k > last) {
 				d->field[used][k] = d->field[used][k < first ? first : last];
+				/* (a copy above the last is at its depth: the
+				 * deepest field's, which fields_source scales from) */
+				tau[k] = k > last ? tau[last] : tau[k];
+			}
 		if (!ok) /* (out of memory) the layer keeps the diffuse light's model */
 			continue;
 		double w = (l->coverage - CS_DECK_FIELD_COVER) / (CS_DECK_FIELD_FULL - CS_DECK_FIELD_COVER);

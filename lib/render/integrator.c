@@ -260,7 +260,7 @@ CS_HD double cs_rain_shaft(const struct cs_scene *sc, double x, double y)
  * with its gaps), the half below the ground's reflection of it, so that
  * they send albedo x (1 + ground albedo) / 2 of it toward the eye (lit by
  * the area's mean, and by all of the light from above, the real hour of
- * rain was 4.1 times the path tracer's picture). */
+ * rain was 4.0 times the path tracer's picture). */
 CS_HD CS_COLD static void march_rain(const struct ray_ctx *c, const struct interval *iv,
 			     struct path *P)
 {
@@ -280,10 +280,10 @@ CS_HD CS_COLD static void march_rain(const struct ray_ctx *c, const struct inter
 		double sky[3] = {sc->ambient_up[0], sc->ambient_up[1], sc->ambient_up[2]};
 		if (sc->deck.on)
 			cs_ground_sky(sc, p, sky);
-		double tr = exp(-sigma * dt);
+		double tr = exp(-sigma * dt), wet = sc->ground_wet > 0.0 ? sc->ground_wet : 1.0;
 		for (int k = 0; k < 3; k++)
 			P->L[k] += P->T * P->th * (1.0 - tr) * sc->precip_albedo * 0.5 *
-				   (1.0 + sc->ground_albedo[k] * sc->ground_wet) * sky[k];
+				   (1.0 + sc->ground_albedo[k] * wet) * sky[k];
 		P->T *= tr;
 		P->Tsky *= tr;
 		P->terminated = path_done(P, c->s);

@@ -161,6 +161,8 @@ const char *cs_ground_lit_name(int ground_lit)
 		[CS_GROUND_LIT_UNSEEN] = "the columns', none traced (the frame sees no ground)",
 		[CS_GROUND_LIT_FIELD_AIR] = ("the field's, for the haze and the rain under the clouds "
 					     "(the frame sees no ground)"),
+		[CS_GROUND_LIT_DOME_AIR] = ("the dome's, for the haze and the rain under the clouds "
+					    "(the frame sees no ground)"),
 	};
 	if (ground_lit < 0 || ground_lit >= (int)(sizeof names / sizeof names[0]))
 		return "?";
@@ -282,6 +284,12 @@ int cs_frame_volumes_needed(const struct cs_scene *sc, const struct cs_render_se
 	       cs_scene_tilt_wanted(sc, s);
 }
 
+int cs_scene_air_lit(const struct cs_scene *sc)
+{
+	return sc->deck.on && ((CS_FX_IS(sc, CS_FX_HAZE) && sc->haze_beta0_per_m > 0.0) ||
+			       CS_FX_IS(sc, CS_FX_RAIN | CS_FX_SNOW));
+}
+
 int cs_frame_scene(const struct cs_scene *sc, const struct cs_camera *cam,
 		   const struct cs_render_settings *s, int nthreads, struct cs_scene **out,
 		   uint64_t *evaluations, int *ground)
@@ -295,10 +303,9 @@ int cs_frame_scene(const struct cs_scene *sc, const struct cs_camera *cam,
 	struct cs_render_settings fs = *s;
 	if ((*ground == CS_GROUND_LIT_DOME || *ground == CS_GROUND_LIT_FIELD) &&
 	    !cs_camera_sees_ground(sc, cam)) {
-		int air = sc->deck.on && ((CS_FX_IS(sc, CS_FX_HAZE) && sc->haze_beta0_per_m > 0.0) ||
-					  CS_FX_IS(sc, CS_FX_RAIN | CS_FX_SNOW));
-		if (*ground == CS_GROUND_LIT_FIELD && air) {
-			*ground = CS_GROUND_LIT_FIELD_AIR;
+		if (cs_scene_air_lit(sc)) { /* (the same sky whether it sees ground or not) */
+			*ground = *ground == CS_GROUND_LIT_FIELD ? CS_GROUND_LIT_FIELD_AIR
+								  : CS_GROUND_LIT_DOME_AIR;
 		} else {
 			fs.ground_sky = CS_GROUND_SKY_COLUMNS;
 			*ground = CS_GROUND_LIT_UNSEEN;

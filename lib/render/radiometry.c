@@ -263,6 +263,9 @@ int cs_ground_sky_dome(const struct cs_scene *sc, const struct cs_render_setting
  * ground in a frame that sees little else) and the fewest. */
 #define FIELD_RAYS_MAX 4096
 #define FIELD_RAYS_MIN 1
+/* The scale of the fall of a sky-only frame's rays with the distance
+ * from the camera. */
+#define FIELD_AIR_RADIUS_M 3000.0
 
 struct field_job {
 	const struct cs_scene *sc;
@@ -386,9 +389,7 @@ int cs_ground_sky_field(const struct cs_scene *sc, const struct cs_render_settin
 	 * one ray a point lights them for the second (traced with the area's
 	 * mean alone, the haze over the camera under a thick part of a
 	 * broken deck added half of the light) */
-	int again = flat != NULL && flat->deck.on &&
-		    ((CS_FX_IS(flat, CS_FX_HAZE) && flat->haze_beta0_per_m > 0.0) ||
-		     CS_FX_IS(flat, CS_FX_RAIN | CS_FX_SNOW));
+	int again = flat != NULL && cs_scene_air_lit(flat);
 	if (again)
 		first = malloc(points * 3 * sizeof *first);
 	if (share == NULL || acc == NULL || tmp == NULL || rgb == NULL || flat == NULL ||
@@ -418,6 +419,21 @@ int cs_ground_sky_field(const struct cs_scene *sc, const struct cs_render_settin
 	ground_seen(sc, cam, &f, share);
 	for (size_t k = 0; k < points; k++)
 		total += share[k];
+	/* a frame that sees no ground traces the field for its haze and rain
+	 * (cs_frame_scene): the rays to the points around the camera, over
+	 * whose ground the haze and the rain in its view are nearest: views
+	 * of the capture's rain hour 30 deg up at high, 96x54, against a
+	 * field of 256 rays a point, -0.75 and -1.06 % in the mean, 0.8 and
+	 * 1.1 % off a pixel on average (one ray a point, the review's
+	 * measure: -1.1 and -3.4 % in the mean, up to 9.5 % a pixel) */
+	if (total == 0.0) {
+		for (size_t k = 0; k < points; k++) {
+			double dx = f.x0_m + (double)(k % (size_t)n) * step - cam->pos.x;
+			double dy = f.y0_m + (double)(k / (size_t)n) * step - cam->pos.y;
+			share[k] = exp(-(dx * dx + dy * dy) / (FIELD_AIR_RADIUS_M * FIELD_AIR_RADIUS_M));
+			total += share[k];
+		}
+	}
 	for (size_t k = 0; k < points; k++) {
 		double want = FIELD_RAYS_MIN +
 			      (total > 0.0 ? CS_GROUND_FIELD_RAYS * share[k] / total : 0.0);

@@ -106,7 +106,8 @@ for c in "--wx $T/clear.json --quality high|the clear sky's (no clouds)" \
 	"--wx $T/cloud-fog.json --quality medium|the columns' and the fog's" \
 	"--look 150,40 --quality high --no-haze|the columns', none traced (the frame sees no ground)" \
 	"--look 150,40 --quality high|the field's, for the haze and the rain under the clouds (the frame sees no ground)" \
-	"--look 150,40 --quality high --ground-sky dome|the columns', none traced (the frame sees no ground)"; do
+	"--look 150,40 --quality high --ground-sky dome|the dome's, for the haze and the rain under the clouds (the frame sees no ground)" \
+	"--look 150,40 --quality high --ground-sky dome --no-haze|the columns', none traced (the frame sees no ground)"; do
 	# shellcheck disable=SC2086
 	run "$CR" -v ${c%%|*} --noise-size 32 --size 48x27 -o "$T/why.exr"; expect_rc 0
 	line=$(sed -n "s/^cloudrender: ground's diffuse light: //p" "$T/err")

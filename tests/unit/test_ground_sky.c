@@ -295,6 +295,30 @@ static void haze_under_a_thick_deck_is_lit_by_the_light_there(void)
 	printf("  the zenith under the disc: %.4f kcd/m^2 with haze, %.4f without (%+.1f %%)\n", zen[1],
 	       zen[0], 100.0 * (zen[1] / zen[0] - 1.0));
 	CHECK_NEAR(zen[1], zen[0], 0.08 * zen[0]);
+	/* and the ground's light there, whose own rays see the haze, lit by
+	 * the field's first pass: within 20 % of it without haze (a bound,
+	 * not a closed form: measured +9.9 %, the haze low over the horizon
+	 * scattering the veil's brighter light beyond the disc; lit by the
+	 * area's mean, the first pass left out, +41.8 %) */
+	CHECK(cs_camera_init(&cam, &sc, v3(0, 0, sc.ground_alt_m + 2.0), 46.95, 150.0, 5.0, 70.0, 64,
+			     36) == CS_OK);
+	double ground[2];
+	for (int h = 0; h < 2; h++) {
+		sc.haze_beta0_per_m = h ? 3.912 / 10000.0 : 0.0;
+		struct cs_scene *frame;
+		uint64_t ev;
+		int lit;
+		CHECK(cs_frame_scene(&sc, &cam, &s, 2, &frame, &ev, &lit) == CS_OK);
+		CHECK(frame != NULL && lit == CS_GROUND_LIT_FIELD);
+		double rgb[3] = {0.0, 0.0, 0.0};
+		if (frame != NULL)
+			cs_ground_sky(frame, cam.pos, rgb);
+		ground[h] = rgb[1];
+		cs_frame_scene_free(frame);
+	}
+	printf("  the ground's light under the disc: %.4f kcd/m^2 with haze, %.4f without (%+.1f %%)\n",
+	       ground[1], ground[0], 100.0 * (ground[1] / ground[0] - 1.0));
+	CHECK_NEAR(ground[1], ground[0], 0.2 * ground[0]);
 	cs_volume_free(&noise);
 }
 
@@ -405,12 +429,14 @@ static void field_under_heaps_follows_the_path_tracer_point_by_point(void)
 }
 
 /* The field's points are summed in order: the same bits on 1 and 3
- * threads. */
+ * threads, with haze (traced twice, cs_ground_sky_field). */
 static void field_is_the_same_on_any_number_of_threads(void)
 {
 	static struct cs_volume noise;
 	static struct cs_scene sc;
 	heaps(&sc, &noise, 16, "2021-06-14T07:00:00Z", 0.35);
+	sc.haze_beta0_per_m = 3.912 / 20000.0; /* (two passes: the haze takes the first's light) */
+	CHECK(cs_scene_air_lit(&sc));
 	struct cs_render_settings s;
 	CHECK(cs_render_quality("high", &s) == CS_OK);
 	struct cs_camera cam;

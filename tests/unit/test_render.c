@@ -1148,9 +1148,9 @@ static void overcast_ground_sees_the_transmitted_light(void)
  * (1 - g) tau) (RADIATION-NOTES: within about 10 % for (1 - g) tau of 2
  * to 40) leaving the base with the escape function's 9/7 for the
  * vertical: pi L / E = 9/7 T, within 15 %.  Read unscaled, the field
- * of depth 128 lit the base of the 256 as its own (measured 1.29
- * against 0.66 x E / pi; now 0.69: the diffusion's linear fall of the
- * light to the base, haze.c's fields_source). */
+ * of depth 128 lit the base of the 256 as its own (measured 0.0946
+ * against 0.0537, +76 %; now 0.0531, -1 %: the diffusion's linear fall
+ * of the light to the base, haze.c's fields_source). */
 static void deep_overcast_base_dims_like_one_over_tau(void)
 {
 	static const double taus[] = {128.0, 256.0};
@@ -1213,9 +1213,13 @@ static void a_cloud_reaching_into_a_deck_is_lit_through_it(void)
  * the sphere and the ground's reflection of it on the lower:
  * 0.9 x (1 + 0.2 x 0.7) / 2 of the light under the deck, which is the
  * published transmittance's (overcast_ground_sees_the_transmitted_light's
- * closed form, not the renderer's), within 12 %.  (Lit by all of that
- * light, the rain was 1.75 times this, and the real hour of rain of the
- * meteoblue capture 4.1 times the path tracer's picture.) */
+ * closed form, not the renderer's), within 12 %.  The scattering law is
+ * single scattering's, with the light from above as the field holds it,
+ * a cosine-weighted mean (under an overcast whose radiance goes as the
+ * escape function the plain mean is 6/7 of it), the rain's own depth
+ * (1.6 vertically) not counted.  (Lit by all of that light, the rain
+ * was 1.75 times this, and the real hour of rain of the meteoblue
+ * capture 4.0 times the path tracer's picture.) */
 static void rain_scatters_the_light_around_it(void)
 {
 	static struct cs_scene sc;
