@@ -246,6 +246,18 @@ static void frames_that_see_no_ground_trace_no_field(void)
 	cs_volume_free(&noise);
 }
 
+/* The frame's scene of sc through cam, with haze of 10 km visibility or
+ * none. */
+static struct cs_scene *hazy_frame(struct cs_scene *sc, const struct cs_render_settings *s,
+				   const struct cs_camera *cam, int haze, int *lit)
+{
+	struct cs_scene *frame = NULL;
+	uint64_t ev;
+	sc->haze_beta0_per_m = haze ? 3.912 / 10000.0 : 0.0;
+	CHECK(cs_frame_scene(sc, cam, s, 2, &frame, &ev, lit) == CS_OK);
+	return frame;
+}
+
 /* Haze under a thick cloud over the eye is lit by the light there: a disc
  * of optical depth 64 and 10 km radius, 800 to 1600 m over the ground,
  * overhead, in a veil of optical depth 2 (which diffuses much of a noon
@@ -279,11 +291,8 @@ static void haze_under_a_thick_deck_is_lit_by_the_light_there(void)
 			     36) == CS_OK);
 	double zen[2];
 	for (int h = 0; h < 2; h++) {
-		sc.haze_beta0_per_m = h ? 3.912 / 10000.0 : 0.0;
-		struct cs_scene *frame;
-		uint64_t ev;
 		int lit;
-		CHECK(cs_frame_scene(&sc, &cam, &s, 2, &frame, &ev, &lit) == CS_OK);
+		struct cs_scene *frame = hazy_frame(&sc, &s, &cam, h, &lit);
 		CHECK((frame != NULL) == h); /* (no haze: no field, nothing takes it) */
 		const struct cs_scene *use = frame != NULL ? frame : &sc;
 		struct cs_render_stats st = {0};
@@ -304,11 +313,8 @@ static void haze_under_a_thick_deck_is_lit_by_the_light_there(void)
 			     36) == CS_OK);
 	double ground[2];
 	for (int h = 0; h < 2; h++) {
-		sc.haze_beta0_per_m = h ? 3.912 / 10000.0 : 0.0;
-		struct cs_scene *frame;
-		uint64_t ev;
 		int lit;
-		CHECK(cs_frame_scene(&sc, &cam, &s, 2, &frame, &ev, &lit) == CS_OK);
+		struct cs_scene *frame = hazy_frame(&sc, &s, &cam, h, &lit);
 		CHECK(frame != NULL && lit == CS_GROUND_LIT_FIELD);
 		double rgb[3] = {0.0, 0.0, 0.0};
 		if (frame != NULL)
