@@ -284,6 +284,8 @@ double cs_fog_phase_mean(double mu, double nu, double g_forward, double g_back,
 #define CS_DECK_FIELDS 2
 #define CS_DECK_FIELD_COVER 0.5 /* a layer of more cover is lit by light fields */
 #define CS_DECK_FIELD_FULL 0.7  /* and the least lit by them alone */
+#define CS_DECK_FIELD_THIN 1.0  /* a layer this thin for the beam (tau_in / mu0) or less, at any cover, too */
+#define CS_DECK_FIELD_THIN_END 3.0 /* and one this thick for it or more by its cover alone */
 #define CS_DECK_DEPTHS 4 /* light fields a layer: optical depths tau_in / 16, / 4, 1, 2 */
 #define CS_DECK_FIELD_TAU_MAX 128.0 /* and at most this (the solution's time grows with it) */
 #define CS_DECK_AREA_M 24000.0 /* the side of the square the deck's means are over: a forecast grid cell or two */
@@ -338,9 +340,11 @@ struct cs_deck {
 	 * component is -1 + 2 k / (CS_DECK_SHARES - 1) (k = 0..32) */
 	double below_share[33];
 	/* the light fields (cs_fog_solve) of the first CS_DECK_FIELDS layers
-	 * of more than CS_DECK_FIELD_COVER (the others keep the march's
-	 * model), whose diffuse light the march reads from them
-	 * (cs_deck_field_source): for each, the plane-parallel fields of
+	 * of more than CS_DECK_FIELD_COVER, then of those thinner for the
+	 * beam than CS_DECK_FIELD_THIN_END (the others keep the march's
+	 * model), whose
+	 * diffuse light the march reads from them (cs_deck_field_source):
+	 * for each, the plane-parallel fields of
 	 * slabs of optical depths field_tau, tau_in / 16, tau_in / 4, tau_in
 	 * and 2 tau_in, none beyond CS_DECK_FIELD_TAU_MAX; a depth that no
 	 * column measured over the area reaches, or equal to the one before,
@@ -352,7 +356,10 @@ struct cs_deck {
 	/* the share of a layer's diffuse light that its fields give (the
 	 * rest the march's model): 0 at CS_DECK_FIELD_COVER, rising linearly
 	 * to 1 at CS_DECK_FIELD_FULL, so that the light does not jump as a
-	 * layer's cover passes a threshold */
+	 * layer's cover passes a threshold; and, whatever the cover, 1 for a
+	 * layer whose in-cloud depth over mu0 (the beam's slant depth
+	 * through it) is CS_DECK_FIELD_THIN or less, falling linearly to 0
+	 * at CS_DECK_FIELD_THIN_END (the larger of the two; fog.c) */
 	double field_weight[CS_SCENE_MAX_LAYERS];
 	/* for each set of fields, the share of diffusion's scaling that a
 	 * column deeper than the deepest field takes (cs_deck_field_source):

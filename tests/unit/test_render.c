@@ -1175,6 +1175,47 @@ static void deep_overcast_base_dims_like_one_over_tau(void)
 	}
 }
 
+/* A thin veil seen from below at the zenith: a homogeneous layer from 8
+ * to 10 km (cirrus) of cover 0.3 (a broken veil: no deck's fields by its
+ * cover), the renderer's two-lobe phase function, no sky, a black ground,
+ * the sun 30 deg up over optical depths 0.25 and 0.5 and 53 deg up over
+ * 0.25, 0.5 and 0.8 (the beam's slant depth 1 or less).  The zenith's
+ * radiance, pi L / E, against the adding-doubling solution of the same
+ * slab (tests/reference/adding_doubling.py, Slab("hg2", wf 0.96, g1 0.9,
+ * g2 -0.3), mu0 T(1, mu0), N = 32 a hemisphere; its single scattering
+ * alone, 0.0136 at optical depth 1 and mu0 0.5, is the closed form's
+ * 0.0135), within 5 %.  Lit by the march's model of the diffuse light
+ * instead of light fields (fog.c, field_weight), the layer was 2.7 to 4.3
+ * times as bright. */
+static void a_thin_veil_is_as_bright_as_the_adding_doubling_slab(void)
+{
+	static const struct {
+		double mu0, tau, want;
+	} c[] = {{0.5, 0.25, 0.0150}, {0.5, 0.5, 0.0304}, {0.8, 0.25, 0.0511}, {0.8, 0.5, 0.0998},
+		 {0.8, 0.8, 0.1549}};
+	for (size_t k = 0; k < sizeof c / sizeof c[0]; k++) {
+		static struct cs_scene sc;
+		slab_scene(&sc, c[k].tau / 2000.0, 0.0, 8000.0, 10000.0);
+		sc.layers[0].coverage = 0.3;
+		sc.g_forward = 0.9, sc.g_back = -0.3, sc.w_forward = 0.96;
+		sc.sun_dir = v3(0.0, sqrt(1.0 - c[k].mu0 * c[k].mu0), c[k].mu0);
+		sc.sun_illuminance[0] = sc.sun_illuminance[1] = sc.sun_illuminance[2] = 100.0;
+		sc.effects |= CS_FX_SUN;
+		cs_scene_deck_light(&sc, 1);
+		struct cs_render_settings s;
+		CHECK(cs_render_quality("high", &s) == CS_OK);
+		s.jitter = 0.0, s.ground_sky = CS_GROUND_SKY_COLUMNS;
+		struct cs_ray_result r;
+		trace(&sc, &s, v3(0.0, 0.0, 2.0), v3(0.0, 0.0, 1.0), &r);
+		double got = CS_PI * r.rgb[1] / 100.0;
+		printf("  the sun %2.0f deg up, optical depth %.2f: pi L / E at the zenith %.4f, "
+		       "adding-doubling %.4f (%+.1f %%)\n",
+		       asin(c[k].mu0) * 180.0 / CS_PI, c[k].tau, got, c[k].want,
+		       100.0 * (got / c[k].want - 1.0));
+		CHECK_NEAR(got, c[k].want, 0.05 * c[k].want);
+	}
+}
+
 /* A cloud whose top reaches into a deck above it is lit through the part
  * of the deck over its top: a thin layer (optical depth 1) from 650 to
  * 1850 m under a homogeneous deck of optical depth 64 from 834 to 4034 m
@@ -1750,6 +1791,7 @@ static const struct t_case t_cases[] = {
 	CASE(face_sky_share_is_the_view_factor),
 	CASE(fog_under_a_deck_adds_no_sunlight),
 	CASE(deep_overcast_base_dims_like_one_over_tau),
+	CASE(a_thin_veil_is_as_bright_as_the_adding_doubling_slab),
 	CASE(rain_scatters_the_light_around_it),
 	CASE(a_cloud_reaching_into_a_deck_is_lit_through_it),
 	CASE(light_march_toward_any_sun_is_beer_lambert),
