@@ -36,13 +36,15 @@ CS_HD static void slab_row(double tau, int *k, double *f)
 }
 
 /* A value of a table row extended beyond it: toward 1 at tau 0 (linear
- * below the first depth), like 1 / (tau + 12.6) beyond the last (the
- * diffusion limit, 1 / (3 (1 - g) tau / 4 + 1.42), scaled). */
+ * below the first depth), like 1 / (tau + 2z) beyond the last (the
+ * diffusion limit, 1 / (3 (1 - g) tau / 4 + 1.42), scaled; the table's
+ * g, 0.85). */
 CS_HD static double slab_extend(double t, double tau)
 {
 	if (tau < CS_SLAB_TAU0)
 		return 1.0 + (t - 1.0) * tau / CS_SLAB_TAU0;
-	return tau > CS_SLAB_TAU_MAX ? t * (CS_SLAB_TAU_MAX + 12.6) / (tau + 12.6) : t;
+	double z2 = cs_slab_extrapolation_2z(0.85);
+	return tau > CS_SLAB_TAU_MAX ? t * (CS_SLAB_TAU_MAX + z2) / (tau + z2) : t;
 }
 
 /* The beam's transmittance from table row k, fraction f. */

@@ -178,13 +178,6 @@ CS_HD static void fields_source(const struct cs_fog_field *fields, const double 
 	}
 }
 
-/* 2 z of fields_source for the deck's phase function (its mean cosine). */
-CS_HD static double extrapolation_2z(const struct cs_deck *d)
-{
-	double g = d->g < 0.99 ? d->g : 0.99;
-	return 1.42 / (0.75 * (1.0 - g));
-}
-
 /* Broken cloud, column by column (the independent column approximation):
  * the point's column, of optical depth tau_above + tau_below, taken for
  * a plane-parallel slab of that depth, the field read at the point's
@@ -207,8 +200,8 @@ CS_HD CS_SHARED void cs_deck_field_source(const struct cs_deck *d, int fi,
 					  double tau_above, double tau_below, double up_out,
 					  double cos_phi, double out[3])
 {
-	fields_source(d->field[fi], d->field_tau[fi], extrapolation_2z(d), d->field_deep[fi], tau_above,
-		      tau_below, up_out, cos_phi, out);
+	fields_source(d->field[fi], d->field_tau[fi], cs_slab_extrapolation_2z(d->g),
+		      d->field_deep[fi], tau_above, tau_below, up_out, cos_phi, out);
 }
 
 /* Tilted columns (the tilted independent pixel approximation of Varnai

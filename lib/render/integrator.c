@@ -685,8 +685,9 @@ CS_HD static void sample_source(const struct ray_ctx *c, cs_v3 p, double alt,
 	S[0] = S[1] = S[2] = 0.0;
 	*fwd = 0.0;
 	double tau_sun = INFINITY;
-	/* a layer of more than half cover: its diffuse light, the sun's
-	 * multiply scattered light with it, from its light fields, for the
+	/* a layer with light fields (of more than half cover, or thin for
+	 * the beam): its diffuse light, the sun's multiply scattered light
+	 * with it, from its light fields, for the
 	 * share wf (deck.field_weight), the rest from the octaves and
 	 * cloud_ambient (all of it in layers without fields) */
 	int field = sc->deck.on ? sc->deck.field_of[li] : -1;

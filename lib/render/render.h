@@ -284,8 +284,9 @@ double cs_fog_phase_mean(double mu, double nu, double g_forward, double g_back,
 #define CS_DECK_FIELDS 2
 #define CS_DECK_FIELD_COVER 0.5 /* a layer of more cover is lit by light fields */
 #define CS_DECK_FIELD_FULL 0.7  /* and the least lit by them alone */
-#define CS_DECK_FIELD_THIN 1.0  /* a layer this thin for the beam (tau_in / mu0) or less, at any cover, too */
-#define CS_DECK_FIELD_THIN_END 3.0 /* and one this thick for it or more by its cover alone */
+/* a layer this thin for the beam (tau_in / mu0) or less too, at any cover */
+#define CS_DECK_FIELD_THIN 1.0
+#define CS_DECK_FIELD_THIN_END 3.0 /* and one this thick or more by its cover alone */
 #define CS_DECK_DEPTHS 4 /* light fields a layer: optical depths tau_in / 16, / 4, 1, 2 */
 #define CS_DECK_FIELD_TAU_MAX 128.0 /* and at most this (the solution's time grows with it) */
 #define CS_DECK_AREA_M 24000.0 /* the side of the square the deck's means are over: a forecast grid cell or two */
@@ -526,6 +527,17 @@ CS_HD double cs_slab_beam_transmittance(double tau, double mu0);
 CS_HD double cs_slab_diffuse_transmittance(double tau);
 /* Both at once (one table row found). */
 CS_HD void cs_slab_transmittances(double tau, double mu0, double *beam, double *diffuse);
+/* Twice the extrapolation length of diffusion through a thick slab, in
+ * optical depth, for a phase function of mean cosine g (at most 0.99):
+ * 1.42 / (0.75 (1 - g)), so that its transmittance falls like
+ * 1 / (tau + 2z) (12.6 for the droplets' 0.85); what slab_table.h's
+ * transmittances are extended by beyond its last depth and the deck's
+ * deepest light field scaled by (haze.c). */
+CS_HD static inline double cs_slab_extrapolation_2z(double g)
+{
+	g = g < 0.99 ? g : 0.99;
+	return 1.42 / (0.75 * (1.0 - g));
+}
 /* The escape function of an optically thick cloud: the radiance of the
  * diffuse light leaving its boundary at cosine mu to the normal, over the
  * flux leaving / pi, K(mu) = 3/7 (1 + 2 mu) (Eddington; Chandrasekhar's

@@ -1216,6 +1216,54 @@ static void a_thin_veil_is_as_bright_as_the_adding_doubling_slab(void)
 	}
 }
 
+/* Light fields change hands without a step in the light: two thin veils
+ * of 30 % cover (optical depths 0.4 and 0.2, 9 to 10 and 6 to 7 km) over
+ * a broken deck of 60 % cover (10, 2 to 3 km), which takes one of the two
+ * sets of fields by its cover; the veils are thin for the sun's beam
+ * (fog.c, field_weight) and share the other.  As the sun sinks from 11.5
+ * to 5.7 deg, in steps of 0.03 deg or less, their beam's slant depths
+ * cross each other's and the ramp's ends: the zenith's radiance seen
+ * from between the deck and the veils changes by no more than 2 % a step
+ * (the sun's own change: below 0.5 %).  The veil first in the layers'
+ * order had kept the set until its share fell to none, and handed it to
+ * the other at once: -26 % in one step. */
+static void fields_change_hands_without_a_step(void)
+{
+	static struct cs_scene sc;
+	double prev = -1.0, worst = 0.0, at = 0.0;
+	for (double mu0 = 0.200; mu0 > 0.0995; mu0 -= 0.0005) {
+		memset(&sc, 0, sizeof sc);
+		sc.earth_radius_m = CS_EARTH_RADIUS_M;
+		sc.nlayers = 3;
+		static const double base[3] = {9000.0, 6000.0, 2000.0}, tau[3] = {0.4, 0.2, 10.0};
+		static const double cover[3] = {0.3, 0.3, 0.6};
+		for (int i = 0; i < 3; i++) {
+			sc.layers[i].kind = CS_LAYER_HOMOGENEOUS;
+			sc.layers[i].base_m = base[i], sc.layers[i].top_m = base[i] + 1000.0;
+			sc.layers[i].homog_a = tau[i] / 1000.0;
+			sc.layers[i].coverage = cover[i];
+		}
+		sc.albedo = 1.0;
+		sc.g_forward = 0.9, sc.g_back = -0.3, sc.w_forward = 0.96;
+		sc.sun_dir = v3(0.0, sqrt(1.0 - mu0 * mu0), mu0);
+		sc.sun_illuminance[0] = sc.sun_illuminance[1] = sc.sun_illuminance[2] = 100.0;
+		sc.effects = CS_FX_CLOUDS | CS_FX_SUN;
+		cs_scene_deck_light(&sc, 1);
+		struct cs_render_settings s;
+		CHECK(cs_render_quality("high", &s) == CS_OK);
+		s.jitter = 0.0, s.ground_sky = CS_GROUND_SKY_COLUMNS;
+		struct cs_ray_result r;
+		trace(&sc, &s, v3(0.0, 0.0, 5000.0), v3(0.0, 0.0, 1.0), &r);
+		double step = prev > 0.0 ? fabs(r.rgb[1] / prev - 1.0) : 0.0;
+		if (step > worst)
+			worst = step, at = mu0;
+		prev = r.rgb[1];
+	}
+	printf("  the largest step of the zenith's radiance: %.2f %% (at mu0 %.4f)\n", 100.0 * worst,
+	       at);
+	CHECK(worst < 0.02);
+}
+
 /* A cloud whose top reaches into a deck above it is lit through the part
  * of the deck over its top: a thin layer (optical depth 1) from 650 to
  * 1850 m under a homogeneous deck of optical depth 64 from 834 to 4034 m
@@ -1792,6 +1840,7 @@ static const struct t_case t_cases[] = {
 	CASE(fog_under_a_deck_adds_no_sunlight),
 	CASE(deep_overcast_base_dims_like_one_over_tau),
 	CASE(a_thin_veil_is_as_bright_as_the_adding_doubling_slab),
+	CASE(fields_change_hands_without_a_step),
 	CASE(rain_scatters_the_light_around_it),
 	CASE(a_cloud_reaching_into_a_deck_is_lit_through_it),
 	CASE(light_march_toward_any_sun_is_beer_lambert),
