@@ -1175,6 +1175,29 @@ static void deep_overcast_base_dims_like_one_over_tau(void)
 	}
 }
 
+/* The renderer's two-lobe phase function and a sun of 100 klux at
+ * cosine mu0 of its zenith angle over scene sc, its deck's light then
+ * built; and the radiance (green) that "high" marches at the zenith from
+ * z m, without jitter, the ground's light the columns'. */
+static void veil_light(struct cs_scene *sc, double mu0)
+{
+	sc->g_forward = 0.9, sc->g_back = -0.3, sc->w_forward = 0.96;
+	sc->sun_dir = v3(0.0, sqrt(1.0 - mu0 * mu0), mu0);
+	sc->sun_illuminance[0] = sc->sun_illuminance[1] = sc->sun_illuminance[2] = 100.0;
+	sc->effects |= CS_FX_SUN;
+	cs_scene_deck_light(sc, 1);
+}
+
+static double zenith_at_high(const struct cs_scene *sc, double z)
+{
+	struct cs_render_settings s;
+	CHECK(cs_render_quality("high", &s) == CS_OK);
+	s.jitter = 0.0, s.ground_sky = CS_GROUND_SKY_COLUMNS;
+	struct cs_ray_result r;
+	trace(sc, &s, v3(0.0, 0.0, z), v3(0.0, 0.0, 1.0), &r);
+	return r.rgb[1];
+}
+
 /* A thin veil seen from below at the zenith: a homogeneous layer from 8
  * to 10 km (cirrus) of cover 0.3 (a broken veil: no deck's fields by its
  * cover), the renderer's two-lobe phase function, no sky, a black ground,
@@ -1197,17 +1220,8 @@ static void a_thin_veil_is_as_bright_as_the_adding_doubling_slab(void)
 		static struct cs_scene sc;
 		slab_scene(&sc, c[k].tau / 2000.0, 0.0, 8000.0, 10000.0);
 		sc.layers[0].coverage = 0.3;
-		sc.g_forward = 0.9, sc.g_back = -0.3, sc.w_forward = 0.96;
-		sc.sun_dir = v3(0.0, sqrt(1.0 - c[k].mu0 * c[k].mu0), c[k].mu0);
-		sc.sun_illuminance[0] = sc.sun_illuminance[1] = sc.sun_illuminance[2] = 100.0;
-		sc.effects |= CS_FX_SUN;
-		cs_scene_deck_light(&sc, 1);
-		struct cs_render_settings s;
-		CHECK(cs_render_quality("high", &s) == CS_OK);
-		s.jitter = 0.0, s.ground_sky = CS_GROUND_SKY_COLUMNS;
-		struct cs_ray_result r;
-		trace(&sc, &s, v3(0.0, 0.0, 2.0), v3(0.0, 0.0, 1.0), &r);
-		double got = CS_PI * r.rgb[1] / 100.0;
+		veil_light(&sc, c[k].mu0);
+		double got = CS_PI * zenith_at_high(&sc, 2.0) / 100.0;
 		printf("  the sun %2.0f deg up, optical depth %.2f: pi L / E at the zenith %.4f, "
 		       "adding-doubling %.4f (%+.1f %%)\n",
 		       asin(c[k].mu0) * 180.0 / CS_PI, c[k].tau, got, c[k].want,
@@ -1244,20 +1258,13 @@ static void fields_change_hands_without_a_step(void)
 			sc.layers[i].coverage = cover[i];
 		}
 		sc.albedo = 1.0;
-		sc.g_forward = 0.9, sc.g_back = -0.3, sc.w_forward = 0.96;
-		sc.sun_dir = v3(0.0, sqrt(1.0 - mu0 * mu0), mu0);
-		sc.sun_illuminance[0] = sc.sun_illuminance[1] = sc.sun_illuminance[2] = 100.0;
-		sc.effects = CS_FX_CLOUDS | CS_FX_SUN;
-		cs_scene_deck_light(&sc, 1);
-		struct cs_render_settings s;
-		CHECK(cs_render_quality("high", &s) == CS_OK);
-		s.jitter = 0.0, s.ground_sky = CS_GROUND_SKY_COLUMNS;
-		struct cs_ray_result r;
-		trace(&sc, &s, v3(0.0, 0.0, 5000.0), v3(0.0, 0.0, 1.0), &r);
-		double step = prev > 0.0 ? fabs(r.rgb[1] / prev - 1.0) : 0.0;
+		sc.effects = CS_FX_CLOUDS;
+		veil_light(&sc, mu0);
+		double L = zenith_at_high(&sc, 5000.0);
+		double step = prev > 0.0 ? fabs(L / prev - 1.0) : 0.0;
 		if (step > worst)
 			worst = step, at = mu0;
-		prev = r.rgb[1];
+		prev = L;
 	}
 	printf("  the largest step of the zenith's radiance: %.2f %% (at mu0 %.4f)\n", 100.0 * worst,
 	       at);
