@@ -135,11 +135,6 @@ static double solve_log_k(const double *t, int nsheets, double others, double f,
 	return 0.5 * (lo + hi);
 }
 
-static double clamp01(double x)
-{
-	return x < 0.0 ? 0.0 : x > 1.0 ? 1.0 : x;
-}
-
 int cs_scene_fit_beam(struct cs_scene *sc, const struct cs_wx *wx)
 {
 	sc->cloud_depth_scale = 1.0;
@@ -192,14 +187,14 @@ int cs_scene_fit_beam(struct cs_scene *sc, const struct cs_wx *wx)
 	 * crosses both without a jump (a beam of 7.9 W/m2 under nimbostratus
 	 * had kept it, 8.1 thinned it 3.4 times; the sun at 10.07 deg had
 	 * thinned the sheets 64 times, at 9.06 not at all). */
-	double w = clamp01((f - CS_BEAM_FIT_NONE) / CS_BEAM_FIT_NONE);
+	double w = cs_clamp01((f - CS_BEAM_FIT_NONE) / CS_BEAM_FIT_NONE);
 	double thin = w > 0.0 ? solve_log_k(t, nsheets, others, f, log(CS_BEAM_FIT_K_MIN), 0.0)
 			      : 0.0;
 	double none = w < 1.0 ? solve_log_k(t, nsheets, others, CS_BEAM_FIT_NONE, 0.0,
 					    log(CS_BEAM_FIT_K_MAX))
 			      : 0.0;
 	free(t);
-	double ramp = clamp01((el - el_lo) / CS_BEAM_FIT_RAMP_DEG);
+	double ramp = cs_clamp01((el - el_lo) / CS_BEAM_FIT_RAMP_DEG);
 	double k = exp(ramp * (w * thin + (1.0 - w) * none));
 	for (int i = 0; i < nsheets; i++)
 		sc->layers[sheet[i]].extinction_per_m *= k;

@@ -343,9 +343,8 @@ struct cs_deck {
 	/* the light fields (cs_fog_solve) of the first CS_DECK_FIELDS layers
 	 * of more than CS_DECK_FIELD_COVER, then of those thinner for the
 	 * beam than CS_DECK_FIELD_THIN_END (the others keep the march's
-	 * model), whose
-	 * diffuse light the march reads from them (cs_deck_field_source):
-	 * for each, the plane-parallel fields of
+	 * model), whose diffuse light the march reads from them
+	 * (cs_deck_field_source): for each, the plane-parallel fields of
 	 * slabs of optical depths field_tau, tau_in / 16, tau_in / 4, tau_in
 	 * and 2 tau_in, none beyond CS_DECK_FIELD_TAU_MAX; a depth that no
 	 * column measured over the area reaches, or equal to the one before,
@@ -527,6 +526,11 @@ CS_HD double cs_slab_beam_transmittance(double tau, double mu0);
 CS_HD double cs_slab_diffuse_transmittance(double tau);
 /* Both at once (one table row found). */
 CS_HD void cs_slab_transmittances(double tau, double mu0, double *beam, double *diffuse);
+/* x within [0, 1]; 0 for NaN. */
+CS_HD static inline double cs_clamp01(double x)
+{
+	return !(x > 0.0) ? 0.0 : x < 1.0 ? x : 1.0;
+}
 /* Twice the extrapolation length of diffusion through a thick slab, in
  * optical depth, for a phase function of mean cosine g (at most 0.99):
  * 1.42 / (0.75 (1 - g)), so that its transmittance falls like
