@@ -9,6 +9,9 @@
  * haze and the rain under the clouds, and the inside of the clouds
  * themselves (their bases grey, not blue). */
 #include "render/render.h"
+
+#include "core/color.h"
+#include "render/cloud.h"
 #include "render/slab_table.h"
 
 #include <math.h>
@@ -161,6 +164,70 @@ double cs_layer_share_above(const struct cs_scene *sc, int j, int i)
 	return (a->top_m - b->top_m) / (a->top_m - a->base_m);
 }
 
+/* Under or inside a broken layer the light at a layer's top is not the
+ * area's mean (deck.sun_top, dif_top) but that of the columns over the
+ * point: under a cell of a deep deck a few per cent of the mean, in a
+ * gap a few times it (test_reference: cumulus under stratocumulus of
+ * 60 %, the mean -38 % in a gap's middle and +164 % under a cell against
+ * the path tracer's irradiance, the columns -10 % and -0.5 %).  The
+ * capture's rain hour (2024-10-07T19Z: nimbostratus of 70 %, 834 to
+ * 4034 m, over cumulus of 8 %, 650 to 1850 m), against the path tracer
+ * at 240x135: the cumulus under the deck's cells, lit by the mean, were
+ * 1.3 to 4.5 times its light in blocks of 30 x 22 pixels and stood out
+ * white against the dark deck; lit by the columns, 0.8 to 1.2 times.
+ * Independent columns (a point's own, not its neighbours': the light
+ * that diffuses sideways through the layers over it is not counted).
+ * The march reads this for the octaves' model and the towers' light, not
+ * for a layer's light fields (integrator.c, sample_source). */
+CS_HD double cs_deck_top_shade(const struct cs_scene *sc, int li, double x, double y, int steps,
+			       double tau_key, double r_sun[3], double r_dif[3], uint64_t *samples)
+{
+	const struct cs_deck *d = &sc->deck;
+	const struct cs_cloud_layer *l = &sc->layers[li];
+	/* the column over the point, for the sky's light */
+	double tau_up = 0.0;
+	for (int j = 0; j < sc->nlayers; j++) {
+		if (!(d->over_mask[li] & (1u << j)))
+			continue;
+		const struct cs_cloud_layer *o = &sc->layers[j];
+		double z0 = o->base_m > l->top_m ? o->base_m : l->top_m;
+		tau_up += cs_cloud_column(o, sc->noise, x, y, z0, o->top_m, steps);
+		*samples += (uint64_t)steps;
+	}
+	/* The key light's beam through its slant path (tau_key, times mu0:
+	 * the vertical depth of a slab it would cross), and of the light it
+	 * scatters the share w = exp(-(1 - g) tau_up) that the scattering's
+	 * forward peak keeps near the beam (the transport depth's unscattered
+	 * share: a veil's light comes down along the beam, a deep deck's
+	 * diffused where its column is) through the slant path too, the rest
+	 * through the column over the point.  Against the path tracer, the
+	 * columns over the point for both took the capture's fair hour
+	 * (cumulus under cirrus of 32 %) from relative MSE 0.0216 to 0.0265,
+	 * the slant path for both its rain hour from 0.185 to 0.147; this,
+	 * 0.0191 and 0.133. */
+	double w = exp(-(1.0 - d->g) * tau_up);
+	tau_key = d->mu0 > 0.0 && tau_key >= 0.0 ? tau_key * d->mu0 : tau_up;
+	double Tk, Tdk, Tu, Tdu, sun[3], dif[3], top[3];
+	cs_slab_transmittances(tau_key, d->mu0, &Tk, &Tdk);
+	cs_slab_transmittances(tau_up, d->mu0, &Tu, &Tdu);
+	double beam = d->mu0 > 0.0 ? exp(-tau_key / d->mu0) : 0.0;
+	double beam_up = d->mu0 > 0.0 ? exp(-tau_up / d->mu0) : 0.0;
+	double scat = w * (Tk - beam > 0.0 ? Tk - beam : 0.0) +
+		      (1.0 - w) * (Tu - beam_up > 0.0 ? Tu - beam_up : 0.0);
+	for (int c = 0; c < 3; c++) {
+		double e_sun_h = sc->sun_illuminance[c] * d->mu0;
+		double e_sky = (sc->effects & CS_FX_SKY) ? CS_PI * sc->ambient_up[c] : 0.0;
+		sun[c] = e_sun_h * beam;
+		dif[c] = e_sun_h * scat + e_sky * Tdu;
+		r_sun[c] = d->sun_top[li][c] > 0.0 ? sun[c] / d->sun_top[li][c] : 1.0;
+		r_dif[c] = d->dif_top[li][c] > 0.0 ? dif[c] / d->dif_top[li][c] : 1.0;
+		top[c] = d->sun_top[li][c] + d->dif_top[li][c];
+	}
+	double mean = cs_luminance(top[0], top[1], top[2]);
+	return mean > 0.0 ? cs_luminance(sun[0] + dif[0], sun[1] + dif[1], sun[2] + dif[2]) / mean
+			  : 1.0;
+}
+
 /* The share of the phase function taking light from the lower hemisphere
  * (travelling up) into each direction of travel (deck.below_share): the
  * integral over incoming directions mu_i > 0 and azimuth, by the midpoint
@@ -249,9 +316,12 @@ void cs_scene_deck_light(struct cs_scene *sc, int nthreads)
 	for (int i = 0; i < n; i++) {
 		d->tau_in[i] = incloud[i] > 0 ? d->tau_in[i] / incloud[i] : 0.0;
 		int over_layer = 0, under_layer = 0;
-		for (int j = 0; j < n; j++)
-			over_layer |= above(sc, i, j),
-			under_layer |= cs_layer_share_above(sc, j, i) > 0.0;
+		d->over_mask[i] = 0u;
+		for (int j = 0; j < n; j++) {
+			over_layer |= above(sc, i, j);
+			if (cs_layer_share_above(sc, j, i) > 0.0)
+				under_layer = 1, d->over_mask[i] |= 1u << j;
+		}
 		/* a layer no column met (sparse heaps) has no measured depth:
 		 * it is not taken for a thin veil (with tau_in 0 a cumulus
 		 * passed a fifth of the sky behind it) */

@@ -228,23 +228,35 @@ CS_HD CS_SHARED double cs_cached_depth(const struct cs_cloud_layer *l, const str
  * (q > 1), r = q^(2/n), so that the first step is about the thickness / n
  * that a vertical path takes (finer for very long paths), else equal;
  * each sample at its step's middle, weighted by its length. */
-CS_HD CS_SHARED double cs_light_depth(const struct cs_scene *sc,
-			    const struct cs_render_settings *s, cs_v3 p,
-			    unsigned mask, struct cs_render_stats *st)
+CS_HD CS_SHARED double cs_light_depth_over(const struct cs_scene *sc,
+					   const struct cs_render_settings *s, cs_v3 p,
+					   unsigned mask, unsigned over, double *tau_over,
+					   struct cs_render_stats *st)
 {
 	double tau = 0.0, alt = CS_LIGHT_CACHED(s->light_march) ? cs_altitude(p, sc->earth_radius_m)
 								  : 0.0;
 	int others = s->light_steps / 3 > 2 ? s->light_steps / 3 : 2;
+	*tau_over = 0.0;
 	for (int i = 0; i < sc->nlayers; i++) {
+		double before = tau;
 		if (!CS_BUILT(CS_BUILT_LIGHT_MARCH) ||
-		    (CS_LIGHT_CACHED(s->light_march) && sc->light_cache[i].depth != NULL)) {
+		    (CS_LIGHT_CACHED(s->light_march) && sc->light_cache[i].depth != NULL))
 			tau += cs_cached_depth(&sc->layers[i], &sc->light_cache[i], p.x, p.y, alt);
-			continue;
-		}
-		tau = layer_depth(sc, s, &sc->layers[i], p, sc->sun_dir,
-				  (mask & (1u << i)) ? s->light_steps : others, HUGE_VAL, 0, tau, st);
+		else
+			tau = layer_depth(sc, s, &sc->layers[i], p, sc->sun_dir,
+					  (mask & (1u << i)) ? s->light_steps : others, HUGE_VAL, 0,
+					  tau, st);
+		*tau_over += (over & (1u << i)) ? tau - before : 0.0;
 	}
 	return tau;
+}
+
+CS_HD CS_SHARED double cs_light_depth(const struct cs_scene *sc,
+			    const struct cs_render_settings *s, cs_v3 p,
+			    unsigned mask, struct cs_render_stats *st)
+{
+	double tau_over;
+	return cs_light_depth_over(sc, s, p, mask, 0u, &tau_over, st);
 }
 
 double cs_layer_depth(const struct cs_scene *sc, const struct cs_render_settings *s, int li,

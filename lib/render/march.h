@@ -37,6 +37,11 @@ CS_HD void cs_extinction_at_n(const struct cs_scene *sc, unsigned mask, int n, c
 CS_HD double cs_light_depth(const struct cs_scene *sc,
 			    const struct cs_render_settings *s, cs_v3 p,
 			    unsigned mask, struct cs_render_stats *st);
+/* The same, and into *tau_over its part through the layers in over (one
+ * bit a layer). */
+CS_HD double cs_light_depth_over(const struct cs_scene *sc, const struct cs_render_settings *s,
+				 cs_v3 p, unsigned mask, unsigned over, double *tau_over,
+				 struct cs_render_stats *st);
 
 /* The optical depth of layer l from the point (x, y) at altitude alt_m up
  * to its top along the rays of its volume lc (struct cs_light_cache:

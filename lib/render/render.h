@@ -315,6 +315,9 @@ struct cs_deck {
 	double sun_top[CS_SCENE_MAX_LAYERS][3]; /* sun's beam on a horizontal
 						   plane at a layer's top, klux */
 	double dif_top[CS_SCENE_MAX_LAYERS][3]; /* diffuse irradiance there, klux */
+	/* the layers over each layer's top (cs_layer_share_above > 0), one
+	 * bit a layer: their local columns shade it (cs_deck_top_shade) */
+	unsigned over_mask[CS_SCENE_MAX_LAYERS];
 	double tau_in[CS_SCENE_MAX_LAYERS];     /* in-cloud column optical depth */
 	double tau_lo[CS_SCENE_MAX_LAYERS];     /* the least and the most of the */
 	double tau_hi[CS_SCENE_MAX_LAYERS];     /* in-cloud columns it is the mean of */
@@ -823,6 +826,17 @@ int cs_frame_scene(const struct cs_scene *sc, const struct cs_camera *cam,
  * path tracer, and without that cumulus -27 %), else 0 (j below i, or i
  * inside j). */
 double cs_layer_share_above(const struct cs_scene *sc, int j, int i);
+/* The light at layer li's top over the point (x, y) (world metres)
+ * through the columns there of the layers over it (deck.over_mask, steps
+ * samples each, counted into *samples) and, for the key light's, through
+ * tau_key, their optical depth along its slant path (the column's where
+ * negative), against the area's mean at its top (deck.sun_top, dif_top):
+ * the beam's ratio into r_sun, the diffuse light's into r_dif, by
+ * channel (1 where the mean is 0); returned, the ratio of their sum's
+ * luminance.  1 everywhere for a layer with none over it. */
+CS_HD double cs_deck_top_shade(const struct cs_scene *sc, int li, double x, double y, int steps,
+			       double tau_key, double r_sun[3], double r_dif[3],
+			       uint64_t *samples);
 /* Whether the scene has haze or rain (or snow) under clouds, which the
  * ground's light lights (cs_ground_sky) and its rays see. */
 int cs_scene_air_lit(const struct cs_scene *sc);

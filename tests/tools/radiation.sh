@@ -216,10 +216,11 @@ march_against_path_tracer() {
 
 # The capture's rain hour, 2024-10-07 19Z (nimbostratus 70 %, its depth
 # fitted 3.53 times, 0.6 mm/h), at 16x9 (the references' means 0.78 and
-# 0.50: thick cloud's paths are heavy-tailed).  The march measured 0.76
-# of the path tracer's; lit by the area's mean light and by all of it,
-# its rain made the picture 3.7 times as bright.  Outside 0.6 to 1.6
-# fails.
+# 0.50: thick cloud's paths are heavy-tailed).  The march measured 0.70
+# of the path tracer's (0.76 while the cumulus under the deck took the
+# area's mean light at its top: cloudrender(1), Light); lit by the
+# area's mean light and by all of it, its rain made the picture 3.7 times
+# as bright.  Outside 0.6 to 1.6 fails.
 begin cloudrender_rain_hour_as_bright_as_the_path_tracer_draws_it
 if [ -f "$REAL" ]; then
 	march_against_path_tracer 2024-10-07T19:00Z 16x9 0.6 1.6

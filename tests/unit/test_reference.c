@@ -605,6 +605,76 @@ static void fog_at_low_sun_matches_the_reference(void)
 		   1.0, 0.05);
 }
 
+/* Where layer ui's column over 5 x 5 points 150 m apart around a point
+ * of a 100 m grid over 8 x 8 km is least (a gap's middle) and most (a
+ * cell's), into (x[0], y[0]) and (x[1], y[1]), the columns' means into
+ * tau[]. */
+static void gap_and_cell(const struct cs_scene *sc, int ui, double x[2], double y[2],
+			 double tau[2])
+{
+	const struct cs_cloud_layer *u = &sc->layers[ui];
+	tau[0] = INFINITY, tau[1] = -1.0;
+	for (int j = -40; j <= 40; j++)
+		for (int i = -40; i <= 40; i++) {
+			double t = 0.0;
+			for (int dj = -2; dj <= 2; dj++)
+				for (int di = -2; di <= 2; di++)
+					t += cs_cloud_column(u, sc->noise, i * 100.0 + di * 150.0,
+							     j * 100.0 + dj * 150.0, u->base_m,
+							     u->top_m, 24) /
+					     25.0;
+			int k = t < tau[0] ? 0 : t > tau[1] ? 1 : -1;
+			if (k >= 0)
+				tau[k] = t, x[k] = i * 100.0, y[k] = j * 100.0;
+		}
+}
+
+/* Cumulus of 10 % cover (600-1400 m) under stratocumulus of 60 %
+ * (2000-2800 m) at noon: the light at the cumulus's top under the
+ * middle of a gap and of a cell of the stratocumulus, that of the column
+ * over the point (cs_deck_top_shade), within 15 % of the reference path
+ * tracer's irradiance there (GHI; measured -10.0 % in the gap, whose
+ * walls and the ground's return add diffuse light, and -0.5 % under the
+ * cell of optical depth 22).  The area's mean, which lit every point of
+ * a layer under another before, measured -38 % and +164 %, and fails. */
+static void a_layer_under_a_broken_deck_is_lit_by_the_column_over_it(void)
+{
+	struct cs_wx wx;
+	one_layer_wx(&wx, "2021-06-14T11:00:00Z", CS_CUMULUS, 0.1, 600.0, 1400.0, 40000.0);
+	wx.nlayers = 2;
+	wx.layers[1] = wx.layers[0];
+	wx.layers[1].genus = CS_STRATOCUMULUS;
+	wx.layers[1].coverage = 0.6;
+	wx.layers[1].base_m = 2000.0, wx.layers[1].top_m = 2800.0;
+	static struct cs_scene sc;
+	CHECK(cs_scene_build(&sc, &wx, wx.time_utc, noise32()) == CS_OK);
+	int li = sc.layers[0].genus == CS_CUMULUS ? 0 : 1;
+	const struct cs_deck *d = &sc.deck;
+	CHECK(d->over_mask[li] == 1u << (1 - li) && d->over_mask[1 - li] == 0u);
+	double x[2], y[2], tau[2];
+	gap_and_cell(&sc, 1 - li, x, y, tau);
+	for (int k = 0; k < 2; k++) {
+		double r_sun[3], r_dif[3];
+		uint64_t n = 0;
+		cs_v3 p = v3(x[k], y[k], sc.layers[li].top_m - sc.ground_alt_m);
+		struct cs_render_settings s;
+		CHECK(cs_render_quality("reference", &s) == CS_OK);
+		struct cs_render_stats st = {0};
+		double tau_key = cs_layer_depth(&sc, &s, 1 - li, p, sc.sun_dir, &st);
+		cs_deck_top_shade(&sc, li, x[k], y[k], 24, tau_key, r_sun, r_dif, &n);
+		struct cs_irradiance m, r;
+		cs_irradiance_from_klux(&sc, p, d->sun_top[li][1] * r_sun[1] / d->mu0,
+					d->dif_top[li][1] * r_dif[1], &m);
+		struct cs_reference_settings rs = {1, 7, 0};
+		cs_reference_irradiance_at(&sc, &rs, p, 8192, &r, &st);
+		printf("  under the %s (column %.1f): GHI %.1f W/m^2, the reference's %.1f (%+.1f %%)\n",
+		       k ? "cell" : "gap", tau[k], m.ghi_w_m2, r.ghi_w_m2,
+		       100.0 * (m.ghi_w_m2 / r.ghi_w_m2 - 1.0));
+		CHECK_NEAR(m.ghi_w_m2 / r.ghi_w_m2, 1.0, 0.15);
+	}
+	CHECK(tau[0] < 0.1 && tau[1] > 10.0);
+}
+
 static const struct t_case t_cases[] = {
 	CASE(slab_matches_adding_doubling),
 	CASE(single_scattering_matches_closed_form),
@@ -624,6 +694,7 @@ static const struct t_case t_cases[] = {
 	CASE(cirrus_at_dusk_matches_the_reference),
 	CASE(cirrus_low_over_the_horizon_matches_the_reference),
 	CASE(cirrocumulus_low_over_the_horizon_matches_the_reference),
+	CASE(a_layer_under_a_broken_deck_is_lit_by_the_column_over_it),
 };
 
 int main(void)
