@@ -750,24 +750,34 @@ CS_HD static void sample_source(const struct ray_ctx *c, cs_v3 p, double alt,
 		 * 30 % over it, came out 0.32 to 0.59 times the path tracer's
 		 * light in the upper blocks of the picture (0.55 to 0.97 with
 		 * the mean), the picture's mean -37 % (-19 %) */
-		double r_sun[3] = {1.0, 1.0, 1.0}, r_dif[3] = {1.0, 1.0, 1.0}, r_top = 1.0;
-		if (sc->deck.on && sc->deck.over_mask[li] != 0u)
-			r_top = cs_deck_top_shade(sc, li, p.x, p.y, n, tau_key, r_sun, r_dif,
-						  &c->st->light_samples);
 		A[0] = A[1] = A[2] = 0.0;
 		/* (a tau_sun not finite: a light march lost; no tower's light) */
 		ts = isfinite(tau_sun) ? ts : 0.0;
+		int towers = ts > 0.0 && sc->tower_light[li].depth != NULL;
+		/* (the sun's part that cloud_ambient scales by the light at the
+		 * top has come through the layers over it there: its depth
+		 * through this one only, tau_own) */
+		double r_sun[3] = {1.0, 1.0, 1.0}, r_dif[3] = {1.0, 1.0, 1.0}, r_top = 1.0;
+		double tau_own = tau_sun;
+		if (sc->deck.on && sc->deck.over_mask[li] != 0u && (wf < 1.0 || towers)) {
+			int cached = !CS_BUILT(CS_BUILT_LIGHT_MARCH) ||
+				     CS_LIGHT_CACHED(c->s->light_march);
+			r_top = cs_deck_top_shade(sc, li, p.x, p.y, n, cached, tau_key, r_sun, r_dif,
+						  &c->st->light_samples);
+			if (tau_key >= 0.0 && isfinite(tau_key))
+				tau_own = tau_sun - tau_key > 0.0 ? tau_sun - tau_key : 0.0;
+		}
 		double L[3], ground_td = 0.0;
 		double sky_td = ts > 0.0 ? tilt_light(c, p, li, tau_above, tau_sun, ts, hb, L, &ground_td) : -1.0;
 		if (wf < 1.0)
-			cloud_ambient(sc, li, hb, tau_above, tau_sun, c->below_share,
+			cloud_ambient(sc, li, hb, tau_above, tau_own, c->below_share,
 				      c->sky_on, escape_toward_eye(c, l), eye_in_layer(c, l),
 				      c->d.z, c->cos_sun, 1.0 - ts, sky_td, ground_td, r_sun, r_dif,
 				      A, fwd);
 		if (ts > 0.0)
 			for (int k = 0; k < 3; k++)
 				A[k] += L[k];
-		if (ts > 0.0 && sc->tower_light[li].depth != NULL)
+		if (towers)
 			tower_diffused(sc, li, p, alt, ts, ss, r_top, c->d, A, c->st);
 		if (field >= 0) { /* and the column under it, for its fields */
 			double tau_below, F[3];

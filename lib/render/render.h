@@ -827,15 +827,17 @@ int cs_frame_scene(const struct cs_scene *sc, const struct cs_camera *cam,
  * inside j). */
 double cs_layer_share_above(const struct cs_scene *sc, int j, int i);
 /* The light at layer li's top over the point (x, y) (world metres)
- * through the columns there of the layers over it (deck.over_mask, steps
- * samples each, counted into *samples) and, for the key light's, through
- * tau_key, their optical depth along its slant path (the column's where
- * negative), against the area's mean at its top (deck.sun_top, dif_top):
- * the beam's ratio into r_sun, the diffuse light's into r_dif, by
- * channel (1 where the mean is 0); returned, the ratio of their sum's
- * luminance.  1 everywhere for a layer with none over it. */
+ * through the columns there of the layers over it (deck.over_mask: their
+ * column caches where cached and built, else steps samples each, counted
+ * into *samples) and, for the key light's, through tau_key, their
+ * optical depth along its slant path to the point (the light march's,
+ * all of their path; the column's where negative or NaN), against the
+ * area's mean at the top (deck.sun_top, dif_top): the beam's ratio into
+ * r_sun, the diffuse light's into r_dif, by channel (1 where the mean is
+ * nearly 0); returned, the ratio of their sum's luminance.  1 everywhere
+ * for a layer with none over it. */
 CS_HD double cs_deck_top_shade(const struct cs_scene *sc, int li, double x, double y, int steps,
-			       double tau_key, double r_sun[3], double r_dif[3],
+			       int cached, double tau_key, double r_sun[3], double r_dif[3],
 			       uint64_t *samples);
 /* Whether the scene has haze or rain (or snow) under clouds, which the
  * ground's light lights (cs_ground_sky) and its rays see. */
