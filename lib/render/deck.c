@@ -210,7 +210,7 @@ CS_HD double cs_deck_top_shade(const struct cs_scene *sc, int li, double x, doub
 	 * columns over the point for both took the capture's fair hour
 	 * (cumulus under cirrus of 32 %) from relative MSE 0.0216 to 0.0265,
 	 * the slant path for both its rain hour from 0.185 to 0.147; this,
-	 * 0.0191 and 0.133. */
+	 * 0.0189 and 0.133. */
 	double w = exp(-(1.0 - d->g) * tau_up);
 	tau_key = d->mu0 > 0.0 && tau_key >= 0.0 ? tau_key * d->mu0 : tau_up;
 	double Tk, Tdk, Tu, Tdu, sun[3], dif[3], top[3];
@@ -221,23 +221,23 @@ CS_HD double cs_deck_top_shade(const struct cs_scene *sc, int li, double x, doub
 	double scat = w * (Tk - beam > 0.0 ? Tk - beam : 0.0) +
 		      (1.0 - w) * (Tu - beam_up > 0.0 ? Tu - beam_up : 0.0);
 	/* (a mean under 1e-9 of the light over all the layers, which the
-	 * local light can be only where the mean's columns missed a gap:
+	 * local light can pass only where the mean's columns missed a gap:
 	 * ratio 1, not a quotient that overflows) */
-	double open = 0.0;
+	double least[3];
 	for (int c = 0; c < 3; c++) {
 		double e_sun_h = sc->sun_illuminance[c] * d->mu0;
 		double e_sky = (sc->effects & CS_FX_SKY) ? CS_PI * sc->ambient_up[c] : 0.0;
-		double floor = 1e-9 * (e_sun_h + e_sky);
+		least[c] = 1e-9 * (e_sun_h + e_sky);
 		sun[c] = e_sun_h * beam;
 		dif[c] = e_sun_h * scat + e_sky * Tdu;
-		r_sun[c] = d->sun_top[li][c] > floor ? sun[c] / d->sun_top[li][c] : 1.0;
-		r_dif[c] = d->dif_top[li][c] > floor ? dif[c] / d->dif_top[li][c] : 1.0;
+		r_sun[c] = d->sun_top[li][c] > least[c] ? sun[c] / d->sun_top[li][c] : 1.0;
+		r_dif[c] = d->dif_top[li][c] > least[c] ? dif[c] / d->dif_top[li][c] : 1.0;
 		top[c] = d->sun_top[li][c] + d->dif_top[li][c];
-		open += floor;
 	}
 	double mean = cs_luminance(top[0], top[1], top[2]);
-	return mean > open ? cs_luminance(sun[0] + dif[0], sun[1] + dif[1], sun[2] + dif[2]) / mean
-			   : 1.0;
+	return mean > cs_luminance(least[0], least[1], least[2])
+		       ? cs_luminance(sun[0] + dif[0], sun[1] + dif[1], sun[2] + dif[2]) / mean
+		       : 1.0;
 }
 
 /* The share of the phase function taking light from the lower hemisphere
