@@ -133,13 +133,23 @@ CS_HD CS_COLD void cs_slab_transmittances(double tau, double mu0, double *beam, 
  * reflectance of diffuse light (the geometric series of the reflections
  * between ground and cloud: what brightens an overcast over snow; 8 to
  * 12 % over green land, albedo 0.10 to 0.14, at tau 30). */
+/* A slab of optical depth tau under the key light at deck.mu0: the
+ * beam's transmittance *beam, the share of the key light it scatters
+ * down *scat, the diffuse transmittance *Td. */
+CS_HD static void slab_split(const struct cs_deck *d, double tau, double *beam, double *scat,
+			     double *Td)
+{
+	double T;
+	cs_slab_transmittances(tau, d->mu0, &T, Td);
+	*beam = d->mu0 > 0.0 ? exp(-tau / d->mu0) : 0.0;
+	*scat = T - *beam > 0.0 ? T - *beam : 0.0;
+}
+
 static void under(const struct cs_deck *d, double tau, const double e_sun_h[3],
 		  const double e_sky[3], const double *albedo, double *beam, double dif[3])
 {
-	double T, Td;
-	cs_slab_transmittances(tau, d->mu0, &T, &Td);
-	*beam = d->mu0 > 0.0 ? exp(-tau / d->mu0) : 0.0;
-	double scat = T - *beam > 0.0 ? T - *beam : 0.0;
+	double scat, Td;
+	slab_split(d, tau, beam, &scat, &Td);
 	for (int c = 0; c < 3; c++) {
 		dif[c] = e_sun_h[c] * scat + e_sky[c] * Td;
 		if (albedo != NULL && tau > 0.0) {
@@ -181,7 +191,7 @@ double cs_layer_share_above(const struct cs_scene *sc, int j, int i)
  * The march reads this for the octaves' model and the towers' light, not
  * for a layer's light fields (integrator.c, sample_source). */
 CS_HD double cs_deck_top_shade(const struct cs_scene *sc, int li, double x, double y, int steps,
-			       int cached, double tau_key, double r_sun[3], double r_dif[3],
+			       int cached, double tau_key, double sun[3], double dif[3],
 			       uint64_t *samples)
 {
 	const struct cs_deck *d = &sc->deck;
@@ -213,27 +223,21 @@ CS_HD double cs_deck_top_shade(const struct cs_scene *sc, int li, double x, doub
 	 * 0.0189 and 0.133. */
 	double w = exp(-(1.0 - d->g) * tau_up);
 	tau_key = d->mu0 > 0.0 && tau_key >= 0.0 ? tau_key * d->mu0 : tau_up;
-	double Tk, Tdk, Tu, Tdu, sun[3], dif[3], top[3];
-	cs_slab_transmittances(tau_key, d->mu0, &Tk, &Tdk);
-	cs_slab_transmittances(tau_up, d->mu0, &Tu, &Tdu);
-	double beam = d->mu0 > 0.0 ? exp(-tau_key / d->mu0) : 0.0;
-	double beam_up = d->mu0 > 0.0 ? exp(-tau_up / d->mu0) : 0.0;
-	double scat = w * (Tk - beam > 0.0 ? Tk - beam : 0.0) +
-		      (1.0 - w) * (Tu - beam_up > 0.0 ? Tu - beam_up : 0.0);
-	/* (a mean under 1e-9 of the light over all the layers, which the
-	 * local light can pass only where the mean's columns missed a gap:
-	 * ratio 1, not a quotient that overflows) */
-	double least[3];
+	double beam, scat_key, Td_key, beam_up, scat_up, Td_up;
+	slab_split(d, tau_key, &beam, &scat_key, &Td_key);
+	slab_split(d, tau_up, &beam_up, &scat_up, &Td_up);
+	double scat = w * scat_key + (1.0 - w) * scat_up, top[3], least[3];
 	for (int c = 0; c < 3; c++) {
 		double e_sun_h = sc->sun_illuminance[c] * d->mu0;
 		double e_sky = (sc->effects & CS_FX_SKY) ? CS_PI * sc->ambient_up[c] : 0.0;
-		least[c] = 1e-9 * (e_sun_h + e_sky);
 		sun[c] = e_sun_h * beam;
-		dif[c] = e_sun_h * scat + e_sky * Tdu;
-		r_sun[c] = d->sun_top[li][c] > least[c] ? sun[c] / d->sun_top[li][c] : 1.0;
-		r_dif[c] = d->dif_top[li][c] > least[c] ? dif[c] / d->dif_top[li][c] : 1.0;
+		dif[c] = e_sun_h * scat + e_sky * Td_up;
 		top[c] = d->sun_top[li][c] + d->dif_top[li][c];
+		least[c] = 1e-9 * (e_sun_h + e_sky);
 	}
+	/* (a mean under 1e-9 of the light over all the layers, which the
+	 * local light can pass only where the mean's columns missed a gap:
+	 * ratio 1, not a quotient that overflows) */
 	double mean = cs_luminance(top[0], top[1], top[2]);
 	return mean > cs_luminance(least[0], least[1], least[2])
 		       ? cs_luminance(sun[0] + dif[0], sun[1] + dif[1], sun[2] + dif[2]) / mean

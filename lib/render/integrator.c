@@ -358,7 +358,7 @@ CS_HD CS_SHARED static void cloud_ambient(const struct cs_scene *sc, int li, dou
 				double tau, double tau_sun, double w_up, int sky_behind,
 				double escape, int inside, double dz, double cos_sun,
 				double sun_share, double sky_td, double ground_td,
-				const double r_sun[3], const double r_dif[3], double A[3],
+				const double sun_top[3], const double dif_top[3], double A[3],
 				double *fwd)
 {
 	const struct cs_deck *d = &sc->deck;
@@ -452,10 +452,9 @@ CS_HD CS_SHARED static void cloud_ambient(const struct cs_scene *sc, int li, dou
 	reach_up += ground_td > reach_up ? (1.0 - sun_share) * (ground_td - reach_up) : 0.0;
 	for (int k = 0; k < 3; k++) {
 		double gain = 1.0 + (gg[k] - 1.0) * reach;
-		double sun_top = d->sun_top[li][k] * r_sun[k];
-		double skyl = (1.0 - f) * d->dif_top[li][k] * r_dif[k] * Td / CS_PI;
-		double from_above = (sun_top * sun_out / CS_PI + skyl) * gain;
-		double from_below = d->ground_below[k] * reach_up + sun_top * refl * escape / CS_PI;
+		double skyl = (1.0 - f) * dif_top[k] * Td / CS_PI;
+		double from_above = (sun_top[k] * sun_out / CS_PI + skyl) * gain;
+		double from_below = d->ground_below[k] * reach_up + sun_top[k] * refl * escape / CS_PI;
 		double v = w_above * from_above + (1.0 - w_above) * from_below;
 		A[k] = v > 0.0 ? v : 0.0;
 	}
@@ -741,29 +740,30 @@ CS_HD static void sample_source(const struct ray_ctx *c, cs_v3 p, double alt,
 			tau_above = cs_cloud_column(l, sc->noise, p.x, p.y, alt, l->top_m, n);
 			c->st->light_samples += alt < l->top_m ? (uint64_t)n : 0u;
 		}
-		/* under or inside other layers: the light at the layer's top
-		 * over the point, not the area's mean (cs_deck_top_shade), for
-		 * the model and the towers' light.  A layer's light fields keep
-		 * the mean: a deep deck spreads the light that comes in at its
-		 * top sideways over about its thickness, and the rain hour's
-		 * nimbostratus, shaded by the columns of the altostratus of
-		 * 30 % over it, came out 0.32 to 0.59 times the path tracer's
-		 * light in the upper blocks of the picture (0.55 to 0.97 with
-		 * the mean), the picture's mean -37 % (-19 %) */
 		A[0] = A[1] = A[2] = 0.0;
 		/* (a tau_sun not finite: a light march lost; no tower's light) */
 		ts = isfinite(tau_sun) ? ts : 0.0;
 		int towers = ts > 0.0 && sc->tower_light[li].depth != NULL;
-		/* (the sun's part that cloud_ambient scales by the light at the
-		 * top has come through the layers over it there: its depth
-		 * through this one only, tau_own) */
-		double r_sun[3] = {1.0, 1.0, 1.0}, r_dif[3] = {1.0, 1.0, 1.0}, r_top = 1.0;
-		double tau_own = tau_sun;
+		/* Under or inside other layers: the light at the layer's top
+		 * over the point, not the area's mean (cs_deck_top_shade), for
+		 * the model and the towers' light (r_top, the lattice being
+		 * lit by the mean), its key light's part having come through
+		 * the layers over it: for the model, the depth through this
+		 * one only, tau_own.  A layer's light fields keep the mean: a
+		 * deep deck spreads the light that comes in at its top sideways
+		 * over about its thickness, and the rain hour's nimbostratus,
+		 * shaded by the columns of the altostratus of 30 % over it,
+		 * came out 0.32 to 0.59 times the path tracer's light in the
+		 * upper blocks of the picture (0.55 to 0.97 with the mean), the
+		 * picture's mean -37 % (-19 %). */
+		const double *sun_top = sc->deck.sun_top[li], *dif_top = sc->deck.dif_top[li];
+		double top_sun[3], top_dif[3], r_top = 1.0, tau_own = tau_sun;
 		if (sc->deck.on && sc->deck.over_mask[li] != 0u && (wf < 1.0 || towers)) {
 			int cached = !CS_BUILT(CS_BUILT_LIGHT_MARCH) ||
 				     CS_LIGHT_CACHED(c->s->light_march);
-			r_top = cs_deck_top_shade(sc, li, p.x, p.y, n, cached, tau_key, r_sun, r_dif,
-						  &c->st->light_samples);
+			r_top = cs_deck_top_shade(sc, li, p.x, p.y, n, cached, tau_key, top_sun,
+						  top_dif, &c->st->light_samples);
+			sun_top = top_sun, dif_top = top_dif;
 			if (tau_key >= 0.0 && isfinite(tau_key))
 				tau_own = tau_sun - tau_key > 0.0 ? tau_sun - tau_key : 0.0;
 		}
@@ -772,8 +772,8 @@ CS_HD static void sample_source(const struct ray_ctx *c, cs_v3 p, double alt,
 		if (wf < 1.0)
 			cloud_ambient(sc, li, hb, tau_above, tau_own, c->below_share,
 				      c->sky_on, escape_toward_eye(c, l), eye_in_layer(c, l),
-				      c->d.z, c->cos_sun, 1.0 - ts, sky_td, ground_td, r_sun, r_dif,
-				      A, fwd);
+				      c->d.z, c->cos_sun, 1.0 - ts, sky_td, ground_td, sun_top,
+				      dif_top, A, fwd);
 		if (ts > 0.0)
 			for (int k = 0; k < 3; k++)
 				A[k] += L[k];

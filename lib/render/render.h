@@ -826,18 +826,18 @@ int cs_frame_scene(const struct cs_scene *sc, const struct cs_camera *cam,
  * path tracer, and without that cumulus -27 %), else 0 (j below i, or i
  * inside j). */
 double cs_layer_share_above(const struct cs_scene *sc, int j, int i);
-/* The light at layer li's top over the point (x, y) (world metres)
- * through the columns there of the layers over it (deck.over_mask: their
- * column caches where cached and built, else steps samples each, counted
- * into *samples) and, for the key light's, through tau_key, their
- * optical depth along its slant path to the point (the light march's,
- * all of their path; the column's where negative or NaN), against the
- * area's mean at the top (deck.sun_top, dif_top): the beam's ratio into
- * r_sun, the diffuse light's into r_dif, by channel (1 where the mean is
- * nearly 0); returned, the ratio of their sum's luminance.  1 everywhere
- * for a layer with none over it. */
+/* The light at layer li's top over the point (x, y) (world metres), in
+ * klux on a horizontal plane: the key light's beam into sun, the diffuse
+ * light into dif, through the columns there of the layers over it
+ * (deck.over_mask: their column caches where cached and built, else
+ * steps samples each, counted into *samples) and, for the key light's,
+ * through tau_key, their optical depth along its slant path to the point
+ * (the light march's, all of their path; the column's where negative or
+ * NaN).  Returned, the luminance of their sum over that of the area's
+ * mean at the top (deck.sun_top + dif_top; 1 where that mean is nearly
+ * 0).  For a layer with none over it, the mean's light and 1. */
 CS_HD double cs_deck_top_shade(const struct cs_scene *sc, int li, double x, double y, int steps,
-			       int cached, double tau_key, double r_sun[3], double r_dif[3],
+			       int cached, double tau_key, double sun[3], double dif[3],
 			       uint64_t *samples);
 /* Whether the scene has haze or rain (or snow) under clouds, which the
  * ground's light lights (cs_ground_sky) and its rays see. */

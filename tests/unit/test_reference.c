@@ -666,13 +666,12 @@ static double top_light_over_reference(const char *what, const struct cs_scene *
 	struct cs_render_settings s;
 	CHECK(cs_render_quality("high", &s) == CS_OK);
 	struct cs_render_stats st = {0};
-	double tau_key, r_sun[3], r_dif[3];
+	double tau_key, sun[3], dif[3];
 	uint64_t n = 0;
 	cs_light_depth_over(sc, &s, p, 1u << li, d->over_mask[li], &tau_key, &st);
-	cs_deck_top_shade(sc, li, x, y, 24, 0, tau_key, r_sun, r_dif, &n);
+	cs_deck_top_shade(sc, li, x, y, 24, 0, tau_key, sun, dif, &n);
 	struct cs_irradiance m, r;
-	cs_irradiance_from_klux(sc, p, d->sun_top[li][1] * r_sun[1] / d->mu0,
-				d->dif_top[li][1] * r_dif[1], &m);
+	cs_irradiance_from_klux(sc, p, sun[1] / d->mu0, dif[1], &m);
 	struct cs_reference_settings rs = {1, 7, 0};
 	cs_reference_irradiance_at(sc, &rs, p, 8192, &r, &st);
 	printf("  %s: GHI %.1f W/m^2 (DHI %.1f), the reference's %.1f (%.1f) (%+.1f %%)\n", what,
