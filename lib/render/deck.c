@@ -111,6 +111,12 @@ CS_HD double cs_tower_share(const struct cs_scene *sc, const struct cs_render_se
 	return sc->deck.tilt_weight[li];
 }
 
+CS_HD int cs_deck_lattice(const struct cs_scene *sc, int li)
+{
+	return sc->deck.on && sc->deck.field_of[li] >= 0 &&
+	       sc->layers[li].coverage > CS_DECK_FIELD_COVER && !(sc->deck.tilt_weight[li] > 0.0);
+}
+
 CS_HD CS_COLD void cs_slab_transmittances(double tau, double mu0, double *beam, double *diffuse)
 {
 	if (!(tau > 0.0)) {

@@ -793,6 +793,15 @@ CS_HD static void sample_source(const struct ray_ctx *c, cs_v3 p, double alt,
 			for (int k = 0; k < 3; k++)
 				A[k] += wf * (F[k] - A[k]);
 			*fwd *= 1.0 - wf;
+			/* a deck's light that diffuses sideways between its
+			 * columns: the lattice's ratio (tower_light.c,
+			 * deck_ratio) */
+			if (ts == 0.0 && sc->tower_light[li].depth != NULL && cs_deck_lattice(sc, li)) {
+				double r = cs_cached_depth(l, &sc->tower_light[li], p.x, p.y, alt);
+				c->st->light_samples++;
+				for (int k = 0; k < 3; k++)
+					A[k] *= r;
+			}
 		}
 		for (int k = 0; k < 3; k++)
 			S[k] += ss * A[k];

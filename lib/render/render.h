@@ -478,7 +478,9 @@ struct cs_scene {
 	/* the key light's diffused light in the towers of a cumulonimbus or
 	 * the heaps of a cumulus (cs_tower_share > 0), per
 	 * unit irradiance facing it (tower_light.c): the fluence, W/m^2 per
-	 * W/m^2, on an unsheared lattice; depth NULL where none */
+	 * W/m^2, on an unsheared lattice; in a deck (cs_deck_lattice) the
+	 * ratio of the fluence to that of independent columns, 1 or more;
+	 * depth NULL where none */
 	struct cs_light_cache tower_light[CS_SCENE_MAX_LAYERS];
 	struct cs_ground_field ground_field; /* CS_GROUND_SKY_FIELD's, for a frame */
 };
@@ -560,6 +562,12 @@ CS_HD double cs_face_sky_share(double nz);
  * tilted columns and diffused light) in a frame of settings s:
  * deck.tilt_weight[li], but 0 for cumulus unless s->heap_towers. */
 CS_HD double cs_tower_share(const struct cs_scene *sc, const struct cs_render_settings *s, int li);
+/* Whether layer li is a deck whose light fields take the light that
+ * diffuses sideways between its columns from a lattice (tower_light.c,
+ * sc->tower_light[li] the ratio): lit by light fields (deck.field_of),
+ * of more than CS_DECK_FIELD_COVER cover (a thin veil lit by them for
+ * its thinness is no diffusing medium), and no towers' share. */
+CS_HD int cs_deck_lattice(const struct cs_scene *sc, int li);
 
 /* Fills sc->deck from the scene's layers, sun and clear-sky ambient (call
  * after those are set); sets CS_FX_DECK when there are layers.  Its light
@@ -879,6 +887,11 @@ int cs_diffusion_solve(int nu, int nv, int nk, double du_m, double dv_m, double 
 		       const float *sigma_tr, const float *sigma_a, const double *source,
 		       const double j_in[2], const double *ground_in, int exchange, int nthreads,
 		       float *phi, int *iterations);
+/* exchange's CS_DIFFUSE_COLUMNS: no light between neighbouring columns,
+ * each column its own slab (no sideways faces, no exchange), solved
+ * directly (*iterations 1): the independent columns a deck's lattice
+ * sets its light against (cs_deck_lattice) */
+#define CS_DIFFUSE_COLUMNS 2
 
 /* The build of the per-pixel code cs_render_image runs on this CPU
  * (cpu/kernel.c, -O3): "avx512" where the CPU has x86-64-v4, else "avx2"

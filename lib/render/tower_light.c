@@ -458,6 +458,8 @@ int cs_diffusion_solve(int nu, int nv, int nk, double du_m, double dv_m, double 
 	size_t n = (size_t)nu * (size_t)nv * (size_t)nk;
 	struct lattice lt = {nu, nv, nk, {du_m, dv_m, dh_m}, sigma_tr, j_in, ground_in};
 	struct exchange ex = {0};
+	int columns = exchange == CS_DIFFUSE_COLUMNS;
+	exchange = exchange == 1;
 	int rc = exchange ? exchange_setup(&lt, nthreads, &ex) : CS_OK;
 	if (rc != CS_OK)
 		return rc;
@@ -507,7 +509,7 @@ int cs_diffusion_solve(int nu, int nv, int nk, double du_m, double dv_m, double 
 				double J[6] = {wall, wall, wall, wall, j_in[0], up};
 				/* (the volume: its u face's area times du) */
 				double diag = sigma_a[m] * face_area(&lt, m, 0) * du_m;
-				for (int f = 0; f < 6; f++) {
+				for (int f = columns ? 4 : 0; f < 6; f++) {
 					double area = face_area(&lt, m, f / 2);
 					if (nb[f] < n && sigma_tr[nb[f]] > 0.0) {
 						double Dn = 1.0 / (3.0 * sigma_tr[nb[f]]);
@@ -531,6 +533,27 @@ int cs_diffusion_solve(int nu, int nv, int nk, double du_m, double dv_m, double 
 	}
 	for (size_t a = 0; a < na; a++)
 		inv[act[a]] = act[a] < n ? 1.0 / g[4 * (size_t)act[a] + 3] : 1.0;
+	/* independent columns: each a tridiagonal system, solved by
+	 * elimination down the column and substitution back up (a clear
+	 * node couples to nothing: its row is phi = 0) */
+	if (columns) {
+		for (size_t c = 0; c < (size_t)nu * (size_t)nv; c++) {
+			double *cp = r, *dp = r0; /* (scratch, nk each) */
+			size_t m0 = c * (size_t)nk;
+			for (int k = 0; k < nk; k++) {
+				size_t m = m0 + (size_t)k;
+				double d = sigma_tr[m] > 0.0 ? g[4 * m + 3] : 1.0;
+				double lo = k > 0 ? -g[4 * (m - 1) + 2] : 0.0;
+				double hi = k + 1 < nk ? -g[4 * m + 2] : 0.0;
+				double den = d - (k > 0 ? lo * cp[k - 1] : 0.0);
+				cp[k] = hi / den;
+				dp[k] = (b[m] - (k > 0 ? lo * dp[k - 1] : 0.0)) / den;
+			}
+			for (int k = nk - 1; k >= 0; k--)
+				x[m0 + (size_t)k] = dp[k] - (k + 1 < nk ? cp[k] * x[m0 + (size_t)k + 1] : 0.0);
+		}
+		na = 0; /* (no iterations) */
+	}
 	/* BiCGSTAB (van der Vorst 1992; the exchange makes the system
 	 * unsymmetric) with the diagonal as preconditioner, from 0 */
 	double bb = 0.0, rho = 1.0, alpha = 1.0, omega = 1.0;
@@ -609,7 +632,7 @@ int cs_diffusion_solve(int nu, int nv, int nk, double du_m, double dv_m, double 
 				phi[m] = (float)(cnt > 0 ? sum / cnt
 							 : 2.0 * (j_in[0] + light_up(j_in, ground_in, nu, i, j)));
 			}
-	*iterations = it;
+	*iterations = columns ? 1 : it;
 	free(act);
 	free(buf);
 	free(g);
@@ -662,7 +685,7 @@ int cs_tower_light_wanted(const struct cs_scene *sc, const struct cs_render_sett
 	    !(sc->sun_dir.z >= SUN_MIN_SIN))
 		return 0;
 	for (int i = 0; i < sc->nlayers; i++)
-		if (cs_tower_share(sc, s, i) > 0.0)
+		if (cs_tower_share(sc, s, i) > 0.0 || cs_deck_lattice(sc, i))
 			return 1;
 	return 0;
 }
@@ -743,6 +766,60 @@ static void beam_row(void *user, int j, int worker)
 				out[s0 + q] = (float)e[q];
 		}
 	}
+}
+
+/* A deck's lattice (cs_deck_lattice): phi, the fluence of the lattice,
+ * becomes its ratio to the fluence of independent columns, each a slab
+ * whose beam (power a column at its top) comes down it as through a
+ * plane-parallel layer, sun_z the key light's sine, the light coming
+ * in (j_in, ground_in) the same; 1 where either is none, and no less
+ * than 1.  A deck's light fields are such columns' light, with its
+ * angles (how a base looks darker toward the horizon, which the
+ * diffusion's radiance does not give); what they lack is the light a
+ * thick cell takes in through its sides from the gaps around it, and
+ * the sunlit walls, which the lattice has: its ratio to the columns', in
+ * one approximation, so that the diffusion's own errors cancel, scales
+ * the fields' light (integrator.c, sample_source).  Where the ratio is
+ * under 1 (the lattice's tops near the gaps, thin cells that it lets
+ * leak) it is taken for 1: at 1 the study's tops from above and
+ * altocumulus from below, which the fields meet within 5 %, are where
+ * they were; with it they measured -12.9 % and -13.8 % against the path
+ * tracer (-4.1 % and -3.6 % before). */
+static int deck_ratio(int nu, int nv, int nk, double du, double dv, double dh, double sun_z,
+		      double power,
+		      const float *st, const float *sa, const double j_in[2], const double *gT,
+		      int nthreads, float *phi)
+{
+	size_t n = (size_t)nu * (size_t)nv * (size_t)nk, cols = (size_t)nu * (size_t)nv;
+	double *src = calloc(n, sizeof *src);
+	float *one = malloc(n * sizeof *one);
+	if (src == NULL || one == NULL) {
+		free(src);
+		free(one);
+		return cs_error(CS_ENOMEM, "out of memory for the deck's light (%zu nodes)", n);
+	}
+	/* the beam down each column from its top node, the nodes' volumes
+	 * half a level at the base and the top */
+	for (size_t c = 0; c < cols; c++) {
+		double T = 1.0;
+		for (int k = nk - 1; k >= 0; k--) {
+			size_t m = c * (size_t)nk + (size_t)k;
+			double len = k == 0 || k == nk - 1 ? 0.5 * dh : dh;
+			double T1 = T * exp(-(double)st[m] * len / sun_z);
+			src[m] = power * (T - T1);
+			T = T1;
+		}
+	}
+	int iterations;
+	int rc = cs_diffusion_solve(nu, nv, nk, du, dv, dh, st, sa, src, j_in, gT,
+				    CS_DIFFUSE_COLUMNS, nthreads, one, &iterations);
+	for (size_t m = 0; rc == CS_OK && m < n; m++) {
+		double r = one[m] > 0.0 && phi[m] > 0.0 ? (double)phi[m] / one[m] : 1.0;
+		phi[m] = (float)(r > 1.0 ? r : 1.0);
+	}
+	free(src);
+	free(one);
+	return rc;
 }
 
 /* Layer l's field into *out (none where the layer has no periods or is
@@ -843,6 +920,9 @@ static int build_layer(const struct cs_scene *sc, int li, double cell_m, int nth
 	int iterations;
 	rc = cs_diffusion_solve(nu, nv, nk, du, dv, dh, st, sa, src, j_in, gT, 1, nthreads, phi,
 				&iterations);
+	if (rc == CS_OK && cs_deck_lattice(sc, li))
+		rc = deck_ratio(nu, nv, nk, du, dv, dh, sun.z, power, st, sa, j_in, gT, nthreads,
+				phi);
 	if (rc == CS_OK) {
 		*out = (struct cs_light_cache){
 			.depth = phi, .nu = nu, .nv = nv, .nh = nh,
@@ -866,7 +946,7 @@ int cs_tower_light_build(struct cs_scene *sc, const struct cs_render_settings *s
 		sc->tower_light[n] = (struct cs_light_cache){0};
 	int rc = CS_OK;
 	for (int li = 0; li < sc->nlayers && rc == CS_OK; li++)
-		if (cs_tower_share(sc, s, li) > 0.0)
+		if (cs_tower_share(sc, s, li) > 0.0 || cs_deck_lattice(sc, li))
 			rc = build_layer(sc, li, s->tower_cell_m, nthreads, &sc->tower_light[li],
 					 evaluations);
 	return rc;

@@ -22,8 +22,8 @@
  * volume at depth s under the similarity relation, integrated over each
  * node's volume), j_top and j_bottom coming in: the solver's fluence at
  * each level into phi_k (nk values, the columns all alike). */
-static void solve_slab(int nk, double H, double str, double mu0, double j_top, double j_bot,
-		       double *phi_k)
+static void solve_slab_as(int mode, int nk, double H, double str, double mu0, double j_top,
+			  double j_bot, double *phi_k)
 {
 	enum { NU = 3, NV = 3 };
 	double du = 100.0, dh = H / (nk - 1);
@@ -44,12 +44,18 @@ static void solve_slab(int nk, double H, double str, double mu0, double j_top, d
 	}
 	double j_in[2] = {j_top, j_bot};
 	int it = 0;
-	CHECK(cs_diffusion_solve(NU, NV, nk, du, du, dh, st, sa, src, j_in, NULL, 0, 1, phi, &it) ==
+	CHECK(cs_diffusion_solve(NU, NV, nk, du, du, dh, st, sa, src, j_in, NULL, mode, 1, phi, &it) ==
 	      CS_OK);
 	CHECK(it > 0);
 	for (int lev = 0; lev < nk; lev++)
 		phi_k[lev] = phi[(size_t)(1 * NU + 1) * nk + lev];
 	free(st), free(sa), free(phi), free(src);
+}
+
+static void solve_slab(int nk, double H, double str, double mu0, double j_top, double j_bot,
+		       double *phi_k)
+{
+	solve_slab_as(0, nk, H, str, mu0, j_top, j_bot, phi_k);
 }
 
 /* The closed form of the same problem in depth s from the top:
@@ -99,6 +105,52 @@ static void diffusion_matches_the_slab_closed_form(void)
 		CHECK(worst < 0.01);
 		CHECK_NEAR(out, want, 0.01 * want);
 	}
+}
+
+/* The independent columns (CS_DIFFUSE_COLUMNS, a deck's reference in
+ * tower_light.c's deck_ratio) solved directly: a uniform slab's columns
+ * are the slab, so the same closed form within 1 %; and a column's
+ * light is its own: with the column beside it made clear, the 3D
+ * lattice's middle column changes (its side now takes the light of the
+ * clear air), the columns' does not, to the last bit. */
+static void columns_match_the_slab_and_ignore_their_neighbours(void)
+{
+	enum { NK = 401 };
+	static double phi[NK];
+	double H = 2000.0, str = 0.01, mu0 = 0.5;
+	solve_slab_as(CS_DIFFUSE_COLUMNS, NK, H, str, mu0, 0.3, 0.1, phi);
+	double worst = 0.0;
+	for (int lev = 0; lev < NK; lev += 10) {
+		double want = slab_closed_form(H - lev * H / (NK - 1), H, str, mu0, 0.3, 0.1);
+		double err = fabs(phi[lev] / want - 1.0);
+		worst = err > worst ? err : worst;
+	}
+	printf("  columns: fluence within %.2g %% of the closed form\n", 100.0 * worst);
+	CHECK(worst < 0.01);
+	enum { N3 = 3, K = 11 };
+	size_t n = (size_t)N3 * N3 * K;
+	float st[N3 * N3 * K], sa[N3 * N3 * K], out[2][2][N3 * N3 * K];
+	double src[N3 * N3 * K], j_in[2] = {0.3, 0.05};
+	for (int mode = 0; mode < 2; mode++)
+		for (int cleared = 0; cleared < 2; cleared++) {
+			for (size_t m = 0; m < n; m++) {
+				size_t col = m / K;
+				st[m] = cleared && col == 1 * N3 + 2 ? 0.0f : 0.004f;
+				sa[m] = 0.0f;
+				src[m] = st[m] > 0.0f ? 100.0 * (double)(m % K) : 0.0;
+			}
+			int it = 0;
+			CHECK(cs_diffusion_solve(N3, N3, K, 200.0, 200.0, 100.0, st, sa, src, j_in, NULL,
+						 mode ? CS_DIFFUSE_COLUMNS : 0, 1, out[mode][cleared],
+						 &it) == CS_OK);
+		}
+	size_t mid = (size_t)(1 * N3 + 1) * K + K / 2;
+	printf("  the middle column's middle, its neighbour cloud then clear: 3D %.5f -> %.5f, "
+	       "columns %.5f -> %.5f\n",
+	       out[0][0][mid], out[0][1][mid], out[1][0][mid], out[1][1][mid]);
+	CHECK(fabsf(out[0][1][mid] / out[0][0][mid] - 1.0f) > 0.01f);
+	for (int k = 0; k < K; k++)
+		CHECK(out[1][0][(size_t)(1 * N3 + 1) * K + k] == out[1][1][(size_t)(1 * N3 + 1) * K + k]);
 }
 
 /* A slab of cloud between clear nodes (levels 1 .. NK - 2 of cloud; 0
@@ -474,7 +526,9 @@ static void half_covered_heaps_take_a_share_of_the_towers_light(void)
  * CS_DECK_FIELD_FULL) asks for no tilted columns and no lattice at high,
  * where the heaps' share would still be above 0 (it ends at 80 %): the
  * fields replace their light, so the work would be thrown away (the same
- * pixels at 75 % cover); at 65 % both are wanted. */
+ * pixels at 75 % cover); at 65 % both are wanted.  The lattice a cumulus
+ * of 75 % asks for is a deck's (cs_deck_lattice), whose ratio to
+ * independent columns its fields take. */
 static void heaps_lit_by_their_fields_alone_take_no_towers_work(void)
 {
 	static struct cs_volume noise;
@@ -488,12 +542,14 @@ static void heaps_lit_by_their_fields_alone_take_no_towers_work(void)
 	cs_volume_free(&noise);
 	one_layer(&sc, &noise, &wx, 32, "2021-07-20T10:00:00Z", CS_CUMULUS, 0.75, 1200.0, 2000.0);
 	CHECK(sc.deck.field_weight[0] == 1.0);
-	CHECK(!cs_scene_tilt_wanted(&sc, &hi) && !cs_tower_light_wanted(&sc, &hi));
+	CHECK(!cs_scene_tilt_wanted(&sc, &hi) && cs_tower_share(&sc, &hi, 0) == 0.0);
+	CHECK(cs_deck_lattice(&sc, 0) && cs_tower_light_wanted(&sc, &hi));
 	cs_volume_free(&noise);
 }
 
 static const struct t_case t_cases[] = {
 	CASE(diffusion_matches_the_slab_closed_form),
+	CASE(columns_match_the_slab_and_ignore_their_neighbours),
 	CASE(diffusion_slab_in_clear_air_matches_the_closed_form),
 	CASE(diffusion_carries_the_light_across_a_gap),
 	CASE(diffusion_fills_with_the_light_around),
