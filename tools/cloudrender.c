@@ -219,6 +219,11 @@ static void usage(void)
 	       "                         m, 50..5000 (the presets 400; coarsened to keep\n"
 	       "                         the lattice within 2e7 nodes); 0: none, the\n"
 	       "                         march's model and the decks' columns alone\n"
+	       "      --deck-lattice B   on: a thick deck (more than half cover, lit by\n"
+	       "                         light fields) takes the light diffusing between\n"
+	       "                         its columns from --tower-cell's lattice (high\n"
+	       "                         and reference); off: its columns alone (low,\n"
+	       "                         medium)\n"
 	       "      --heap-towers B    on: the heaps of cumulus lit as towers (their\n"
 	       "                         tilted columns and diffused light, with\n"
 	       "                         --tower-cell's lattice; high and reference);\n"
@@ -430,9 +435,10 @@ static void describe(void *user, const struct cs_cloudrender_result *r)
 					      cs_effect_name(1u << b));
 	cli_err("effects: %s", fx);
 	cli_err("quality %s: %d steps, %d light steps, %d multiple-scattering octaves, "
-		"%d haze steps%s%s%s%s", o->quality, r->settings.steps, r->settings.light_steps,
+		"%d haze steps%s%s%s%s%s", o->quality, r->settings.steps, r->settings.light_steps,
 		r->settings.ms_octaves, r->settings.haze_steps,
 		r->settings.heap_towers ? ", heaps lit as towers" : "",
+		r->settings.deck_lattice ? ", decks' lattice" : "",
 		r->settings.ground_sky == CS_GROUND_SKY_DOME	? ", the ground's sky a dome"
 		: r->settings.ground_sky == CS_GROUND_SKY_FIELD ? ", the ground's sky a field"
 								: "",
@@ -569,7 +575,7 @@ enum {
 	OPT_LIGHT_STEPS, OPT_MS, OPT_NO_AMBIENT, OPT_NO_JITTER, OPT_SEED,
 	OPT_EXPOSURE, OPT_STATS, OPT_VERSION, OPT_TERRAIN, OPT_TERRAIN_COLOR,
 	OPT_PROJECTION, OPT_HAZE_STEPS, OPT_TERRAIN_CPT, OPT_INTEGRATOR, OPT_SPP, OPT_MAX_BOUNCES,
-	OPT_NO_HAZE, OPT_MARCH, OPT_LIGHT_MARCH, OPT_SOURCE_EVERY, OPT_TOWER_CELL, OPT_HEAP_TOWERS, OPT_GROUND_SKY, OPT_MAX_STEPS, OPT_MIN_T, OPT_OUTPUT_FORMAT,
+	OPT_NO_HAZE, OPT_MARCH, OPT_LIGHT_MARCH, OPT_SOURCE_EVERY, OPT_TOWER_CELL, OPT_HEAP_TOWERS, OPT_DECK_LATTICE, OPT_GROUND_SKY, OPT_MAX_STEPS, OPT_MIN_T, OPT_OUTPUT_FORMAT,
 	OPT_PNG16, OPT_FLOAT, OPT_JPEG_QUALITY, OPT_NO_CLOBBER,
 	OPT_DEVICE, OPT_DEVICE_BENCH, /* the GPU renderer */
 	OPT_CLOUD_DEPTH,
@@ -632,6 +638,7 @@ int main(int argc, char **argv)
 		{"source-every", required_argument, NULL, OPT_SOURCE_EVERY},
 		{"tower-cell", required_argument, NULL, OPT_TOWER_CELL},
 		{"heap-towers", required_argument, NULL, OPT_HEAP_TOWERS},
+		{"deck-lattice", required_argument, NULL, OPT_DECK_LATTICE},
 		{"ground-sky", required_argument, NULL, OPT_GROUND_SKY},
 		{"max-steps", required_argument, NULL, OPT_MAX_STEPS},
 		{"min-transmittance", required_argument, NULL, OPT_MIN_T},
@@ -821,6 +828,11 @@ int main(int argc, char **argv)
 		case OPT_HEAP_TOWERS: {
 			static const char *const names[] = {"off", "on", NULL};
 			o.heap_towers = cli_choice("--heap-towers", optarg, names);
+			break;
+		}
+		case OPT_DECK_LATTICE: {
+			static const char *const names[] = {"off", "on", NULL};
+			o.deck_lattice = cli_choice("--deck-lattice", optarg, names);
 			break;
 		}
 		case OPT_GROUND_SKY: {

@@ -49,6 +49,7 @@ void cs_cloudrender_defaults(struct cs_cloudrender_opts *o)
 	o->min_transmittance = -1.0;
 	o->tower_cell_m = -1.0;
 	o->heap_towers = -1;
+	o->deck_lattice = -1;
 	o->ground_sky = -1;
 	o->march = o->light_march = -1;
 	o->spp = 64;
@@ -88,6 +89,8 @@ void cs_cloudrender_settings(const struct cs_cloudrender_opts *o,
 		s->tower_cell_m = o->tower_cell_m;
 	if (o->heap_towers >= 0)
 		s->heap_towers = o->heap_towers;
+	if (o->deck_lattice >= 0)
+		s->deck_lattice = o->deck_lattice;
 	if (o->ground_sky >= 0)
 		s->ground_sky = o->ground_sky;
 	/* On a GPU, where the light is looked up in the cache (low, medium

@@ -113,8 +113,10 @@ CS_HD double cs_tower_share(const struct cs_scene *sc, const struct cs_render_se
 
 CS_HD int cs_deck_lattice(const struct cs_scene *sc, int li)
 {
-	return sc->deck.on && sc->deck.field_of[li] >= 0 &&
-	       sc->layers[li].coverage > CS_DECK_FIELD_COVER && !(sc->deck.tilt_weight[li] > 0.0);
+	int fi = sc->deck.on ? sc->deck.field_of[li] : -1;
+	return fi >= 0 && sc->layers[li].coverage > CS_DECK_FIELD_COVER &&
+	       !(sc->deck.tilt_weight[li] > 0.0) &&
+	       (1.0 - sc->deck.g) * sc->deck.field_tau[fi][2] >= CS_DECK_LATTICE_TRANSPORT;
 }
 
 CS_HD CS_COLD void cs_slab_transmittances(double tau, double mu0, double *beam, double *diffuse)

@@ -685,7 +685,7 @@ int cs_tower_light_wanted(const struct cs_scene *sc, const struct cs_render_sett
 	    !(sc->sun_dir.z >= SUN_MIN_SIN))
 		return 0;
 	for (int i = 0; i < sc->nlayers; i++)
-		if (cs_tower_share(sc, s, i) > 0.0 || cs_deck_lattice(sc, i))
+		if (cs_tower_share(sc, s, i) > 0.0 || (s->deck_lattice && cs_deck_lattice(sc, i)))
 			return 1;
 	return 0;
 }
@@ -920,7 +920,7 @@ static int build_layer(const struct cs_scene *sc, int li, double cell_m, int nth
 	int iterations;
 	rc = cs_diffusion_solve(nu, nv, nk, du, dv, dh, st, sa, src, j_in, gT, 1, nthreads, phi,
 				&iterations);
-	if (rc == CS_OK && cs_deck_lattice(sc, li))
+	if (rc == CS_OK && cs_deck_lattice(sc, li)) /* (built for it: s->deck_lattice) */
 		rc = deck_ratio(nu, nv, nk, du, dv, dh, sun.z, power, st, sa, j_in, gT, nthreads,
 				phi);
 	if (rc == CS_OK) {
@@ -946,7 +946,7 @@ int cs_tower_light_build(struct cs_scene *sc, const struct cs_render_settings *s
 		sc->tower_light[n] = (struct cs_light_cache){0};
 	int rc = CS_OK;
 	for (int li = 0; li < sc->nlayers && rc == CS_OK; li++)
-		if (cs_tower_share(sc, s, li) > 0.0 || cs_deck_lattice(sc, li))
+		if (cs_tower_share(sc, s, li) > 0.0 || (s->deck_lattice && cs_deck_lattice(sc, li)))
 			rc = build_layer(sc, li, s->tower_cell_m, nthreads, &sc->tower_light[li],
 					 evaluations);
 	return rc;

@@ -32,7 +32,7 @@ if have bash; then
 	for c in "cloudrender --quality" "cloudrender --projection" "cloudrender --view" \
 		"cloudrender -of" "cloudrender --cloud-depth" "cloudrender --sky-level" \
 		"cloudrender --march" \
-		"cloudrender --light-march" "cloudrender --integrator" "cloudrender --heap-towers" "cloudrender --ground-sky" \
+		"cloudrender --light-march" "cloudrender --integrator" "cloudrender --heap-towers" "cloudrender --deck-lattice" "cloudrender --ground-sky" \
 		"terrainprep --format" "terrainprep --fill" \
 		"mbfetch --provider" "mbfetch --site"; do
 		set -- $c

@@ -1,7 +1,7 @@
 # cloudrender -v (what it renders, the time of each phase), the progress
 # bar's elapsed time and ETA on a terminal, and the default view.
 . "$TOP/tests/tools/lib.sh"
-plan 7
+plan 8
 CR="$BIN/cloudrender"
 WX="$BIN/wxinterp"
 FAST="--quality low --noise-size 32 --size 64x36"
@@ -68,6 +68,31 @@ for h in on off; do
 	expect_rc 0
 done
 same_pixels "$T/cb-on.exr" "$T/cb-off.exr" || bad "--heap-towers changed the pixels of a scene without cumulus"
+end
+
+# --deck-lattice: the rain deck of tests/scenes (nimbostratus of 70 %)
+# takes the deck's lattice at high, not at medium, either way with the
+# option; -v says which, and the pixels change with it; a scene without a
+# deck (the cumulonimbus) renders the same bytes either way
+begin cloudrender_deck_lattice_follows_the_preset_and_the_option
+DB="--wx $TOP/tests/scenes/broken-deck-below.json $(cat "$TOP/tests/scenes/broken-deck-below.args")"
+for q in "high:1:h1" "high --deck-lattice off:0:h0" "medium:0:m0" "medium --deck-lattice on:1:m1"; do
+	opts=${q%%:*} rest=${q#*:}
+	want=${rest%%:*} name=${rest#*:}
+	# shellcheck disable=SC2086
+	run "$CR" $DB -v --quality $opts --noise-size 32 --size 32x18 --no-haze -o "$T/d-$name.exr"
+	expect_rc 0
+	[ "$(grep -c "decks' lattice" "$T/err")" = "$want" ] ||
+		bad "--quality $opts: -v does not say '$want' decks' lattice"
+done
+same_pixels "$T/d-h1.exr" "$T/d-h0.exr" && bad "--deck-lattice off did not change the deck at high"
+same_pixels "$T/d-m1.exr" "$T/d-m0.exr" && bad "--deck-lattice on did not change the deck at medium"
+for d in on off; do
+	# shellcheck disable=SC2086
+	run "$CR" $CB --quality high --deck-lattice $d --noise-size 32 --size 48x27 -o "$T/cb-d$d.exr"
+	expect_rc 0
+done
+same_pixels "$T/cb-don.exr" "$T/cb-doff.exr" || bad "--deck-lattice changed the pixels of a scene without a deck"
 end
 
 # --ground-sky: the ground under the built-in cumulus takes the field's

@@ -41,7 +41,7 @@ static void slab_scene(struct cs_scene *sc, double a, double b, double base,
 
 static struct cs_render_settings plain(int steps, int light_steps)
 {
-	struct cs_render_settings s = {steps, steps, light_steps, 1, 0, 0.0, 0, 0.0, 0, 0, 0, 1, 0.0, 0, CS_GROUND_SKY_COLUMNS};
+	struct cs_render_settings s = {steps, steps, light_steps, 1, 0, 0.0, 0, 0.0, 0, 0, 0, 1, 0.0, 0, CS_GROUND_SKY_COLUMNS, 0};
 	return s;
 }
 

@@ -351,7 +351,7 @@ static void camera_at_ground_height_sees_sky_above_and_ground_below(void)
 {
 	static struct cs_scene sc;
 	ground_scene(&sc);
-	struct cs_render_settings s = {8, 8, 4, 1, 0, 0.0, 0, 0.0, 0, 0, 0, 1, 0.0, 0, CS_GROUND_SKY_COLUMNS};
+	struct cs_render_settings s = {8, 8, 4, 1, 0, 0.0, 0, 0.0, 0, 0, 0, 1, 0.0, 0, CS_GROUND_SKY_COLUMNS, 0};
 	const double hs[] = {0.0, 1e-6, 2.0};
 	for (int i = 0; i < 3; i++) {
 		double h = hs[i], dip = sqrt(2.0 * h / CS_EARTH_RADIUS_M);

@@ -547,9 +547,45 @@ static void heaps_lit_by_their_fields_alone_take_no_towers_work(void)
 	cs_volume_free(&noise);
 }
 
+/* Which layers take a deck's lattice (cs_deck_lattice): the rain hour's
+ * nimbostratus (70 %, 3.2 km) and a stratocumulus of 75 % do, as their
+ * in-cloud transport depth (1 - g) tau_in is 1 or more; a cirrostratus
+ * of full cover, lit by light fields but a veil (transport depth about
+ * 0.1), does not, nor does a stratocumulus of half cover, lit by the
+ * march's model (no fields), and no frame asks for a lattice for them. */
+static void only_thick_decks_take_a_lattice(void)
+{
+	static const struct {
+		enum cs_genus g;
+		double cover, base_m, top_m;
+		int want;
+	} c[] = {{CS_NIMBOSTRATUS, 0.7, 834.0, 4034.0, 1},
+		 {CS_STRATOCUMULUS, 0.75, 1200.0, 1900.0, 1},
+		 {CS_CIRROSTRATUS, 1.0, 7500.0, 9000.0, 0},
+		 {CS_STRATOCUMULUS, 0.5, 1200.0, 1900.0, 0}};
+	struct cs_render_settings hi;
+	CHECK(cs_render_quality("high", &hi) == CS_OK);
+	for (size_t i = 0; i < sizeof c / sizeof c[0]; i++) {
+		static struct cs_volume noise;
+		static struct cs_scene sc;
+		struct cs_wx wx;
+		one_layer(&sc, &noise, &wx, 32, "2021-06-14T12:00:00Z", c[i].g, c[i].cover, c[i].base_m,
+			  c[i].top_m);
+		int fi = sc.deck.field_of[0];
+		printf("  %s of %.2f: fields %d, transport depth %.2f, lattice %d\n",
+		       cs_genus_name(c[i].g), c[i].cover, fi,
+		       fi >= 0 ? (1.0 - sc.deck.g) * sc.deck.field_tau[fi][2] : 0.0,
+		       cs_deck_lattice(&sc, 0));
+		CHECK(cs_deck_lattice(&sc, 0) == c[i].want);
+		CHECK(cs_tower_light_wanted(&sc, &hi) == c[i].want);
+		cs_volume_free(&noise);
+	}
+}
+
 static const struct t_case t_cases[] = {
 	CASE(diffusion_matches_the_slab_closed_form),
 	CASE(columns_match_the_slab_and_ignore_their_neighbours),
+	CASE(only_thick_decks_take_a_lattice),
 	CASE(diffusion_slab_in_clear_air_matches_the_closed_form),
 	CASE(diffusion_carries_the_light_across_a_gap),
 	CASE(diffusion_fills_with_the_light_around),
