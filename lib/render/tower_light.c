@@ -679,13 +679,20 @@ static void splat_columns(double *T, double *wsum, int nu, int nv, double fu, do
 	}
 }
 
+/* Whether layer li takes a lattice under settings s: a towers' share, or
+ * a thick deck's with s->deck_lattice. */
+static int lattice_wanted(const struct cs_scene *sc, const struct cs_render_settings *s, int li)
+{
+	return cs_tower_share(sc, s, li) > 0.0 || (s->deck_lattice && cs_deck_lattice(sc, li));
+}
+
 int cs_tower_light_wanted(const struct cs_scene *sc, const struct cs_render_settings *s)
 {
 	if (!(s->tower_cell_m > 0.0) || !s->ambient || !sc->deck.on || !(sc->effects & CS_FX_KEY) ||
 	    !(sc->sun_dir.z >= SUN_MIN_SIN))
 		return 0;
 	for (int i = 0; i < sc->nlayers; i++)
-		if (cs_tower_share(sc, s, i) > 0.0 || (s->deck_lattice && cs_deck_lattice(sc, i)))
+		if (lattice_wanted(sc, s, i))
 			return 1;
 	return 0;
 }
@@ -946,7 +953,7 @@ int cs_tower_light_build(struct cs_scene *sc, const struct cs_render_settings *s
 		sc->tower_light[n] = (struct cs_light_cache){0};
 	int rc = CS_OK;
 	for (int li = 0; li < sc->nlayers && rc == CS_OK; li++)
-		if (cs_tower_share(sc, s, li) > 0.0 || (s->deck_lattice && cs_deck_lattice(sc, li)))
+		if (lattice_wanted(sc, s, li))
 			rc = build_layer(sc, li, s->tower_cell_m, nthreads, &sc->tower_light[li],
 					 evaluations);
 	return rc;
