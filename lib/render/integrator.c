@@ -790,18 +790,23 @@ CS_HD static void sample_source(const struct ray_ctx *c, cs_v3 p, double alt,
 			}
 			cs_deck_field_source(&sc->deck, field, tau_above, tau_below, -c->d.z,
 					     c->cphi_sun, F);
-			for (int k = 0; k < 3; k++)
-				A[k] += wf * (F[k] - A[k]);
-			*fwd *= 1.0 - wf;
 			/* a deck's light that diffuses sideways between its
-			 * columns: the lattice's ratio (tower_light.c,
-			 * deck_ratio) */
+			 * columns, which the fields' columns lack: the lattice's
+			 * ratio (tower_light.c, deck_ratio) scales their light,
+			 * not the model's share (1 - wf), whose broken cells
+			 * lose light through their sides already: with it
+			 * scaled too, nimbostratus of 60 % cover seen 15 deg
+			 * up measured +22.1 % against the path tracer, with the
+			 * fields' alone -3.6 % (test_reference's views) */
 			if (ts == 0.0 && sc->tower_light[li].depth != NULL && cs_deck_lattice(sc, li)) {
 				double r = cs_cached_depth(l, &sc->tower_light[li], p.x, p.y, alt);
 				c->st->light_samples++;
 				for (int k = 0; k < 3; k++)
-					A[k] *= r;
+					F[k] *= r;
 			}
+			for (int k = 0; k < 3; k++)
+				A[k] += wf * (F[k] - A[k]);
+			*fwd *= 1.0 - wf;
 		}
 		for (int k = 0; k < 3; k++)
 			S[k] += ss * A[k];

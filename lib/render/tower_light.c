@@ -779,8 +779,8 @@ static void beam_row(void *user, int j, int worker)
  * becomes its ratio to the fluence of independent columns, each a slab
  * whose beam (power a column at its top) comes down it as through a
  * plane-parallel layer, sun_z the key light's sine, the light coming
- * in (j_in, ground_in) the same; 1 where either is none, and no less
- * than 1.  A deck's light fields are such columns' light, with its
+ * in (j_in, ground_in) the same, raised to CS_DECK_LATTICE_POWER; 1
+ * where either is none, and no less than 1.  A deck's light fields are such columns' light, with its
  * angles (how a base looks darker toward the horizon, which the
  * diffusion's radiance does not give); what they lack is the light a
  * thick cell takes in through its sides from the gaps around it, and
@@ -822,7 +822,7 @@ static int deck_ratio(int nu, int nv, int nk, double du, double dv, double dh, d
 				    CS_DIFFUSE_COLUMNS, nthreads, one, &iterations);
 	for (size_t m = 0; rc == CS_OK && m < n; m++) {
 		double r = one[m] > 0.0 && phi[m] > 0.0 ? (double)phi[m] / one[m] : 1.0;
-		phi[m] = (float)(r > 1.0 ? r : 1.0);
+		phi[m] = (float)(r > 1.0 ? pow(r, CS_DECK_LATTICE_POWER) : 1.0);
 	}
 	free(src);
 	free(one);
