@@ -242,6 +242,10 @@ check: have-deps
 # Under ThreadSanitizer: every unit binary, and the tool scripts of the
 # programs that run the thread pool (noise baking, frame rendering, the
 # reference); the other programs are single-threaded and gain nothing.
+# test_reference leaves its three slowest comparisons with the path tracer
+# to the plain and ASan runs there (t_under_tsan; their threads are run by
+# other cases): alone on the 2-core machine it took 283 s with them, 57 s
+# without (544 s in CI, beside the other binaries).
 TSAN_SCRIPTS := cloudrender noisebake reference render_info
 
 check-all:

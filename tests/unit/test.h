@@ -23,7 +23,10 @@
  *
  * A case that failed a CHECK and then calls SKIP is counted as failed.  SKIP
  * is only for cases that cannot run here because the shared data folder is
- * absent: t_data_path() finds it ($DATA, which tests/run sets to an absolute
+ * absent, and, under ThreadSanitizer (t_under_tsan: make check SAN=thread),
+ * for a case that compares numbers for minutes there and whose threads
+ * other cases of that run exercise (the plain and ASan runs keep it).
+ * t_data_path() finds the folder ($DATA, which tests/run sets to an absolute
  * path, else ../shared/data from the working directory), so running a binary
  * from another directory works.  t_top_path() finds files of the source
  * tree ($TOP, which tests/run sets, else the working directory). */
@@ -75,6 +78,20 @@ static char t_skip_why[256];
 	} while (0)
 
 #define TEST_EXIT() return t_failed_cases ? 1 : 0
+
+/* Whether this binary was built with ThreadSanitizer (GCC defines
+ * __SANITIZE_THREAD__, clang has the feature). */
+static inline int t_under_tsan(void)
+{
+#if defined(__SANITIZE_THREAD__)
+	return 1;
+#elif defined(__has_feature)
+#if __has_feature(thread_sanitizer)
+	return 1;
+#endif
+#endif
+	return 0;
+}
 
 /* One case of a binary's table (see the top of this file). */
 struct t_case {

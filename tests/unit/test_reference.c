@@ -510,6 +510,19 @@ static void middle_cover_matches_the_reference(void)
 		   1.0, 0.10);
 }
 
+/* The cases that take most of this binary's time are left to the plain
+ * and ASan runs under ThreadSanitizer (283 s with them there, 57 s
+ * without, alone on a 2-core machine): their threads (the pool's renders,
+ * the lattice's solve) are run there by same_image_for_any_thread_count,
+ * test_tower_light's exchange_is_the_same_on_any_number_of_threads and
+ * render_info.sh. */
+#define SLOW_UNDER_TSAN()                                                             \
+	do {                                                                          \
+		if (t_under_tsan())                                                   \
+			SKIP("minutes under ThreadSanitizer; the plain and ASan runs " \
+			     "compare it");                                           \
+	} while (0)
+
 /* Cumulonimbus towers of 12 % cover from the ground, the march at "high"
  * against the reference path tracer: under a low evening sun looking at
  * their sunlit walls within 10 % (measured +7.8 %; +6.5 % without the
@@ -536,6 +549,7 @@ static void middle_cover_matches_the_reference(void)
  * the sun flipped), the walls measured -26.6 %, and fail. */
 static void cumulonimbus_matches_the_reference(void)
 {
+	SLOW_UNDER_TSAN();
 	struct cs_wx wx;
 	one_layer_wx(&wx, "2021-06-14T18:00:00Z", CS_CUMULONIMBUS, 0.12, 1200.0, 11000.0, 40000.0);
 	CHECK_NEAR(march_over_reference("cumulonimbus walls under a low sun", &wx, noise32(), 0.0,
@@ -570,6 +584,7 @@ static void cumulonimbus_matches_the_reference(void)
  * face has its own test (test_render's face_sky_share_is_the_view_factor). */
 static void cumulonimbus_walls_in_the_shade_match_the_reference(void)
 {
+	SLOW_UNDER_TSAN();
 	struct cs_wx wx;
 	one_layer_wx(&wx, "2021-06-14T15:00:00Z", CS_CUMULONIMBUS, 0.12, 1200.0, 11000.0, 40000.0);
 	CHECK_NEAR(march_over_references("cumulonimbus walls in the shade", &wx, noise32(), 0.0,
@@ -754,6 +769,7 @@ static void a_layer_under_a_broken_deck_takes_the_beam_of_its_slant_path(void)
  * with the power).  Each of those fails this test. */
 static void a_broken_deck_from_below_takes_light_through_its_cells_sides(void)
 {
+	SLOW_UNDER_TSAN();
 	struct cs_wx wx;
 	one_layer_wx(&wx, "2021-06-14T15:30:00Z", CS_NIMBOSTRATUS, 0.7, 834.0, 4034.0, 20000.0);
 	CHECK_NEAR(march_over_references("nimbostratus of 70 % from below", &wx, noise32(), 2.0, 80.0,
