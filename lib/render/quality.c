@@ -69,7 +69,7 @@
  * its heaps' bases, a slab's, are too bright, and its dome with them
  * (cloudrender(1), Light).  High and the reference give thick decks the
  * light that diffuses between their columns (deck_lattice, the towers'
- * lattice solved on them): the study's broken-deck-below -39 -> -14 %
+ * lattice solved on them): the study's broken-deck-below -39 -> -6 %
  * at high, the rain hour's deck at 480x270 2.1 -> 4.1 s on one thread;
  * low and medium, whose frames it would double, keep the columns. */
 #include "render/render.h"
