@@ -167,6 +167,27 @@ static void under(const struct cs_deck *d, double tau, const double e_sun_h[3],
 	}
 }
 
+/* The reflectance for diffuse light from above of a conservative slab of
+ * diffuse transmittance Td over ground of albedo a, the light bounced
+ * between the two counted: 1 - Td (1 - a) / (1 - a (1 - Td)). */
+static double reflectance_over_ground(double Td, double a)
+{
+	return 1.0 - Td * (1.0 - a) / (1.0 - a * (1.0 - Td));
+}
+
+/* Layer i's top lies inside another layer of more than
+ * CS_DECK_FIELD_COVER (a deck): the light there is that deck's own. */
+static int top_in_deck(const struct cs_scene *sc, int i)
+{
+	double top = sc->layers[i].top_m;
+	for (int j = 0; j < sc->nlayers; j++) {
+		const struct cs_cloud_layer *l = &sc->layers[j];
+		if (j != i && l->base_m < top && l->top_m > top && l->coverage > CS_DECK_FIELD_COVER)
+			return 1;
+	}
+	return 0;
+}
+
 /* Layer j lies wholly above layer i. */
 static int above(const struct cs_scene *sc, int j, int i)
 {
@@ -297,6 +318,11 @@ void cs_scene_deck_light(struct cs_scene *sc, int nthreads)
 	}
 	int n = sc->nlayers, incloud[CS_SCENE_MAX_LAYERS] = {0};
 	double beam_all = 0.0, dif_all[3] = {0.0, 0.0, 0.0};
+	/* the two mirrors of each layer's top (top_extra): the sums over the
+	 * columns of the reflectance for diffuse light of the layers wholly
+	 * over it, from below, and of all under its top down to the ground,
+	 * from above */
+	double r_over[CS_SCENE_MAX_LAYERS] = {0.0}, r_under[CS_SCENE_MAX_LAYERS][3] = {{0.0}};
 	for (int jy = 0; jy < COLS; jy++)
 		for (int jx = 0; jx < COLS; jx++) {
 			double x = ((jx + 0.5) / COLS - 0.5) * CS_DECK_AREA_M;
@@ -324,9 +350,16 @@ void cs_scene_deck_light(struct cs_scene *sc, int nthreads)
 				for (int j = 0; j < n; j++)
 					over += cs_layer_share_above(sc, j, i) * tau[j];
 				under(d, over, e_sun_h, e_sky, NULL, &beam, dif);
+				double whole = 0.0;
+				for (int j = 0; j < n; j++)
+					whole += above(sc, j, i) ? tau[j] : 0.0;
+				r_over[i] += 1.0 - cs_slab_diffuse_transmittance(whole);
+				double Td_under = cs_slab_diffuse_transmittance(total - over);
 				for (int c = 0; c < 3; c++) {
 					d->sun_top[i][c] += e_sun_h[c] * beam;
 					d->dif_top[i][c] += dif[c];
+					r_under[i][c] += reflectance_over_ground(Td_under,
+										 sc->ground_albedo[c]);
 				}
 			}
 		}
@@ -356,9 +389,18 @@ void cs_scene_deck_light(struct cs_scene *sc, int nthreads)
 		double R = 1.0 - cs_slab_diffuse_transmittance(d->tau_in[i]);
 		for (int c = 0; c < 3; c++)
 			d->ground_gain[i][c] = over_layer ? 1.0 : 1.0 / (1.0 - sc->ground_albedo[c] * R);
+		int mirrored = !top_in_deck(sc, i);
 		for (int c = 0; c < 3; c++) {
 			d->sun_top[i][c] *= inv;
 			d->dif_top[i][c] *= inv;
+			/* the light at the top, sent up and back down between
+			 * the mirrors over and over: times 1 / (1 - Ro Ru) in
+			 * all (the adding method's geometric series; at most
+			 * 100 times, where both mirrors are clouds too deep for
+			 * any light to pass: 0 times 1 / 0 is no number) */
+			double rr = mirrored ? r_over[i] * inv * r_under[i][c] * inv : 0.0;
+			rr = rr < 0.99 ? rr : 0.99;
+			d->top_extra[i][c] = (d->sun_top[i][c] + d->dif_top[i][c]) * rr / (1.0 - rr);
 		}
 	}
 	sc->effects |= CS_FX_DECK;

@@ -319,6 +319,19 @@ struct cs_deck {
 	double sun_top[CS_SCENE_MAX_LAYERS][3]; /* sun's beam on a horizontal
 						   plane at a layer's top, klux */
 	double dif_top[CS_SCENE_MAX_LAYERS][3]; /* diffuse irradiance there, klux */
+	/* and the light that the top and all under it send up and the layers
+	 * wholly over it send back down, over and over, klux: the area's
+	 * means of their reflectances Ru and Ro, (sun_top + dif_top)
+	 * Ro Ru / (1 - Ro Ru); 0 under the open sky, and where the top lies
+	 * inside a deck of another layer (more than CS_DECK_FIELD_COVER),
+	 * whose light is its own fields'.  A layer's light fields take it
+	 * (cs_scene_deck_fields), the march's model of a broken layer's
+	 * light does not (cs_deck_top_shade, cloud_ambient): against the
+	 * path tracer at 240x135, the capture's rain hour -16.3 % without
+	 * it, +1.0 % with the fields', +1.6 % with the model's too; its
+	 * overcast hour (cumulus of 59 % under altostratus) +3.8, +8.5 and
+	 * +13.7 % */
+	double top_extra[CS_SCENE_MAX_LAYERS][3];
 	/* the layers over each layer's top (cs_layer_share_above > 0), one
 	 * bit a layer: their local columns shade it (cs_deck_top_shade) */
 	unsigned over_mask[CS_SCENE_MAX_LAYERS];
