@@ -350,6 +350,16 @@ void cs_scene_deck_light(struct cs_scene *sc, int nthreads)
 				for (int j = 0; j < n; j++)
 					over += cs_layer_share_above(sc, j, i) * tau[j];
 				under(d, over, e_sun_h, e_sky, NULL, &beam, dif);
+				/* the sun's light in the forward peak (sun_lobe): of
+				 * all of it that comes through, the beam through the
+				 * depth delta-M scales */
+				double kept = d->mu0 > 0.0 ? exp(-(1.0 - chi2) * over / d->mu0) : 0.0;
+				double Td_over = cs_slab_diffuse_transmittance(over);
+				for (int c = 0; c < 3; c++) {
+					double all = dif[c] - e_sky[c] * Td_over + e_sun_h[c] * beam;
+					double lobe = e_sun_h[c] * kept;
+					d->sun_lobe[i][c] += lobe < all ? lobe : all;
+				}
 				double whole = 0.0;
 				for (int j = 0; j < n; j++)
 					whole += above(sc, j, i) ? tau[j] : 0.0;
@@ -393,6 +403,7 @@ void cs_scene_deck_light(struct cs_scene *sc, int nthreads)
 		for (int c = 0; c < 3; c++) {
 			d->sun_top[i][c] *= inv;
 			d->dif_top[i][c] *= inv;
+			d->sun_lobe[i][c] *= inv;
 			/* the light at the top, sent up and back down between
 			 * the mirrors over and over: times 1 / (1 - Ro Ru) in
 			 * all (the adding method's geometric series; at most

@@ -745,15 +745,19 @@ void cs_scene_deck_fields(struct cs_scene *sc, int nthreads)
 	for (; next < n && used < CS_DECK_FIELDS; next++) {
 		int i = order[next];
 		const struct cs_cloud_layer *l = &sc->layers[i];
-		/* under other layers: their diffuse light, isotropic, and
-		 * the light sent between them and this one (top_extra) */
+		/* under other layers: the sun's beam with the light their
+		 * forward peak keeps along it (sun_lobe), and the rest of their
+		 * diffuse light and the light sent between them and this one
+		 * (top_extra), isotropic */
 		int under = 0;
 		for (int j = 0; j < sc->nlayers; j++)
 			under |= cs_layer_share_above(sc, j, i) > 0.0;
 		double sun[3], dome[3];
 		for (int c = 0; c < 3; c++) {
-			sun[c] = d->mu0 > 0.0 ? d->sun_top[i][c] / d->mu0 : 0.0;
-			dome[c] = (d->dif_top[i][c] + d->top_extra[i][c]) / CS_PI;
+			double lobe = d->sun_lobe[i][c] - d->sun_top[i][c];
+			sun[c] = d->mu0 > 0.0 ? d->sun_lobe[i][c] / d->mu0 : 0.0;
+			dome[c] = (d->dif_top[i][c] + d->top_extra[i][c] - lobe) / CS_PI;
+			dome[c] = dome[c] > 0.0 ? dome[c] : 0.0;
 		}
 		/* the depths, and which of them the measured columns reach: a
 		 * field is read for columns between its neighbours' depths; one

@@ -332,6 +332,21 @@ struct cs_deck {
 	 * overcast hour (cumulus of 59 % under altostratus) +3.8, +8.5 and
 	 * +13.7 % */
 	double top_extra[CS_SCENE_MAX_LAYERS][3];
+	/* Of the sun's light that reaches the top (sun_top and the part of
+	 * dif_top that the layers over it scattered), what their phase
+	 * function's forward peak keeps along the beam, klux: its beam
+	 * through their depth scaled by delta-M similarity (Wiscombe 1977),
+	 * e_sun mu0 exp(-(1 - chi2) tau / mu0), chi2 the phase's second
+	 * moment, the area's mean; sun_top where nothing is over it.  A
+	 * layer's light fields and its lattice (tower_light.c) take it as the
+	 * sun's beam and the rest of dif_top, with top_extra, as the sky's
+	 * light from every side: against the path tracer at 240x135, the
+	 * capture's overcast afternoon (cumulus of 59 % under altostratus
+	 * of 99 % under cirrostratus) +8.5 % with all of dif_top from every
+	 * side, +2.7 % with this (relative MSE 0.043 -> 0.023); its rain
+	 * hour +1.0 and +0.6 %; but the nimbostratus of 70 % of its rain hour
+	 * under its cirrostratus alone (96x54) -14.6 and -19.5 % */
+	double sun_lobe[CS_SCENE_MAX_LAYERS][3];
 	/* the layers over each layer's top (cs_layer_share_above > 0), one
 	 * bit a layer: their local columns shade it (cs_deck_top_shade) */
 	unsigned over_mask[CS_SCENE_MAX_LAYERS];
