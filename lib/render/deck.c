@@ -172,7 +172,8 @@ static void under(const struct cs_deck *d, double tau, const double e_sun_h[3],
  * between the two counted: 1 - Td (1 - a) / (1 - a (1 - Td)). */
 static double reflectance_over_ground(double Td, double a)
 {
-	return 1.0 - Td * (1.0 - a) / (1.0 - a * (1.0 - Td));
+	double q = 1.0 - a * (1.0 - Td);
+	return q > 0.0 ? 1.0 - Td * (1.0 - a) / q : 1.0; /* (a white ground under no light) */
 }
 
 /* Layer i's top lies inside another layer of more than
@@ -182,7 +183,8 @@ static int top_in_deck(const struct cs_scene *sc, int i)
 	double top = sc->layers[i].top_m;
 	for (int j = 0; j < sc->nlayers; j++) {
 		const struct cs_cloud_layer *l = &sc->layers[j];
-		if (j != i && l->base_m < top && l->top_m > top && l->coverage > CS_DECK_FIELD_COVER)
+		if (j != i && l->base_m < top - 1.0 && l->top_m > top &&
+		    l->coverage > CS_DECK_FIELD_COVER) /* (1 m: above's) */
 			return 1;
 	}
 	return 0;
@@ -354,12 +356,12 @@ void cs_scene_deck_light(struct cs_scene *sc, int nthreads)
 				 * all of it that comes through, the beam through the
 				 * depth delta-M scales */
 				double kept = d->mu0 > 0.0 ? exp(-(1.0 - chi2) * over / d->mu0) : 0.0;
-				double Td_over = cs_slab_diffuse_transmittance(over);
-				for (int c = 0; c < 3; c++) {
-					double all = dif[c] - e_sky[c] * Td_over + e_sun_h[c] * beam;
-					double lobe = e_sun_h[c] * kept;
-					d->sun_lobe[i][c] += lobe < all ? lobe : all;
-				}
+				double b_over, scat_over, Td_over;
+				slab_split(d, over, &b_over, &scat_over, &Td_over);
+				kept = kept < b_over + scat_over ? kept : b_over + scat_over;
+				kept = kept > b_over ? kept : b_over;
+				for (int c = 0; c < 3; c++)
+					d->sun_lobe[i][c] += e_sun_h[c] * kept;
 				double whole = 0.0;
 				for (int j = 0; j < n; j++)
 					whole += above(sc, j, i) ? tau[j] : 0.0;

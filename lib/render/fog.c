@@ -148,6 +148,7 @@ struct quadrature {
 	double PT[NMODE][NO][NO];
 	double Pout[NMODE][NDIR][NO]; /* the same from ordinate j into table direction m */
 	double psun[NMODE][NO];  /* p_n from the sun's beam, 1/sr */
+	double psun_out[NMODE][NDIR]; /* the same into table direction m */
 };
 
 /* One mode and colour of a problem being solved (a worker's). */
@@ -232,6 +233,11 @@ static void setup(struct quadrature *Q, const struct cs_fog_problem *p)
 		for (int n = 0; n < NMODE; n++)
 			Q->psun[n][i] = pm[n];
 		sum += 2.0 * CS_PI * Q->wt[i] * pm[0];
+	}
+	for (int m = 0; m < NDIR; m++) {
+		phase_modes(p, cpsi, -1.0 + 2.0 * m / (NDIR - 1), -p->mu0, pm);
+		for (int n = 0; n < NMODE; n++)
+			Q->psun_out[n][m] = pm[n];
 	}
 	bracket(Q, -p->mu0, &lo, &hi, &f);
 	for (int n = 0; n < NMODE && p->mu0 > 0.0; n++) {
@@ -379,9 +385,13 @@ static int solve(struct solver *S, const struct cs_fog_problem *p, int n, int c,
 		for (int j = 0; j < NO; j++)
 			L[j] = (1.0 - a) * S->L[k][j] + a * S->L[k + 1][j];
 		/* the scattered field only: the sun's beam scattered once is
-		 * the march's own term, with the full phase function */
+		 * the march's own term, with the full phase function, but for
+		 * the part sun_field of it */
+		double once = p->mu0 > 0.0 ? p->sun_field[c] *
+						 exp(-p->tau * x / (S->nlev - 1) / p->mu0)
+					   : 0.0;
 		for (int m = 0; m < NDIR; m++) {
-			double s = 0.0;
+			double s = once * Q->psun_out[n][m];
 			for (int j = 0; j < NO; j++)
 				s += Q->Pout[n][m][j] * L[j];
 			out->src[t][m][n][c] = (float)(p->albedo * s);
@@ -788,8 +798,11 @@ void cs_scene_deck_fields(struct cs_scene *sc, int nthreads)
 		while (!need[last])
 			last--;
 		struct cs_fog_problem p[CS_DECK_DEPTHS];
-		for (int k = first; k <= last; k++)
+		for (int k = first; k <= last; k++) {
 			problem_of(sc, tau[k], sun, under ? dome : NULL, sc->ground_albedo, &p[k]);
+			for (int c = 0; c < 3 && d->mu0 > 0.0; c++)
+				p[k].sun_field[c] = (d->sun_lobe[i][c] - d->sun_top[i][c]) / d->mu0;
+		}
 		ok = cs_fog_solve_n(p + first, last - first + 1, d->field[used] + first, nthreads) ==
 		     CS_OK;
 		for (int k = 0; k < CS_DECK_DEPTHS && ok; k++)

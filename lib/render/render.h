@@ -259,6 +259,11 @@ struct cs_fog_field {
 struct cs_fog_problem {
 	double tau, albedo, g_forward, g_back, w_forward;
 	double mu0, sun[3];
+	/* of sun, the part whose first scattering the field keeps too (the
+	 * forward peak's light of the layers over a deck, deck.sun_lobe:
+	 * the march's own term scatters only the beam that comes through
+	 * them unscattered); 0 for the fog */
+	double sun_field[3];
 	double sky_down[CS_FOG_SKY][CS_FOG_MODES][3];
 	double albedo_ground[3];
 };
@@ -322,30 +327,32 @@ struct cs_deck {
 	/* and the light that the top and all under it send up and the layers
 	 * wholly over it send back down, over and over, klux: the area's
 	 * means of their reflectances Ru and Ro, (sun_top + dif_top)
-	 * Ro Ru / (1 - Ro Ru); 0 under the open sky, and where the top lies
-	 * inside a deck of another layer (more than CS_DECK_FIELD_COVER),
-	 * whose light is its own fields'.  A layer's light fields take it
-	 * (cs_scene_deck_fields), the march's model of a broken layer's
-	 * light does not (cs_deck_top_shade, cloud_ambient): against the
-	 * path tracer at 240x135, the capture's rain hour -16.3 % without
-	 * it, +1.0 % with the fields', +1.6 % with the model's too; its
-	 * overcast hour (cumulus of 59 % under altostratus) +3.8, +8.5 and
-	 * +13.7 % */
+	 * Ro Ru / (1 - Ro Ru), Ro Ru at most 0.99; 0 where no layer is wholly
+	 * over the top, and where the top lies inside a deck of another
+	 * layer (more than CS_DECK_FIELD_COVER), whose light is its own
+	 * fields'.  A layer's light fields take it (cs_scene_deck_fields);
+	 * the march's model of a broken layer's light (cs_deck_top_shade,
+	 * cloud_ambient) and the towers' lattice do not: against the path
+	 * tracer at 240x135, the capture's rain hour -16.3 % without it,
+	 * +1.0 % with the fields', +1.6 % with the model's too; its
+	 * overcast hour +3.8, +8.5 and +13.7 % (before sun_lobe) */
 	double top_extra[CS_SCENE_MAX_LAYERS][3];
 	/* Of the sun's light that reaches the top (sun_top and the part of
 	 * dif_top that the layers over it scattered), what their phase
 	 * function's forward peak keeps along the beam, klux: its beam
 	 * through their depth scaled by delta-M similarity (Wiscombe 1977),
 	 * e_sun mu0 exp(-(1 - chi2) tau / mu0), chi2 the phase's second
-	 * moment, the area's mean; sun_top where nothing is over it.  A
-	 * layer's light fields and its lattice (tower_light.c) take it as the
-	 * sun's beam and the rest of dif_top, with top_extra, as the sky's
-	 * light from every side: against the path tracer at 240x135, the
-	 * capture's overcast afternoon (cumulus of 59 % under altostratus
-	 * of 99 % under cirrostratus) +8.5 % with all of dif_top from every
-	 * side, +2.7 % with this (relative MSE 0.043 -> 0.023); its rain
-	 * hour +1.0 and +0.6 %; but the nimbostratus of 70 % of its rain hour
-	 * under its cirrostratus alone (96x54) -14.6 and -19.5 % */
+	 * moment, at most all of the sun's light that comes through and at
+	 * least its unscattered beam, the area's mean; sun_top where nothing
+	 * is over it.  A layer's light fields take it as the sun's beam
+	 * (their own first scattering of its part over sun_top:
+	 * cs_fog_problem.sun_field) and the rest of dif_top, with top_extra,
+	 * as the sky's light from every side: against the path tracer at
+	 * 240x135, the capture's overcast afternoon (cumulus of 59 % under
+	 * altostratus of 99 % under cirrostratus) +8.5 % with all of dif_top
+	 * from every side, +2.3 % with this (relative MSE 0.043 -> 0.024);
+	 * its rain hour +1.0 and +0.3 %; but the nimbostratus of 70 % of its
+	 * rain hour under its cirrostratus alone (96x54) -14.6 and -20.1 % */
 	double sun_lobe[CS_SCENE_MAX_LAYERS][3];
 	/* the layers over each layer's top (cs_layer_share_above > 0), one
 	 * bit a layer: their local columns shade it (cs_deck_top_shade) */

@@ -893,10 +893,7 @@ static int build_layer(const struct cs_scene *sc, int li, double cell_m, int nth
 	/* the beam that reaches the layer's top through the layers above
 	 * (deck.sun_top), of a unit irradiance facing the key light */
 	double E = sc->sun_illuminance[1] > 0.0 ? sc->sun_illuminance[1] : 1.0;
-	/* (deck.sun_lobe: the beam with the light the forward peak of the
-	 * layers over it keeps along it, as the fields take it) */
-	double lobe = sc->deck.sun_lobe[li][1] - sc->deck.sun_top[li][1];
-	double above = sc->deck.sun_lobe[li][1] / (E * sun.z);
+	double above = sc->deck.sun_top[li][1] / (E * sun.z);
 	above = above > 0.0 ? (above < 1.0 ? above : 1.0) : 0.0;
 	double step = dh / SUB_STEPS, power = above * sun.z * du * dv;
 	double below = l->base_m - sc->ground_alt_m;
@@ -923,14 +920,11 @@ static int build_layer(const struct cs_scene *sc, int li, double cell_m, int nth
 		goto done;
 	*evaluations += (uint64_t)cols * (uint64_t)steps;
 	/* the light coming in, per unit irradiance of the key light: the
-	 * sky's from above (the diffuse light at the layer's top, less the
-	 * forward peak's, with the light sent between it and the layers
-	 * over it, deck.top_extra), the
+	 * sky's from above (the diffuse light at the layer's top), the
 	 * ground's from below (its albedo times the beam left under each
 	 * column and the diffuse light under the layers), in the green
 	 * channel, the luminance's most */
-	double sky_in = sc->deck.dif_top[li][1] + sc->deck.top_extra[li][1] - lobe;
-	double j_in[2] = {(sky_in > 0.0 ? sky_in : 0.0) / E, CS_PI * sc->deck.ground_below[1] / E};
+	double j_in[2] = {sc->deck.dif_top[li][1] / E, CS_PI * sc->deck.ground_below[1] / E};
 	for (size_t m = 0; m < cols; m++) {
 		double Tg = gT[cols + m] > 0.0 ? gT[m] / gT[cols + m] : 1.0;
 		gT[m] = sc->ground_albedo[1] * (above * sun.z * Tg + CS_PI * sc->deck.sky_below[1] / E);
