@@ -801,11 +801,8 @@ static void a_broken_deck_from_below_takes_light_through_its_cells_sides(void)
 static void a_deck_under_a_deck_takes_the_light_they_send_between_them(void)
 {
 	struct cs_wx wx;
-	one_layer_wx(&wx, "2021-06-14T11:00:00Z", CS_STRATUS, 1.0, 700.0, 1100.0, 20000.0);
-	wx.nlayers = 2;
-	wx.layers[1] = wx.layers[0];
-	wx.layers[1].genus = CS_ALTOSTRATUS;
-	wx.layers[1].base_m = 3000.0, wx.layers[1].top_m = 3800.0;
+	two_layer_wx(&wx, "2021-06-14T11:00:00Z", CS_STRATUS, 1.0, 700.0, 1100.0, CS_ALTOSTRATUS,
+		     1.0, 3000.0, 3800.0);
 	CHECK_NEAR(march_over_reference("stratus under altostratus, straight up", &wx, noise32(), 2.0,
 					330.0, 90.0, 40.0, 8, 6, "high", 1024),
 		   1.0, 0.05);
@@ -832,19 +829,13 @@ static void what_a_layer_takes_from_the_layers_over_it(void)
 	CHECK(memcmp(sc.deck.sun_lobe[0], sc.deck.sun_top[0], sizeof sc.deck.sun_top[0]) == 0);
 	CHECK(sc.deck.top_extra[0][0] == 0.0 && sc.deck.top_extra[0][1] == 0.0 &&
 	      sc.deck.top_extra[0][2] == 0.0);
-	wx.nlayers = 2;
-	wx.layers[1] = wx.layers[0];
-	wx.layers[1].genus = CS_CUMULUS;
-	wx.layers[1].coverage = 0.1;
-	wx.layers[1].base_m = 650.0, wx.layers[1].top_m = 1850.0;
+	two_layer_wx(&wx, "2021-06-14T15:30:00Z", CS_NIMBOSTRATUS, 0.7, 834.0, 4034.0, CS_CUMULUS,
+		     0.1, 650.0, 1850.0);
 	CHECK(cs_scene_build(&sc, &wx, wx.time_utc, noise32()) == CS_OK);
 	int cu = sc.layers[0].genus == CS_CUMULUS ? 0 : 1;
 	CHECK(sc.deck.top_extra[cu][1] == 0.0);
-	one_layer_wx(&wx, "2021-06-14T15:30:00Z", CS_STRATUS, 1.0, 700.0, 1100.0, 20000.0);
-	wx.nlayers = 2;
-	wx.layers[1] = wx.layers[0];
-	wx.layers[1].genus = CS_ALTOSTRATUS;
-	wx.layers[1].base_m = 3000.0, wx.layers[1].top_m = 3800.0;
+	two_layer_wx(&wx, "2021-06-14T15:30:00Z", CS_STRATUS, 1.0, 700.0, 1100.0, CS_ALTOSTRATUS,
+		     1.0, 3000.0, 3800.0);
 	CHECK(cs_scene_build(&sc, &wx, wx.time_utc, noise32()) == CS_OK);
 	int st = sc.layers[0].genus == CS_STRATUS ? 0 : 1;
 	printf("  stratus under altostratus: sent between them %.2f klux, the forward peak's %.2f "
@@ -870,12 +861,8 @@ static void what_a_layer_takes_from_the_layers_over_it(void)
 static void a_deck_under_a_veil_takes_its_forward_peak_as_the_beam(void)
 {
 	struct cs_wx wx;
-	one_layer_wx(&wx, "2021-06-14T15:30:00Z", CS_ALTOSTRATUS, 0.99, 3000.0, 5000.0, 20000.0);
-	wx.nlayers = 2;
-	wx.layers[1] = wx.layers[0];
-	wx.layers[1].genus = CS_CIRROSTRATUS;
-	wx.layers[1].coverage = 1.0;
-	wx.layers[1].base_m = 7500.0, wx.layers[1].top_m = 9000.0;
+	two_layer_wx(&wx, "2021-06-14T15:30:00Z", CS_ALTOSTRATUS, 0.99, 3000.0, 5000.0,
+		     CS_CIRROSTRATUS, 1.0, 7500.0, 9000.0);
 	CHECK_NEAR(march_over_references("altostratus under cirrostratus, away from the sun", &wx,
 					 noise32(), 2.0, 70.0, 20.0, 60.0, 16, 9, "high", 256, 2),
 		   1.0, 0.03);
