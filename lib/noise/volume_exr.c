@@ -243,7 +243,11 @@ done:
 }
 
 /* Reads the pixels, all four channels in one pass, as floats, into v's
- * data; count floats, every one finite. */
+ * data; count floats, every one finite and at most VOXEL_MAX in
+ * magnitude, so that no sum of eight of them weighted by at most 1 (the
+ * trilinear sample) overflows a float (the fuzzer found two near
+ * FLT_MAX sampled to infinity). */
+#define VOXEL_MAX 1e30f
 static int read_volume_pixels(const void *data, size_t len, const char *name,
 			      size_t count, int nthreads, struct cs_volume *v)
 {
@@ -259,6 +263,8 @@ static int read_volume_pixels(const void *data, size_t len, const char *name,
 	for (size_t i = 0; i < count; i++)
 		if (!(v->data[i] == v->data[i] && v->data[i] - v->data[i] == 0.0f))
 			BAD("non-finite value at pixel %zu", i / 4);
+		else if (!(v->data[i] <= VOXEL_MAX && v->data[i] >= -VOXEL_MAX))
+			BAD("value %g at pixel %zu beyond +-1e30", (double)v->data[i], i / 4);
 done:
 	return rc;
 }
