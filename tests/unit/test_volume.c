@@ -232,6 +232,25 @@ static void exr_round_trip_half_and_float(void)
 	cs_volume_free(&f);
 }
 
+/* A voxel beyond +-1e30 is refused like a non-finite one (two near
+ * FLT_MAX, which a float file holds, sampled between them to infinity:
+ * the fuzzer's find); one at 1e30 is read, and its sample is finite. */
+static void exr_voxels_beyond_1e30_are_refused(void)
+{
+	struct cs_volume v, r;
+	CHECK(bake_small(&v, 16, 5, 2) == CS_OK);
+	v.data[5] = 1e30f;
+	v.data[9] = -1e30f;
+	CHECK(cs_volume_write_exr(&v, tmp("big.exr"), 1, 1) == CS_OK);
+	CHECK(cs_volume_read_exr(tmp("big.exr"), &r, 1) == CS_OK);
+	cs_volume_free(&r);
+	v.data[5] = 3e38f;
+	v.data[9] = 3e38f;
+	CHECK(cs_volume_write_exr(&v, tmp("huge.exr"), 1, 1) == CS_OK);
+	CHECK(cs_volume_read_exr(tmp("huge.exr"), &r, 1) == CS_EDATA);
+	cs_volume_free(&v);
+}
+
 /* Every truncation of a valid file is an error with a message, never a
  * crash and never a volume. */
 static void exr_truncated_file_is_a_clear_error(void)
@@ -455,6 +474,7 @@ static const struct t_case t_cases[] = {
 	CASE(seam_metric_detects_a_seam),
 	CASE(sample_is_periodic_and_interpolates_voxels),
 	CASE(exr_round_trip_half_and_float),
+	CASE(exr_voxels_beyond_1e30_are_refused),
 	CASE(exr_truncated_file_is_a_clear_error),
 	CASE(exr_corrupt_bytes_never_crash),
 	CASE(exr_reader_rejects_wrong_files_with_clear_messages),
