@@ -348,28 +348,26 @@ void cs_scene_deck_light(struct cs_scene *sc, int nthreads)
 			for (int c = 0; c < 3; c++)
 				dif_all[c] += dif[c];
 			for (int i = 0; i < n; i++) { /* what reaches each layer's top */
-				double over = 0.0;
-				for (int j = 0; j < n; j++)
+				double over = 0.0, whole = 0.0; /* whole: the layers wholly over it */
+				for (int j = 0; j < n; j++) {
 					over += cs_layer_share_above(sc, j, i) * tau[j];
-				under(d, over, e_sun_h, e_sky, NULL, &beam, dif);
-				/* the sun's light in the forward peak (sun_lobe): of
-				 * all of it that comes through, the beam through the
-				 * depth delta-M scales */
-				double kept = d->mu0 > 0.0 ? exp(-(1.0 - chi2) * over / d->mu0) : 0.0;
-				double b_over, scat_over, Td_over;
-				slab_split(d, over, &b_over, &scat_over, &Td_over);
-				kept = kept < b_over + scat_over ? kept : b_over + scat_over;
-				kept = kept > b_over ? kept : b_over;
-				for (int c = 0; c < 3; c++)
-					d->sun_lobe[i][c] += e_sun_h[c] * kept;
-				double whole = 0.0;
-				for (int j = 0; j < n; j++)
 					whole += above(sc, j, i) ? tau[j] : 0.0;
+				}
+				double scat, Td;
+				slab_split(d, over, &beam, &scat, &Td);
+				/* the sun's light in the forward peak (sun_lobe): the
+				 * beam through the depth delta-M scales, between the
+				 * unscattered beam and all of the sun's light that
+				 * comes through */
+				double kept = d->mu0 > 0.0 ? exp(-(1.0 - chi2) * over / d->mu0) : 0.0;
+				kept = kept < beam + scat ? kept : beam + scat;
+				kept = kept > beam ? kept : beam;
 				r_over[i] += 1.0 - cs_slab_diffuse_transmittance(whole);
 				double Td_under = cs_slab_diffuse_transmittance(total - over);
 				for (int c = 0; c < 3; c++) {
 					d->sun_top[i][c] += e_sun_h[c] * beam;
-					d->dif_top[i][c] += dif[c];
+					d->dif_top[i][c] += e_sun_h[c] * scat + e_sky[c] * Td; /* (under's) */
+					d->sun_lobe[i][c] += e_sun_h[c] * kept;
 					r_under[i][c] += reflectance_over_ground(Td_under,
 										 sc->ground_albedo[c]);
 				}

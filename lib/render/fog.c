@@ -762,11 +762,12 @@ void cs_scene_deck_fields(struct cs_scene *sc, int nthreads)
 		int under = 0;
 		for (int j = 0; j < sc->nlayers; j++)
 			under |= cs_layer_share_above(sc, j, i) > 0.0;
-		double sun[3], dome[3];
+		double sun[3], dome[3], lobe[3]; /* lobe: the peak's beyond the unscattered beam */
 		for (int c = 0; c < 3; c++) {
-			double lobe = d->sun_lobe[i][c] - d->sun_top[i][c];
+			double excess = d->sun_lobe[i][c] - d->sun_top[i][c];
+			lobe[c] = d->mu0 > 0.0 ? excess / d->mu0 : 0.0;
 			sun[c] = d->mu0 > 0.0 ? d->sun_lobe[i][c] / d->mu0 : 0.0;
-			dome[c] = (d->dif_top[i][c] + d->top_extra[i][c] - lobe) / CS_PI;
+			dome[c] = (d->dif_top[i][c] + d->top_extra[i][c] - excess) / CS_PI;
 			dome[c] = dome[c] > 0.0 ? dome[c] : 0.0;
 		}
 		/* the depths, and which of them the measured columns reach: a
@@ -800,8 +801,7 @@ void cs_scene_deck_fields(struct cs_scene *sc, int nthreads)
 		struct cs_fog_problem p[CS_DECK_DEPTHS];
 		for (int k = first; k <= last; k++) {
 			problem_of(sc, tau[k], sun, under ? dome : NULL, sc->ground_albedo, &p[k]);
-			for (int c = 0; c < 3 && d->mu0 > 0.0; c++)
-				p[k].sun_field[c] = (d->sun_lobe[i][c] - d->sun_top[i][c]) / d->mu0;
+			memcpy(p[k].sun_field, lobe, sizeof lobe);
 		}
 		ok = cs_fog_solve_n(p + first, last - first + 1, d->field[used] + first, nthreads) ==
 		     CS_OK;

@@ -659,12 +659,9 @@ static void gap_and_cell(const struct cs_scene *sc, int ui, double x[2], double 
 static void cumulus_under_a_deck(struct cs_scene *sc, const char *time_utc, int *li)
 {
 	struct cs_wx wx;
-	one_layer_wx(&wx, time_utc, CS_CUMULUS, 0.1, 600.0, 1400.0, 40000.0);
-	wx.nlayers = 2;
-	wx.layers[1] = wx.layers[0];
-	wx.layers[1].genus = CS_STRATOCUMULUS;
-	wx.layers[1].coverage = 0.6;
-	wx.layers[1].base_m = 2000.0, wx.layers[1].top_m = 2800.0;
+	two_layer_wx(&wx, time_utc, CS_CUMULUS, 0.1, 600.0, 1400.0, CS_STRATOCUMULUS, 0.6, 2000.0,
+		     2800.0);
+	wx.visibility_m = 40000.0;
 	CHECK(cs_scene_build(sc, &wx, wx.time_utc, noise32()) == CS_OK);
 	*li = sc->layers[0].genus == CS_CUMULUS ? 0 : 1;
 	CHECK(sc->deck.over_mask[*li] == 1u << (1 - *li) && sc->deck.over_mask[1 - *li] == 0u);
