@@ -133,18 +133,27 @@ static int ground_lit(const struct cs_scene *sc, const struct cs_render_settings
 	int fog = sc->fog_beta_per_m > 0.0 && sc->fog.on;
 	if (!sc->deck.on || !(sc->effects & CS_FX_SKY) || !(sc->effects & CS_FX_GROUND))
 		return fog ? CS_GROUND_LIT_CLEAR_FOG : CS_GROUND_LIT_CLEAR;
-	if (s->ground_sky == CS_GROUND_SKY_COLUMNS)
-		return fog ? CS_GROUND_LIT_COLUMNS_FOG : CS_GROUND_LIT_COLUMNS;
 	if (fog)
-		return CS_GROUND_LIT_FOG;
+		return s->ground_sky == CS_GROUND_SKY_COLUMNS ? CS_GROUND_LIT_COLUMNS_FOG
+							      : CS_GROUND_LIT_FOG;
+	if (s->ground_sky == CS_GROUND_SKY_COLUMNS)
+		return CS_FX_IS(sc, CS_FX_RAIN | CS_FX_SNOW) ? CS_GROUND_LIT_FIELD_PRECIP
+							     : CS_GROUND_LIT_COLUMNS;
 	return s->ground_sky == CS_GROUND_SKY_FIELD ? CS_GROUND_LIT_FIELD : CS_GROUND_LIT_DOME;
+}
+
+/* Whether ground_lit's value is a field's. */
+static int lit_by_field(int lit)
+{
+	return lit == CS_GROUND_LIT_FIELD || lit == CS_GROUND_LIT_FIELD_AIR ||
+	       lit == CS_GROUND_LIT_FIELD_PRECIP;
 }
 
 /* Whether the frame traces the ground's light (the dome or the field). */
 static int ground_traced(const struct cs_scene *sc, const struct cs_render_settings *s)
 {
 	int lit = ground_lit(sc, s);
-	return lit == CS_GROUND_LIT_DOME || lit == CS_GROUND_LIT_FIELD;
+	return lit == CS_GROUND_LIT_DOME || lit_by_field(lit);
 }
 
 const char *cs_ground_lit_name(int ground_lit)
@@ -163,6 +172,8 @@ const char *cs_ground_lit_name(int ground_lit)
 					     "(the frame sees no ground)"),
 		[CS_GROUND_LIT_DOME_AIR] = ("the dome's, for the haze and the rain under the clouds "
 					    "(the frame sees no ground)"),
+		[CS_GROUND_LIT_FIELD_PRECIP] = ("the field's, for the rain or snow under the clouds, "
+						"which takes it (columns asked for)"),
 	};
 	if (ground_lit < 0 || ground_lit >= (int)(sizeof names / sizeof names[0]))
 		return "?";
@@ -319,7 +330,7 @@ int cs_frame_scene(const struct cs_scene *sc, const struct cs_camera *cam,
 	*copy = *sc;
 	int rc = cs_light_cache_build(copy, &fs, (double)cam->width * cam->height, nthreads,
 				      evaluations);
-	if (rc == CS_OK && (*ground == CS_GROUND_LIT_FIELD || *ground == CS_GROUND_LIT_FIELD_AIR)) {
+	if (rc == CS_OK && lit_by_field(*ground)) {
 		rc = cs_ground_sky_field(copy, &fs, cam, nthreads, &copy->ground_field);
 		for (int c = 0; c < 3 && rc == CS_OK; c++)
 			copy->deck.sky_ground[c] = copy->ground_field.mean[c];
