@@ -176,6 +176,24 @@ static double reflectance_over_ground(double Td, double a)
 	return q > 0.0 ? 1.0 - Td * (1.0 - a) / q : 1.0; /* (a white ground under no light) */
 }
 
+/* What the clouds over (x, y) see under them, for diffuse light: the
+ * ground (wet where it rains), under the column of rain or snow that
+ * falls there (cs_rain_column: F_up / F_down at its top, the light sent
+ * between the drops and the ground counted). */
+static void albedo_under(const struct cs_scene *sc, double x, double y, double a[3])
+{
+	double wet = sc->ground_wet > 0.0 ? sc->ground_wet : 1.0, tau = 0.0;
+	if (CS_FX_IS(sc, CS_FX_RAIN | CS_FX_SNOW))
+		tau = sc->rain_extinction_per_m * cs_rain_shaft(sc, x, y) *
+		      (sc->rain_top_m - sc->ground_alt_m);
+	double g[3], mean[3], down[3];
+	for (int c = 0; c < 3; c++)
+		g[c] = sc->ground_albedo[c] * wet;
+	cs_rain_column(sc->precip_albedo, tau, 0.0, g, mean, down);
+	for (int c = 0; c < 3; c++)
+		a[c] = 2.0 * mean[c] - 1.0;
+}
+
 /* Layer i's top lies inside another layer of more than
  * CS_DECK_FIELD_COVER (a deck): the light there is that deck's own. */
 static int top_in_deck(const struct cs_scene *sc, int i)
@@ -343,7 +361,12 @@ void cs_scene_deck_light(struct cs_scene *sc, int nthreads)
 					d->tau_in[i] += tau[i], incloud[i]++;
 				}
 			}
-			under(d, total, e_sun_h, e_sky, sc->ground_albedo, &beam, dif);
+			double alb[3];
+			albedo_under(sc, x, y, alb);
+			for (int i = 0; i < n; i++)
+				for (int c = 0; c < 3 && tau[i] > 0.05; c++)
+					d->albedo_in[i][c] += alb[c];
+			under(d, total, e_sun_h, e_sky, alb, &beam, dif);
 			beam_all += beam;
 			for (int c = 0; c < 3; c++)
 				dif_all[c] += dif[c];
@@ -368,8 +391,7 @@ void cs_scene_deck_light(struct cs_scene *sc, int nthreads)
 					d->sun_top[i][c] += e_sun_h[c] * beam;
 					d->dif_top[i][c] += e_sun_h[c] * scat + e_sky[c] * Td; /* (under's) */
 					d->sun_lobe[i][c] += e_sun_h[c] * kept;
-					r_under[i][c] += reflectance_over_ground(Td_under,
-										 sc->ground_albedo[c]);
+					r_under[i][c] += reflectance_over_ground(Td_under, alb[c]);
 				}
 			}
 		}
@@ -382,6 +404,11 @@ void cs_scene_deck_light(struct cs_scene *sc, int nthreads)
 	}
 	for (int i = 0; i < n; i++) {
 		d->tau_in[i] = incloud[i] > 0 ? d->tau_in[i] / incloud[i] : 0.0;
+		if (incloud[i] > 0)
+			for (int c = 0; c < 3; c++)
+				d->albedo_in[i][c] /= incloud[i];
+		else
+			albedo_under(sc, INFINITY, INFINITY, d->albedo_in[i]);
 		int over_layer = 0, under_layer = 0;
 		d->over_mask[i] = 0u;
 		for (int j = 0; j < n; j++) {
@@ -398,7 +425,7 @@ void cs_scene_deck_light(struct cs_scene *sc, int nthreads)
 		d->sky_forward[i] = veil ? sc->w_forward * exp(-(1.0 - chi2) * d->tau_in[i]) : 0.0;
 		double R = 1.0 - cs_slab_diffuse_transmittance(d->tau_in[i]);
 		for (int c = 0; c < 3; c++)
-			d->ground_gain[i][c] = over_layer ? 1.0 : 1.0 / (1.0 - sc->ground_albedo[c] * R);
+			d->ground_gain[i][c] = over_layer ? 1.0 : 1.0 / (1.0 - d->albedo_in[i][c] * R);
 		int mirrored = !top_in_deck(sc, i);
 		for (int c = 0; c < 3; c++) {
 			d->sun_top[i][c] *= inv;

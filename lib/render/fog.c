@@ -800,7 +800,7 @@ void cs_scene_deck_fields(struct cs_scene *sc, int nthreads)
 			last--;
 		struct cs_fog_problem p[CS_DECK_DEPTHS];
 		for (int k = first; k <= last; k++) {
-			problem_of(sc, tau[k], sun, under ? dome : NULL, sc->ground_albedo, &p[k]);
+			problem_of(sc, tau[k], sun, under ? dome : NULL, sc->deck.albedo_in[i], &p[k]);
 			memcpy(p[k].sun_field, lobe, sizeof lobe);
 		}
 		ok = cs_fog_solve_n(p + first, last - first + 1, d->field[used] + first, nthreads) ==

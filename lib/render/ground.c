@@ -133,6 +133,26 @@ CS_HD void cs_ground_sky(const struct cs_scene *sc, cs_v3 p, double out[3])
 	}
 }
 
+/* Under rain or snow at p, of the light under the clouds (sky) what comes
+ * down through its column (cs_rain_column, the ground of albedo alb
+ * under it), and of the sun's beam (*beam) what it lets through. */
+CS_HD static void rain_over(const struct cs_scene *sc, cs_v3 p, const double alb[3], double sky[3],
+			    double *beam)
+{
+	if (!CS_FX_IS(sc, CS_FX_RAIN | CS_FX_SNOW))
+		return;
+	double sigma = sc->rain_extinction_per_m * cs_rain_shaft(sc, p.x, p.y);
+	double h = sc->rain_top_m - cs_scene_altitude(sc, p);
+	if (!(sigma > 0.0 && h > 0.0))
+		return;
+	double mean[3], down[3];
+	cs_rain_column(sc->precip_albedo, sigma * h, sigma * h, alb, mean, down);
+	for (int k = 0; k < 3; k++)
+		sky[k] *= down[k];
+	if (sc->sun_dir.z > 0.0)
+		*beam *= exp(-sigma * h / sc->sun_dir.z);
+}
+
 CS_HD CS_COLD void cs_water_light(const struct cs_scene *sc, const struct cs_render_settings *s,
 			  cs_v3 p, cs_v3 d, int on_terrain, struct cs_render_stats *st,
 			  double rgb[3])
@@ -162,6 +182,13 @@ CS_HD CS_COLD void cs_water_light(const struct cs_scene *sc, const struct cs_ren
 		sunT = CS_FX_IS(sc, CS_FX_CLOUD_SHADOWS) && self > 0.0
 			       ? self * cs_render_sun_transmittance(sc, s, p, st)
 			       : self;
+	}
+	if (sc->deck.on) {
+		const double water[3] = {CS_WATER_DIFFUSE_ALBEDO, CS_WATER_DIFFUSE_ALBEDO, CS_WATER_DIFFUSE_ALBEDO};
+		rain_over(sc, p, water, ground, &sunT);
+		if (CS_FX_IS(sc, CS_FX_SKY))
+			for (int k = 0; k < 3; k++)
+				sky[k] = ground[k];
 	}
 	double glint = 0.0;
 	if (sunT > 0.0) {
@@ -242,6 +269,8 @@ CS_HD CS_COLD void cs_ground_light(const struct cs_scene *sc,
 	if (sc->deck.on)
 		cs_ground_sky(sc, p, ground);
 	const double *sky = sc->deck.on ? ground : sc->ambient_up;
+	if (sc->deck.on)
+		rain_over(sc, p, alb, ground, &direct);
 	double diffuse[3];
 	if (fog && sc->fog.on) {
 		cs_fog_down(sc, alt, diffuse);

@@ -224,7 +224,9 @@ static void dome_row(void *user, int j, int worker)
 
 /* The scene whose sky lights the ground: the open sky over flat ground,
  * the terrain's own horizon being its ambient occlusion's
- * (cs_ground_light), and no star's disc.  NULL: out of memory. */
+ * (cs_ground_light), no star's disc, and no rain or snow: the light
+ * under the clouds, which lights the top of the precipitation's column
+ * (cs_rain_column takes it down to the ground).  NULL: out of memory. */
 static struct cs_scene *open_sky(const struct cs_scene *sc)
 {
 	struct cs_scene *flat = malloc(sizeof *flat);
@@ -232,7 +234,8 @@ static struct cs_scene *open_sky(const struct cs_scene *sc)
 		return NULL;
 	*flat = *sc;
 	flat->terrain = NULL;
-	flat->effects &= ~(unsigned)(CS_FX_TERRAIN | CS_FX_WATER | CS_FX_STARS);
+	flat->effects &= ~(unsigned)(CS_FX_TERRAIN | CS_FX_WATER | CS_FX_STARS | CS_FX_RAIN |
+				     CS_FX_SNOW);
 	return flat;
 }
 
@@ -384,11 +387,11 @@ int cs_ground_sky_field(const struct cs_scene *sc, const struct cs_render_settin
 	double *acc = malloc(points * 4 * sizeof *acc), *tmp = malloc(points * 4 * sizeof *tmp);
 	float *rgb = malloc(points * 3 * sizeof *rgb), *first = NULL;
 	struct cs_scene *flat = open_sky(sc);
-	/* the haze and the rain under the clouds are lit by the field
-	 * (cs_ground_sky), and the field's rays see them: a first pass of
-	 * one ray a point lights them for the second (traced with the area's
-	 * mean alone, the haze over the camera under a thick part of a
-	 * broken deck added half of the light) */
+	/* the haze under the clouds is lit by the field (cs_ground_sky), and
+	 * the field's rays see it: a first pass of one ray a point lights it
+	 * for the second (traced with the area's mean alone, the haze over
+	 * the camera under a thick part of a broken deck added half of the
+	 * light); the rain they do not see (open_sky) */
 	int again = flat != NULL && cs_scene_air_lit(flat);
 	if (again)
 		first = malloc(points * 3 * sizeof *first);

@@ -369,6 +369,14 @@ struct cs_deck {
 	 * the cloud over and over, 1 / (1 - albedo (1 - Td(tau_in))); 1 for
 	 * layers over other layers */
 	double ground_gain[CS_SCENE_MAX_LAYERS][3];
+	/* the albedo for diffuse light of what lies under a layer's in-cloud
+	 * columns, their mean: the ground (wet where it rains) and the column
+	 * of rain or snow over it (cs_rain_column); the plain ground for a
+	 * layer no column met.  ground_gain and the layer's light fields
+	 * take it: 16 mm/h of rain under nimbostratus of full cover, seen
+	 * from the ground 5 deg up, +6.8 % against the path tracer at high
+	 * with it, -13.1 % with the plain ground (test_reference) */
+	double albedo_in[CS_SCENE_MAX_LAYERS][3];
 	/* of a layer under the open sky (none above it), the share of the
 	 * sky's light in it that comes along the ray from the sky behind it,
 	 * not from the dome: the phase's forward weight times exp(-tau_in)
@@ -744,10 +752,13 @@ int cs_ground_sky_dome(const struct cs_scene *sc, const struct cs_render_setting
  * points' own values (before the blur) is the area's (out->mean).  One
  * row of points a task on nthreads of the CPU pool, each point's rays in
  * order: the same for any thread count.  Its rays are not in the frame's
- * statistics.  Where the scene has haze or rain under clouds, which the
- * field lights (cs_ground_sky) and its rays see, it is traced twice: a
- * first pass of one ray a point lights them for the second.  CS_OK,
- * CS_ENOMEM or the pool's error (then *out is empty). */
+ * statistics.  Its rays see no rain or snow: it is the light under the
+ * clouds, which lights the top of the precipitation's column
+ * (cs_rain_column takes it down to the ground there).  Where the scene
+ * has haze under clouds, which the field lights (cs_ground_sky) and its
+ * rays see, it is traced twice: a first pass of one ray a point lights it
+ * for the second.  CS_OK, CS_ENOMEM or the pool's error (then *out is
+ * empty). */
 #define CS_GROUND_FIELD_POINTS 64 /* 375 m apart */
 #define CS_GROUND_FIELD_RAYS 8192
 struct cs_camera;

@@ -264,10 +264,10 @@ int cs_scene_build_opts(struct cs_scene *sc, const struct cs_wx *wx, double time
 	sc->g_forward = 0.9, sc->g_back = -0.3, sc->w_forward = 0.96;
 	sc->effects = CS_FX_SKY | CS_FX_GROUND;
 	build_layers(sc, wx, time_utc, noise);
+	build_precipitation(sc, wx); /* (before the deck's light, which sees it) */
 	rc = build_light(sc, wx, time_utc, nthreads, opts->sky_level);
 	if (rc != CS_OK)
 		return rc;
 	build_air(sc, wx);
-	build_precipitation(sc, wx);
 	return cs_scene_fog_light(sc, nthreads);
 }

@@ -34,5 +34,8 @@ CS_HD double cs_water_glint(double cos_v, double cos_l, double cos_h,
 #define CS_WATER_BODY_R 0.010
 #define CS_WATER_BODY_G 0.020
 #define CS_WATER_BODY_B 0.030
+/* level water's reflectance for diffuse light (Fresnel, n 1.333, over the
+ * hemisphere), what the rain over it sees under it */
+#define CS_WATER_DIFFUSE_ALBEDO 0.066
 
 #endif
