@@ -160,6 +160,24 @@ static cs_v3 above_ground(const struct cs_scene *sc, double x, double y)
 	return v3(x, y, sqrt((R + h) * (R + h) - x * x - y * y) - R);
 }
 
+/* Where the ground's dome and field see the sky from at (x, y), in their
+ * scene (open_sky): 2 m above the flat ground, or where it rains or snows
+ * 1 m under the precipitation's top (the raining layer's base), whose
+ * light is what the column's two-stream solution takes at its top
+ * (cs_rain_column; the ground under the rain takes what comes down
+ * through the column).  From the ground, the bright gaps of a broken
+ * deck low around the sky lit the rain under its thick cells as if
+ * nothing were in the way: 8 mm/h under the capture's rain hour's
+ * nimbostratus alone, +92 % against the path tracer at high, +64 %
+ * from under the base. */
+static cs_v3 sky_point(const struct cs_scene *flat, double x, double y)
+{
+	double R = flat->earth_radius_m, h = flat->rain_top_m > flat->ground_alt_m + 2.0
+						     ? flat->rain_top_m - 1.0
+						     : flat->ground_alt_m + 2.0;
+	return v3(x, y, sqrt((R + h) * (R + h) - x * x - y * y) - R);
+}
+
 cs_v3 cs_irradiance_area_point(const struct cs_scene *sc, double size_m, int n, int i, int j)
 {
 	return above_ground(sc, ((i + 0.5) / n - 0.5) * size_m, ((j + 0.5) / n - 0.5) * size_m);
@@ -216,7 +234,9 @@ static void dome_row(void *user, int j, int worker)
 	struct cs_render_stats st = {0};
 	double sum[3] = {0.0, 0.0, 0.0};
 	for (int i = 0; i < n; i++)
-		sky_rays(job->sc, job->s, cs_irradiance_area_point(job->sc, CS_DECK_AREA_M, n, i, j),
+		sky_rays(job->sc, job->s,
+			 sky_point(job->sc, ((i + 0.5) / n - 0.5) * CS_DECK_AREA_M,
+				   ((j + 0.5) / n - 0.5) * CS_DECK_AREA_M),
 			 j * n + i, 2, &st, sum);
 	for (int c = 0; c < 3; c++)
 		job->row[j][c] = sum[c];
@@ -226,7 +246,8 @@ static void dome_row(void *user, int j, int worker)
  * the terrain's own horizon being its ambient occlusion's
  * (cs_ground_light), no star's disc, and no rain or snow: the light
  * under the clouds, which lights the top of the precipitation's column
- * (cs_rain_column takes it down to the ground).  NULL: out of memory. */
+ * (cs_rain_column takes it down to the ground); its rain_top_m 0 where
+ * none falls (sky_point).  NULL: out of memory. */
 static struct cs_scene *open_sky(const struct cs_scene *sc)
 {
 	struct cs_scene *flat = malloc(sizeof *flat);
@@ -234,6 +255,8 @@ static struct cs_scene *open_sky(const struct cs_scene *sc)
 		return NULL;
 	*flat = *sc;
 	flat->terrain = NULL;
+	if (!CS_FX_IS(sc, CS_FX_RAIN | CS_FX_SNOW))
+		flat->rain_top_m = 0.0; /* (sky_point: from the ground) */
 	flat->effects &= ~(unsigned)(CS_FX_TERRAIN | CS_FX_WATER | CS_FX_STARS | CS_FX_RAIN |
 				     CS_FX_SNOW);
 	return flat;
@@ -287,7 +310,7 @@ static void field_row(void *user, int j, int worker)
 		size_t at = (size_t)j * f->n + i;
 		double *o = job->acc + 4 * at;
 		o[0] = o[1] = o[2] = 0.0;
-		cs_v3 p = above_ground(job->sc, f->x0_m + i * f->step_m, f->y0_m + j * f->step_m);
+		cs_v3 p = sky_point(job->sc, f->x0_m + i * f->step_m, f->y0_m + j * f->step_m);
 		sky_rays(job->sc, job->s, p, (int)at, (int)sqrt(o[3]), &st, o);
 	}
 }

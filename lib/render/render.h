@@ -464,7 +464,9 @@ struct cs_light_cache {
 /* The ground's diffuse light as it varies under the clouds
  * (CS_GROUND_SKY_FIELD, cs_ground_sky_field): the cosine-weighted mean
  * radiance of the sky the renderer draws at the points of a square grid
- * 2 m above the flat ground, as deck.sky_ground is the dome's; the ground
+ * 2 m above the flat ground (where it rains or snows 1 m under the
+ * raining layer's base, the top of the precipitation's column, which it
+ * lights: radiometry.c's sky_point), as deck.sky_ground is the dome's; the ground
  * takes it bilinear between the points, and beyond the outer ones fading
  * to their mean over fade_m. */
 struct cs_ground_field {
@@ -723,8 +725,9 @@ void cs_irradiance_area(const struct cs_scene *sc, const struct cs_render_settin
 /* The diffuse light on the ground under the clouds as the renderer draws
  * the sky (CS_GROUND_SKY_DOME): the cosine-weighted mean radiance (diffuse
  * irradiance / pi) of CS_GROUND_DOME_RAYS rays over the sky's hemisphere
- * from each of CS_GROUND_DOME_POINTS^2 points 2 m above the flat ground on
- * the deck's square (CS_DECK_AREA_M, cs_irradiance_area_point), the sun's
+ * from each of CS_GROUND_DOME_POINTS^2 points 2 m above the flat ground
+ * (where it rains or snows, 1 m under the raining layer's base, as the
+ * field's) on the deck's square (CS_DECK_AREA_M), the sun's
  * disc left to the beam as cs_irradiance_at leaves it, the terrain and the
  * stars taken away (a terrain's horizon is its ambient occlusion's); one
  * row of points a task on nthreads of the CPU pool, summed in order (the
