@@ -176,22 +176,29 @@ static double reflectance_over_ground(double Td, double a)
 	return q > 0.0 ? 1.0 - Td * (1.0 - a) / q : 1.0; /* (a white ground under no light) */
 }
 
-/* What the clouds over (x, y) see under them, for diffuse light: the
- * ground (wet where it rains), under the column of rain or snow that
- * falls there (cs_rain_column: F_up / F_down at its top, the light sent
- * between the drops and the ground counted). */
-static void albedo_under(const struct cs_scene *sc, double x, double y, double a[3])
+/* The albedo for diffuse light of a column of rain or snow of optical
+ * depth tau over the ground, wet where it rains (cs_rain_column: F_up /
+ * F_down at its top, the light sent between the drops and the ground
+ * counted); the wet ground alone for tau 0. */
+static void column_albedo(const struct cs_scene *sc, double tau, double a[3])
 {
-	double wet = sc->ground_wet > 0.0 ? sc->ground_wet : 1.0, tau = 0.0;
-	if (CS_FX_IS(sc, CS_FX_RAIN | CS_FX_SNOW))
-		tau = sc->rain_extinction_per_m * cs_rain_shaft(sc, x, y) *
-		      (sc->rain_top_m - sc->ground_alt_m);
-	double g[3], mean[3], down[3];
+	double wet = sc->ground_wet > 0.0 ? sc->ground_wet : 1.0, g[3], mean[3], down[3];
 	for (int c = 0; c < 3; c++)
 		g[c] = sc->ground_albedo[c] * wet;
 	cs_rain_column(sc->precip_albedo, tau, 0.0, g, mean, down);
 	for (int c = 0; c < 3; c++)
 		a[c] = 2.0 * mean[c] - 1.0;
+}
+
+/* What the clouds over (x, y) see under them, for diffuse light: the
+ * column of rain or snow that falls there over the ground. */
+static void albedo_under(const struct cs_scene *sc, double x, double y, double a[3])
+{
+	double tau = 0.0;
+	if (CS_FX_IS(sc, CS_FX_RAIN | CS_FX_SNOW))
+		tau = sc->rain_extinction_per_m * cs_rain_shaft(sc, x, y) *
+		      (sc->rain_top_m - sc->ground_alt_m);
+	column_albedo(sc, tau, a);
 }
 
 /* Layer i's top lies inside another layer of more than
@@ -407,8 +414,8 @@ void cs_scene_deck_light(struct cs_scene *sc, int nthreads)
 		if (incloud[i] > 0)
 			for (int c = 0; c < 3; c++)
 				d->albedo_in[i][c] /= incloud[i];
-		else
-			albedo_under(sc, INFINITY, INFINITY, d->albedo_in[i]);
+		else /* (no column met it: the wet ground alone) */
+			column_albedo(sc, 0.0, d->albedo_in[i]);
 		int over_layer = 0, under_layer = 0;
 		d->over_mask[i] = 0u;
 		for (int j = 0; j < n; j++) {

@@ -263,8 +263,12 @@ CS_HD void cs_rain_column(double w, double tau_m, double tau_above, const double
 	 * F_down = a f, and at the top F_down = 1 fixes f:
 	 * S(u) = f ((1 + a) cosh(k u) + p (1 - a) sinh(k u) / k), and f =
 	 * 2 / (2 cosh(k tau) + (p (1 - a) + q (1 + a)) sinh(k tau) / k) */
+	w = fmin(fmax(w, 0.0), 1.0); /* (NaN: 0) */
 	const double p = 1.5, q = 2.0 * (1.0 - w);
-	double k = sqrt(fmax(0.0, p * q));
+	double k = sqrt(p * q), alb[3];
+	for (int c = 0; c < 3; c++) /* (a bright ground's noise takes it past 1) */
+		alb[c] = fmin(fmax(a[c], 0.0), 1.0);
+	a = alb;
 	tau_m = fmin(fmax(tau_m, 0.0), 1e6); /* (NaN: 0; deeper is as dark) */
 	double u = fmin(fmax(tau_m - tau_above, 0.0), tau_m);
 	if (k * tau_m < 1e-4) { /* (snow, w = 1: k = 0) */

@@ -172,8 +172,8 @@ const char *cs_ground_lit_name(int ground_lit)
 					     "(the frame sees no ground)"),
 		[CS_GROUND_LIT_DOME_AIR] = ("the dome's, for the haze and the rain under the clouds "
 					    "(the frame sees no ground)"),
-		[CS_GROUND_LIT_FIELD_PRECIP] = ("the field's, for the rain or snow under the clouds, "
-						"which takes it (columns asked for)"),
+		[CS_GROUND_LIT_FIELD_PRECIP] = ("the field's (columns asked for, but rain or snow "
+						"under the clouds takes the field's light)"),
 	};
 	if (ground_lit < 0 || ground_lit >= (int)(sizeof names / sizeof names[0]))
 		return "?";

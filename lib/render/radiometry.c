@@ -161,19 +161,21 @@ static cs_v3 above_ground(const struct cs_scene *sc, double x, double y)
 }
 
 /* Where the ground's dome and field see the sky from at (x, y), in their
- * scene (open_sky): 2 m above the flat ground, or where it rains or snows
- * 1 m under the precipitation's top (the raining layer's base), whose
- * light is what the column's two-stream solution takes at its top
- * (cs_rain_column; the ground under the rain takes what comes down
- * through the column).  From the ground, the bright gaps of a broken
- * deck low around the sky lit the rain under its thick cells as if
- * nothing were in the way: 8 mm/h under the capture's rain hour's
+ * scene (open_sky, whose rain_top_m is that height): 2 m above the flat
+ * ground, or where it rains or snows 1 m under the precipitation's top
+ * (the raining layer's base) or under the lowest layer's base if that is
+ * lower (the capture's rain hour has cumulus from 650 m under its
+ * nimbostratus at 834 m): the light at the top of the rain's column,
+ * which cs_rain_column takes there (the ground under the rain takes what
+ * comes down through the column).  From the ground, the bright gaps of a
+ * broken deck low around the sky lit the rain under its thick cells as
+ * if nothing were in the way: 8 mm/h under the capture's rain hour's
  * nimbostratus alone, +92 % against the path tracer at high, +64 %
  * from under the base. */
 static cs_v3 sky_point(const struct cs_scene *flat, double x, double y)
 {
 	double R = flat->earth_radius_m, h = flat->rain_top_m > flat->ground_alt_m + 2.0
-						     ? flat->rain_top_m - 1.0
+						     ? flat->rain_top_m
 						     : flat->ground_alt_m + 2.0;
 	return v3(x, y, sqrt((R + h) * (R + h) - x * x - y * y) - R);
 }
@@ -246,8 +248,9 @@ static void dome_row(void *user, int j, int worker)
  * the terrain's own horizon being its ambient occlusion's
  * (cs_ground_light), no star's disc, and no rain or snow: the light
  * under the clouds, which lights the top of the precipitation's column
- * (cs_rain_column takes it down to the ground); its rain_top_m 0 where
- * none falls (sky_point).  NULL: out of memory. */
+ * (cs_rain_column takes it down to the ground); its rain_top_m is where
+ * sky_point's points stand, -inf where nothing falls.  NULL: out of
+ * memory. */
 static struct cs_scene *open_sky(const struct cs_scene *sc)
 {
 	struct cs_scene *flat = malloc(sizeof *flat);
@@ -255,8 +258,15 @@ static struct cs_scene *open_sky(const struct cs_scene *sc)
 		return NULL;
 	*flat = *sc;
 	flat->terrain = NULL;
-	if (!CS_FX_IS(sc, CS_FX_RAIN | CS_FX_SNOW))
-		flat->rain_top_m = 0.0; /* (sky_point: from the ground) */
+	/* (sky_point's height: from the ground where nothing falls) */
+	flat->rain_top_m = -INFINITY;
+	if (CS_FX_IS(sc, CS_FX_RAIN | CS_FX_SNOW)) {
+		double top = sc->rain_top_m;
+		for (int i = 0; i < sc->nlayers; i++)
+			if (sc->layers[i].site < 0 && sc->layers[i].base_m > sc->ground_alt_m + 3.0)
+				top = fmin(top, sc->layers[i].base_m);
+		flat->rain_top_m = top - 1.0;
+	}
 	flat->effects &= ~(unsigned)(CS_FX_TERRAIN | CS_FX_WATER | CS_FX_STARS | CS_FX_RAIN |
 				     CS_FX_SNOW);
 	return flat;

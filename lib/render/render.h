@@ -68,7 +68,8 @@ struct cs_render_settings {
 enum {
 	CS_GROUND_SKY_COLUMNS, /* the deck's: the area mean of its slab columns
 				  (deck.sky_below); where rain or snow falls
-				  under the clouds, the field (below), whose
+				  under the clouds (and no fog), the field
+				  (below), whose
 				  light the precipitation takes: lit by the
 				  area's mean, the capture's rain hour was
 				  +138 % against the path tracer at medium */
@@ -314,8 +315,9 @@ struct cs_deck {
 	double sky_below[3];         /* radiance of the diffuse light under all
 					layers (cosine mean; irradiance / pi),
 					the columns' area mean: what lights the
-					rain, the haze, the fog's solution and the
-					ground the towers see */
+					haze (and the rain, under fog), the fog's
+					solution and the ground the towers see,
+					where the frame traces no field */
 	double sky_ground[3];        /* the diffuse light the ground and water
 					take under them (cosine mean), read by
 					nothing else: sky_below, or with
@@ -895,8 +897,10 @@ int cs_frame_volumes_needed(const struct cs_scene *sc, const struct cs_render_se
 /* The scene a frame of sc through cam with settings s renders, for the
  * CPU (cs_render_image) and the GPU alike: *out NULL where the frame
  * needs no volumes of its own (sc as it is), else a copy of sc with them
- * built (cs_light_cache_build, then with CS_GROUND_SKY_FIELD the
- * ground's field for cam, cs_ground_sky_field, and deck.sky_ground its
+ * built (cs_light_cache_build, then with CS_GROUND_SKY_FIELD, or with
+ * CS_GROUND_SKY_COLUMNS where rain or snow falls under the clouds and
+ * there is no fog, the ground's field for cam, cs_ground_sky_field, and
+ * deck.sky_ground its
  * mean; the ground's dome or field only where the camera sees ground,
  * cs_camera_sees_ground, or where the scene has haze or rain under
  * clouds, which they light too, cs_scene_air_lit: elsewhere the pixels

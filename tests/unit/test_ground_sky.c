@@ -184,6 +184,13 @@ static void dome_is_traced_only_where_asked_for_under_clouds(void)
 		CHECK(cs_frame_scene(&sc, &cam, &s, 2, &frame, &ev, &lit) == CS_OK);
 		CHECK(lit == CS_GROUND_LIT_FIELD_PRECIP && frame != NULL && frame->ground_field.rgb != NULL);
 		cs_frame_scene_free(frame);
+		/* under fog the columns all the same: the fog's light is solved
+		 * from theirs */
+		sc.fog_beta_per_m = 3.912 / 500.0, sc.fog.on = 1;
+		CHECK(cs_frame_scene(&sc, &cam, &s, 2, &frame, &ev, &lit) == CS_OK);
+		CHECK(lit == CS_GROUND_LIT_COLUMNS_FOG && (frame == NULL || frame->ground_field.rgb == NULL));
+		cs_frame_scene_free(frame);
+		sc.fog_beta_per_m = 0.0, sc.fog.on = 0;
 	}
 	cs_volume_free(&noise);
 	/* no clouds: no deck, no dome, and a frame at high without the

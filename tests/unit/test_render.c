@@ -1326,18 +1326,23 @@ static void rain_column_matches_adding_doubling(void)
 		if (line[0] == '#' || sscanf(line, "%lf %lf %lf %lf %lf %lf %lf %lf", &w, &tau, &a,
 					     &albedo, &down, &m[0], &m[1], &m[2]) != 8)
 			continue;
-		double g[3] = {a, a, a}, mean[3], got_down[3];
-		cs_rain_column(w, tau, 0.0, g, mean, got_down);
-		CHECK_NEAR(2.0 * mean[1] - 1.0, albedo, 0.03);
-		CHECK_NEAR(got_down[1], down, 0.05 * down);
-		worst[0] = fmax(worst[0], fabs(2.0 * mean[1] - 1.0 - albedo));
-		worst[1] = fmax(worst[1], fabs(got_down[1] / down - 1.0));
-		const double depth[3] = {0.125, 0.5, 0.875};
-		for (int k = 0; k < 3; k++) {
-			double d[3];
-			cs_rain_column(w, tau, depth[k] * tau, g, mean, d);
-			CHECK_NEAR(mean[1], m[k], 0.12 * m[k]);
-			worst[2] = fmax(worst[2], fabs(mean[1] / m[k] - 1.0));
+		/* the row's albedo in each colour in turn, the others far off
+		 * it: each colour its own */
+		for (int c = 0; c < 3; c++) {
+			double g[3] = {0.9, 0.5, 0.0}, mean[3], got_down[3];
+			g[c] = a;
+			cs_rain_column(w, tau, 0.0, g, mean, got_down);
+			CHECK_NEAR(2.0 * mean[c] - 1.0, albedo, 0.03);
+			CHECK_NEAR(got_down[c], down, 0.05 * down);
+			worst[0] = fmax(worst[0], fabs(2.0 * mean[c] - 1.0 - albedo));
+			worst[1] = fmax(worst[1], fabs(got_down[c] / down - 1.0));
+			const double depth[3] = {0.125, 0.5, 0.875};
+			for (int k = 0; k < 3; k++) {
+				double d[3];
+				cs_rain_column(w, tau, depth[k] * tau, g, mean, d);
+				CHECK_NEAR(mean[c], m[k], 0.12 * m[k]);
+				worst[2] = fmax(worst[2], fabs(mean[c] / m[k] - 1.0));
+			}
 		}
 		rows++;
 	}
@@ -1353,15 +1358,19 @@ static void rain_column_matches_adding_doubling(void)
 		CHECK_NEAR(2.0 * mean[c] - 1.0, g[c], 1e-12);
 		CHECK_NEAR(down[c], 1.0, 1e-12);
 	}
-	/* a column of any depth, however deep (a fuzzer's rain), keeps its
-	 * light finite: no inf / inf */
-	const double deep[] = {50.0, 1e3, 1e300, INFINITY, NAN};
+	/* a column of any depth, however deep (a fuzzer's rain), over any
+	 * ground (a snowfield's noise takes its albedo past 1), keeps its
+	 * light finite: no inf / inf, no pole of the denominator */
+	const double deep[] = {2.0, 3.25, 50.0, 1e3, 1e300, INFINITY, NAN};
+	const double bright[3] = {1.41, 2.0, NAN};
 	for (size_t i = 0; i < sizeof deep / sizeof deep[0]; i++)
-		for (int w = 0; w < 2; w++) {
-			cs_rain_column(w ? 1.0 : 0.9, deep[i], 1.0, g, mean, down);
-			for (int c = 0; c < 3; c++)
-				CHECK(mean[c] >= 0.0 && mean[c] <= 1.0 && down[c] >= 0.0 && down[c] <= 1.0);
-		}
+		for (int w = 0; w < 2; w++)
+			for (int b = 0; b < 2; b++) {
+				cs_rain_column(w ? 1.0 : 0.9, deep[i], 1.0, b ? bright : g, mean, down);
+				for (int c = 0; c < 3; c++)
+					CHECK(mean[c] >= 0.0 && mean[c] <= 1.0 && down[c] >= 0.0 &&
+					      down[c] <= 1.0);
+			}
 }
 
 /* Rain under a uniform overcast (optical depth 64, the sun 30 deg up, the
