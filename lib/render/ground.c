@@ -135,22 +135,22 @@ CS_HD void cs_ground_sky(const struct cs_scene *sc, cs_v3 p, double out[3])
 
 /* Under rain or snow at p, of the light under the clouds (sky) what comes
  * down through its column (cs_rain_column, the ground of albedo alb
- * under it), and of the sun's beam (*beam) what it lets through. */
-CS_HD static void rain_over(const struct cs_scene *sc, cs_v3 p, const double alb[3], double sky[3],
-			    double *beam)
+ * under it), in place; the sun's beam's transmittance through the rain
+ * toward it (1 where none falls). */
+CS_HD static double rain_over(const struct cs_scene *sc, cs_v3 p, const double alb[3],
+			      double sky[3])
 {
 	if (!CS_FX_IS(sc, CS_FX_RAIN | CS_FX_SNOW))
-		return;
+		return 1.0;
 	double sigma = sc->rain_extinction_per_m * cs_rain_shaft(sc, p.x, p.y);
 	double h = sc->rain_top_m - cs_scene_altitude(sc, p);
 	if (!(sigma > 0.0 && h > 0.0))
-		return;
+		return 1.0;
 	double mean[3], down[3];
 	cs_rain_column(sc->precip_albedo, sigma * h, sigma * h, alb, mean, down);
 	for (int k = 0; k < 3; k++)
 		sky[k] *= down[k];
-	if (sc->sun_dir.z > 0.0)
-		*beam *= exp(-sigma * h / sc->sun_dir.z);
+	return sc->sun_dir.z > 0.0 ? exp(-sigma * h / sc->sun_dir.z) : 1.0;
 }
 
 CS_HD CS_COLD void cs_water_light(const struct cs_scene *sc, const struct cs_render_settings *s,
@@ -162,9 +162,13 @@ CS_HD CS_COLD void cs_water_light(const struct cs_scene *sc, const struct cs_ren
 	cv = cv > 1e-4 ? cv : 1e-4;
 	/* the sky in the mirror direction: under a deck what it lets through */
 	cs_v3 r = v3_norm(v3_mad(d, n, 2.0 * cv));
-	double sky[3] = {0.0, 0.0, 0.0}, ground[3];
-	if (sc->deck.on)
+	double sky[3] = {0.0, 0.0, 0.0}, ground[3], rain_beam = 1.0;
+	if (sc->deck.on) {
+		const double water[3] = {CS_WATER_DIFFUSE_ALBEDO, CS_WATER_DIFFUSE_ALBEDO,
+					 CS_WATER_DIFFUSE_ALBEDO};
 		cs_ground_sky(sc, p, ground);
+		rain_beam = rain_over(sc, p, water, ground);
+	}
 	if (CS_FX_IS(sc, CS_FX_SKY)) {
 		if (sc->deck.on)
 			for (int k = 0; k < 3; k++)
@@ -182,13 +186,7 @@ CS_HD CS_COLD void cs_water_light(const struct cs_scene *sc, const struct cs_ren
 		sunT = CS_FX_IS(sc, CS_FX_CLOUD_SHADOWS) && self > 0.0
 			       ? self * cs_render_sun_transmittance(sc, s, p, st)
 			       : self;
-	}
-	if (sc->deck.on) {
-		const double water[3] = {CS_WATER_DIFFUSE_ALBEDO, CS_WATER_DIFFUSE_ALBEDO, CS_WATER_DIFFUSE_ALBEDO};
-		rain_over(sc, p, water, ground, &sunT);
-		if (CS_FX_IS(sc, CS_FX_SKY))
-			for (int k = 0; k < 3; k++)
-				sky[k] = ground[k];
+		sunT *= rain_beam;
 	}
 	double glint = 0.0;
 	if (sunT > 0.0) {
@@ -266,11 +264,11 @@ CS_HD CS_COLD void cs_ground_light(const struct cs_scene *sc,
 	 * light the fog scatters down there (its solution: the sky's and the
 	 * sun's light through the fog above and the ground's own returned) */
 	double ground[3];
-	if (sc->deck.on)
+	if (sc->deck.on) {
 		cs_ground_sky(sc, p, ground);
+		direct *= rain_over(sc, p, alb, ground);
+	}
 	const double *sky = sc->deck.on ? ground : sc->ambient_up;
-	if (sc->deck.on)
-		rain_over(sc, p, alb, ground, &direct);
 	double diffuse[3];
 	if (fog && sc->fog.on) {
 		cs_fog_down(sc, alt, diffuse);

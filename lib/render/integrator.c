@@ -310,6 +310,10 @@ CS_HD CS_COLD static void march_rain(const struct ray_ctx *c, const struct inter
 	int ns = (int)ceil(len / 250.0);
 	ns = ns < 1 ? 1 : ns > 48 ? 48 : ns;
 	double dt = len / ns;
+	/* the column's height and the wet ground under it, the ray's own */
+	double top = sc->rain_top_m - sc->ground_alt_m, alb[3];
+	for (int k = 0; k < 3; k++)
+		alb[k] = sc->ground_albedo[k] * (sc->ground_wet > 0.0 ? sc->ground_wet : 1.0);
 	for (int j = 0; j < ns && !P->terminated; j++) {
 		double t = iv->t0 + (j + c->jitter_u) * dt;
 		cs_v3 p = v3_mad(c->o, c->d, t);
@@ -321,13 +325,9 @@ CS_HD CS_COLD static void march_rain(const struct ray_ctx *c, const struct inter
 		double sky[3] = {sc->ambient_up[0], sc->ambient_up[1], sc->ambient_up[2]};
 		if (sc->deck.on)
 			cs_ground_sky(sc, p, sky);
-		double tr = exp(-sigma * dt), wet = sc->ground_wet > 0.0 ? sc->ground_wet : 1.0;
-		double alt = cs_scene_altitude(sc, p), top = sc->rain_top_m - sc->ground_alt_m;
-		double mean[3], down[3], alb[3];
-		for (int k = 0; k < 3; k++)
-			alb[k] = sc->ground_albedo[k] * wet;
-		cs_rain_column(sc->precip_albedo, sigma * top, sigma * (sc->rain_top_m - alt), alb, mean,
-			       down);
+		double tr = exp(-sigma * dt), mean[3], down[3];
+		cs_rain_column(sc->precip_albedo, sigma * top,
+			       sigma * (sc->rain_top_m - cs_scene_altitude(sc, p)), alb, mean, down);
 		for (int k = 0; k < 3; k++)
 			P->L[k] += P->T * P->th * (1.0 - tr) * sc->precip_albedo * mean[k] * sky[k];
 		P->T *= tr;

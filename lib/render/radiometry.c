@@ -160,24 +160,33 @@ static cs_v3 above_ground(const struct cs_scene *sc, double x, double y)
 	return v3(x, y, sqrt((R + h) * (R + h) - x * x - y * y) - R);
 }
 
-/* Where the ground's dome and field see the sky from at (x, y), in their
- * scene (open_sky, whose rain_top_m is that height): 2 m above the flat
- * ground, or where it rains or snows 1 m under the precipitation's top
- * (the raining layer's base) or under the lowest layer's base if that is
- * lower (the capture's rain hour has cumulus from 650 m under its
- * nimbostratus at 834 m): the light at the top of the rain's column,
- * which cs_rain_column takes there (the ground under the rain takes what
- * comes down through the column).  From the ground, the bright gaps of a
- * broken deck low around the sky lit the rain under its thick cells as
- * if nothing were in the way: 8 mm/h under the capture's rain hour's
- * nimbostratus alone, +92 % against the path tracer at high, +64 %
- * from under the base. */
-static cs_v3 sky_point(const struct cs_scene *flat, double x, double y)
+/* The altitude the ground's dome and field see the sky from: 2 m above
+ * the flat ground, or where it rains or snows 1 m under the
+ * precipitation's top (the raining layer's base) or under the lowest
+ * layer's base if that is lower (the capture's rain hour has cumulus from
+ * 650 m under its nimbostratus at 834 m): the light at the top of the
+ * rain's column, which cs_rain_column takes there (the ground under the
+ * rain takes what comes down through the column).  From the ground, the
+ * bright gaps of a broken deck low around the sky lit the rain under its
+ * thick cells as if nothing were in the way: 8 mm/h under the capture's
+ * rain hour's nimbostratus alone, +92 % against the path tracer at high,
+ * +64 % from under the base. */
+static double sky_alt_m(const struct cs_scene *sc)
 {
-	double R = flat->earth_radius_m, h = flat->rain_top_m > flat->ground_alt_m + 2.0
-						     ? flat->rain_top_m
-						     : flat->ground_alt_m + 2.0;
-	return v3(x, y, sqrt((R + h) * (R + h) - x * x - y * y) - R);
+	if (!CS_FX_IS(sc, CS_FX_RAIN | CS_FX_SNOW))
+		return sc->ground_alt_m + 2.0;
+	double top = sc->rain_top_m;
+	for (int i = 0; i < sc->nlayers; i++)
+		if (sc->layers[i].site < 0 && sc->layers[i].base_m > sc->ground_alt_m + 3.0)
+			top = fmin(top, sc->layers[i].base_m);
+	return fmax(top - 1.0, sc->ground_alt_m + 2.0);
+}
+
+/* The point at altitude alt_m over (x, y), on the sphere. */
+static cs_v3 sky_point(const struct cs_scene *sc, double alt_m, double x, double y)
+{
+	double R = sc->earth_radius_m;
+	return v3(x, y, sqrt((R + alt_m) * (R + alt_m) - x * x - y * y) - R);
 }
 
 cs_v3 cs_irradiance_area_point(const struct cs_scene *sc, double size_m, int n, int i, int j)
@@ -225,6 +234,7 @@ struct dome_job {
 	const struct cs_scene *sc;
 	const struct cs_render_settings *s;
 	double (*row)[3]; /* each row's sum of radiance */
+	double alt_m;     /* the points' altitude (sky_alt_m) */
 };
 
 /* Row j of the dome's points, 2 x 2 rays each. */
@@ -237,7 +247,7 @@ static void dome_row(void *user, int j, int worker)
 	double sum[3] = {0.0, 0.0, 0.0};
 	for (int i = 0; i < n; i++)
 		sky_rays(job->sc, job->s,
-			 sky_point(job->sc, ((i + 0.5) / n - 0.5) * CS_DECK_AREA_M,
+			 sky_point(job->sc, job->alt_m, ((i + 0.5) / n - 0.5) * CS_DECK_AREA_M,
 				   ((j + 0.5) / n - 0.5) * CS_DECK_AREA_M),
 			 j * n + i, 2, &st, sum);
 	for (int c = 0; c < 3; c++)
@@ -248,8 +258,7 @@ static void dome_row(void *user, int j, int worker)
  * the terrain's own horizon being its ambient occlusion's
  * (cs_ground_light), no star's disc, and no rain or snow: the light
  * under the clouds, which lights the top of the precipitation's column
- * (cs_rain_column takes it down to the ground); its rain_top_m is where
- * sky_point's points stand, -inf where nothing falls.  NULL: out of
+ * (cs_rain_column takes it down to the ground).  NULL: out of
  * memory. */
 static struct cs_scene *open_sky(const struct cs_scene *sc)
 {
@@ -258,15 +267,6 @@ static struct cs_scene *open_sky(const struct cs_scene *sc)
 		return NULL;
 	*flat = *sc;
 	flat->terrain = NULL;
-	/* (sky_point's height: from the ground where nothing falls) */
-	flat->rain_top_m = -INFINITY;
-	if (CS_FX_IS(sc, CS_FX_RAIN | CS_FX_SNOW)) {
-		double top = sc->rain_top_m;
-		for (int i = 0; i < sc->nlayers; i++)
-			if (sc->layers[i].site < 0 && sc->layers[i].base_m > sc->ground_alt_m + 3.0)
-				top = fmin(top, sc->layers[i].base_m);
-		flat->rain_top_m = top - 1.0;
-	}
 	flat->effects &= ~(unsigned)(CS_FX_TERRAIN | CS_FX_WATER | CS_FX_STARS | CS_FX_RAIN |
 				     CS_FX_SNOW);
 	return flat;
@@ -281,7 +281,7 @@ int cs_ground_sky_dome(const struct cs_scene *sc, const struct cs_render_setting
 	struct cs_scene *flat = open_sky(sc);
 	if (flat == NULL)
 		return cs_error(CS_ENOMEM, "out of memory");
-	struct dome_job job = {flat, s, row};
+	struct dome_job job = {flat, s, row, sky_alt_m(sc)};
 	int rc = cs_pool_run(N, nthreads, dome_row, &job, NULL, NULL, NULL);
 	free(flat);
 	if (rc != CS_OK)
@@ -308,6 +308,7 @@ struct field_job {
 	const struct cs_render_settings *s;
 	const struct cs_ground_field *f;
 	double *acc; /* 4 a point: its rays' sum of radiance, then their count */
+	double alt_m; /* the points' altitude (sky_alt_m) */
 };
 
 static void field_row(void *user, int j, int worker)
@@ -320,7 +321,8 @@ static void field_row(void *user, int j, int worker)
 		size_t at = (size_t)j * f->n + i;
 		double *o = job->acc + 4 * at;
 		o[0] = o[1] = o[2] = 0.0;
-		cs_v3 p = sky_point(job->sc, f->x0_m + i * f->step_m, f->y0_m + j * f->step_m);
+		cs_v3 p = sky_point(job->sc, job->alt_m, f->x0_m + i * f->step_m,
+				    f->y0_m + j * f->step_m);
 		sky_rays(job->sc, job->s, p, (int)at, (int)sqrt(o[3]), &st, o);
 	}
 }
@@ -370,14 +372,15 @@ static void ground_seen(const struct cs_scene *sc, const struct cs_camera *cam,
 		}
 }
 
-/* The field's points traced with acc[4 k + 3] rays each (a square), their
- * area mean into f->mean, and each point's blurred mean into rgb; acc and
- * tmp are overwritten. */
+/* The field's points, at altitude alt_m, traced with acc[4 k + 3] rays
+ * each (a square), their area mean into f->mean, and each point's blurred
+ * mean into rgb; acc and tmp are overwritten. */
 static int field_pass(const struct cs_scene *flat, const struct cs_render_settings *s,
-		      struct cs_ground_field *f, int nthreads, double *acc, double *tmp, float *rgb)
+		      struct cs_ground_field *f, double alt_m, int nthreads, double *acc, double *tmp,
+		      float *rgb)
 {
 	size_t points = (size_t)f->n * f->n;
-	struct field_job job = {flat, s, f, acc};
+	struct field_job job = {flat, s, f, acc, alt_m};
 	int rc = cs_pool_run(f->n, nthreads, field_row, &job, NULL, NULL, NULL);
 	if (rc != CS_OK)
 		return rc;
@@ -443,7 +446,7 @@ int cs_ground_sky_field(const struct cs_scene *sc, const struct cs_render_settin
 	if (again) {
 		for (size_t k = 0; k < points; k++)
 			acc[4 * k + 3] = FIELD_RAYS_MIN;
-		rc = field_pass(flat, s, &f, nthreads, acc, tmp, first);
+		rc = field_pass(flat, s, &f, sky_alt_m(sc), nthreads, acc, tmp, first);
 		flat->ground_field = f;
 		flat->ground_field.rgb = first;
 	}
@@ -478,7 +481,7 @@ int cs_ground_sky_field(const struct cs_scene *sc, const struct cs_render_settin
 	}
 	free(share);
 	if (rc == CS_OK)
-		rc = field_pass(flat, s, &f, nthreads, acc, tmp, rgb);
+		rc = field_pass(flat, s, &f, sky_alt_m(sc), nthreads, acc, tmp, rgb);
 	free(flat);
 	free(first);
 	free(acc);
