@@ -49,7 +49,7 @@ _cloudscape_values()
 	cloudrender:--light-march) echo auto cache geometric uniform quadratic cone ;;
 	cloudrender:--integrator) echo march reference ;;
 	cloudrender:--heap-towers) echo on off ;;
-	cloudrender:--deck-lattice) echo on off ;;
+	cloudrender:--deck-lattice) echo diffusion exchange off on ;;
 	cloudrender:--ground-sky) echo field dome columns ;;
 	cloudrender:--device) echo cpu cuda ;;
 	terrainprep:-f | terrainprep:--format) echo exr r16 tif ;;

@@ -219,11 +219,14 @@ static void usage(void)
 	       "                         m, 50..5000 (the presets 400; coarsened to keep\n"
 	       "                         the lattice within 2e7 nodes); 0: none, the\n"
 	       "                         march's model and the decks' columns alone\n"
-	       "      --deck-lattice B   on: a thick deck (more than half cover, lit by\n"
-	       "                         light fields) takes the light diffusing between\n"
-	       "                         its columns from --tower-cell's lattice (high\n"
-	       "                         and reference); off: its columns alone (low,\n"
-	       "                         medium)\n"
+	       "      --deck-lattice M   a thick deck (more than half cover, lit by light\n"
+	       "                         fields): diffusion (low, medium): takes the\n"
+	       "                         light diffusing between its columns from\n"
+	       "                         --tower-cell's lattice, its faces toward the\n"
+	       "                         gaps lit by the sky and the ground; exchange\n"
+	       "                         (high, reference; on is the same): those faces\n"
+	       "                         take what their rays gather from the cloud\n"
+	       "                         across the gaps; off: its columns alone\n"
 	       "      --heap-towers B    on: the heaps of cumulus lit as towers (their\n"
 	       "                         tilted columns and diffused light, with\n"
 	       "                         --tower-cell's lattice; high and reference);\n"
@@ -440,7 +443,9 @@ static void describe(void *user, const struct cs_cloudrender_result *r)
 		"%d haze steps%s%s%s%s%s", o->quality, r->settings.steps, r->settings.light_steps,
 		r->settings.ms_octaves, r->settings.haze_steps,
 		r->settings.heap_towers ? ", heaps lit as towers" : "",
-		r->settings.deck_lattice ? ", decks' lattice" : "",
+		r->settings.deck_lattice == CS_DECK_EXCHANGE	 ? ", decks' lattice with the exchange"
+		: r->settings.deck_lattice == CS_DECK_DIFFUSION ? ", decks' lattice"
+								 : "",
 		r->settings.ground_sky == CS_GROUND_SKY_DOME	? ", the ground's sky a dome"
 		: r->settings.ground_sky == CS_GROUND_SKY_FIELD ? ", the ground's sky a field"
 								: "",
@@ -833,8 +838,12 @@ int main(int argc, char **argv)
 			break;
 		}
 		case OPT_DECK_LATTICE: {
-			static const char *const names[] = {"off", "on", NULL};
-			o.deck_lattice = cli_choice("--deck-lattice", optarg, names);
+			static const char *const names[] = {"off", "diffusion", "exchange", "on", NULL};
+			_Static_assert(CS_DECK_COLUMNS == 0 && CS_DECK_DIFFUSION == 1 &&
+					       CS_DECK_EXCHANGE == 2,
+				       "--deck-lattice's names in the settings' order");
+			int c = cli_choice("--deck-lattice", optarg, names);
+			o.deck_lattice = c == 3 ? CS_DECK_EXCHANGE : c; /* on: earlier releases' */
 			break;
 		}
 		case OPT_GROUND_SKY: {

@@ -45,7 +45,7 @@ static void put_quality(FILE *f, const struct cs_cloudrender_opts *o,
 		fprintf(f, ",\"spp\":%d,\"max_bounces\":%d", o->spp, o->max_bounces);
 	fprintf(f, ",\"steps\":%d,\"max_steps\":%d,\"light_steps\":%d,\"ms_octaves\":%d,"
 		"\"haze_steps\":%d,\"min_transmittance\":%s,\"march\":\"%s\","
-		"\"light_march\":\"%s\",\"source_every\":%d,\"tower_cell_m\":%s,\"heap_towers\":%s,\"deck_lattice\":%s,\"ground_sky\":\"%s\","
+		"\"light_march\":\"%s\",\"source_every\":%d,\"tower_cell_m\":%s,\"heap_towers\":%s,\"deck_lattice\":\"%s\",\"ground_sky\":\"%s\","
 		"\"ambient\":%s,\"jitter\":%s,"
 		"\"seed\":%u,\"haze\":%s},\"exposure_ev\":%s", s->steps, s->max_steps,
 		s->light_steps, s->ms_octaves, s->haze_steps, N(s->min_transmittance, 6),
@@ -53,7 +53,10 @@ static void put_quality(FILE *f, const struct cs_cloudrender_opts *o,
 		(unsigned)s->light_march < sizeof light / sizeof light[0] ? light[s->light_march]
 									: "?",
 		s->source_every > 1 ? s->source_every : 1, N(s->tower_cell_m, 1),
-		s->heap_towers ? "true" : "false", s->deck_lattice ? "true" : "false",
+		s->heap_towers ? "true" : "false",
+		s->deck_lattice == CS_DECK_EXCHANGE	 ? "exchange"
+		: s->deck_lattice == CS_DECK_DIFFUSION ? "diffusion"
+							: "off",
 		s->ground_sky == CS_GROUND_SKY_FIELD	? "field"
 		: s->ground_sky == CS_GROUND_SKY_DOME ? "dome"
 						      : "columns",

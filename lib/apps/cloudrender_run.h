@@ -60,7 +60,7 @@ struct cs_cloudrender_opts {
 	int source_every;         /* 0 keeps the preset's; 1 or 2 */
 	double tower_cell_m;      /* < 0 keeps the preset's; 0: none */
 	int heap_towers;          /* < 0 keeps the preset's; 0 off, 1 on */
-	int deck_lattice;         /* < 0 keeps the preset's; 0 off, 1 on */
+	int deck_lattice;         /* < 0 keeps the preset's; else CS_DECK_* */
 	int ground_sky;           /* < 0 keeps the preset's; CS_GROUND_SKY_* */
 	int no_ambient, no_jitter;
 	long long seed;

@@ -57,10 +57,21 @@ struct cs_render_settings {
 				  march's model of them alone */
 	int ground_sky;        /* CS_GROUND_SKY_*: the diffuse light on the
 				  ground (and water) under clouds */
-	int deck_lattice;      /* 1: a thick deck lit by light fields takes
-				  the light that diffuses between its
-				  columns from a lattice (cs_deck_lattice,
-				  tower_cell_m apart); 0: its columns alone */
+	int deck_lattice;      /* CS_DECK_*: whether a thick deck lit by
+				  light fields takes the light that diffuses
+				  between its columns from a lattice
+				  (cs_deck_lattice, tower_cell_m apart) */
+};
+
+/* A thick deck's light (cs_render_settings.deck_lattice). */
+enum {
+	CS_DECK_COLUMNS,   /* its light fields' independent columns alone */
+	CS_DECK_DIFFUSION, /* scaled by the lattice's diffusion against the
+			      columns', a face toward a gap taking the sky's
+			      and the ground's light */
+	CS_DECK_EXCHANGE   /* the same, a face toward a gap taking what its
+			      rays gather from the faces of cloud across it
+			      (the towers' exchange) */
 };
 
 /* The diffuse light on the ground under clouds (cs_render_settings.ground_sky,

@@ -78,23 +78,36 @@ cumulonimbus_either_way heap-towers "a scene without cumulus"
 end
 
 # --deck-lattice: the rain deck of tests/scenes (nimbostratus of 70 %)
-# takes the deck's lattice at high, not at medium, either way with the
-# option; -v says which, and the pixels change with it; a scene without a
-# deck (the cumulonimbus) renders the same bytes either way
+# takes the deck's lattice with the exchange at high, by diffusion alone
+# at medium, none with it off; on is exchange; -v says which, and the
+# pixels change with each; a scene without a deck (the cumulonimbus, whose
+# towers always take the exchange) renders the same bytes either way
 begin cloudrender_deck_lattice_follows_the_preset_and_the_option
 DB="--wx $TOP/tests/scenes/broken-deck-below.json $(cat "$TOP/tests/scenes/broken-deck-below.args")"
-for q in "high:1:h1" "high --deck-lattice off:0:h0" "medium:0:m0" "medium --deck-lattice on:1:m1"; do
+deck() { sed -n "s/^cloudrender: quality .*, decks' lattice\( with the exchange\)\{0,1\}.*$/lattice\1/p" "$T/err"; }
+for q in "high:lattice with the exchange:h2" "high --deck-lattice off::h0" "medium:lattice:m1" \
+	"medium --deck-lattice off::m0" "medium --deck-lattice exchange:lattice with the exchange:m2" \
+	"medium --deck-lattice on:lattice with the exchange:mon"; do
 	opts=${q%%:*} rest=${q#*:}
 	want=${rest%%:*} name=${rest#*:}
 	# shellcheck disable=SC2086
 	run "$CR" $DB -v --quality $opts --noise-size 32 --size 32x18 --no-haze -o "$T/d-$name.exr"
 	expect_rc 0
-	[ "$(grep -c "decks' lattice" "$T/err")" = "$want" ] ||
-		bad "--quality $opts: -v does not say '$want' decks' lattice"
+	[ "$(deck)" = "$want" ] || bad "--quality $opts: -v says '$(deck)', not '$want'"
 done
-same_pixels "$T/d-h1.exr" "$T/d-h0.exr" && bad "--deck-lattice off did not change the deck at high"
-same_pixels "$T/d-m1.exr" "$T/d-m0.exr" && bad "--deck-lattice on did not change the deck at medium"
+same_pixels "$T/d-h2.exr" "$T/d-h0.exr" && bad "--deck-lattice off did not change the deck at high"
+same_pixels "$T/d-m1.exr" "$T/d-m0.exr" && bad "--deck-lattice off did not change the deck at medium"
+same_pixels "$T/d-m2.exr" "$T/d-m1.exr" && bad "--deck-lattice exchange did not change the deck at medium"
+same_pixels "$T/d-mon.exr" "$T/d-m2.exr" || bad "--deck-lattice on is not exchange"
 cumulonimbus_either_way deck-lattice "a scene without a deck"
+cb="--wx $TOP/tests/scenes/cumulonimbus-side.json $(cat "$TOP/tests/scenes/cumulonimbus-side.args")"
+# shellcheck disable=SC2086
+run "$CR" $cb --quality high --deck-lattice diffusion --noise-size 32 --size 48x27 -o "$T/cb-diffusion.exr"
+expect_rc 0
+same_pixels "$T/cb-diffusion.exr" "$T/cb-deck-lattice-on.exr" ||
+	bad "--deck-lattice diffusion changed the towers' exchange"
+run "$CR" $DB --deck-lattice both -o "$T/bad.exr"
+expect_rc 2
 end
 
 # --ground-sky: the ground under the built-in cumulus takes the field's
