@@ -772,24 +772,23 @@ static void a_layer_under_a_broken_deck_takes_the_beam_of_its_slant_path(void)
 static void a_broken_deck_from_below_takes_light_through_its_cells_sides(void)
 {
 	SLOW_UNDER_TSAN();
-	struct cs_wx wx;
-	one_layer_wx(&wx, "2021-06-14T15:30:00Z", CS_NIMBOSTRATUS, 0.7, 834.0, 4034.0, 20000.0);
-	CHECK_NEAR(march_over_references("nimbostratus of 70 % from below", &wx, noise32(), 2.0, 80.0,
-					 15.0, 70.0, 16, 9, "high", 128, 2),
-		   1.0, 0.06);
-	CHECK_NEAR(march_over_references("nimbostratus of 70 % from below", &wx, noise32(), 2.0, 80.0,
-					 15.0, 70.0, 16, 9, "medium", 128, 2),
-		   1.0, 0.06);
-	CHECK_NEAR(march_over_references("nimbostratus of 70 % from below", &wx, noise32(), 2.0, 80.0,
-					 15.0, 70.0, 16, 9, "low", 128, 2),
-		   1.0, 0.08);
-	one_layer_wx(&wx, "2021-06-14T15:30:00Z", CS_NIMBOSTRATUS, 0.6, 834.0, 4034.0, 20000.0);
-	CHECK_NEAR(march_over_references("nimbostratus of 60 % from below", &wx, noise32(), 2.0, 80.0,
-					 15.0, 70.0, 16, 9, "high", 128, 2),
-		   1.0, 0.08);
-	CHECK_NEAR(march_over_references("nimbostratus of 60 % from below", &wx, noise32(), 2.0, 80.0,
-					 15.0, 70.0, 16, 9, "medium", 128, 2),
-		   1.0, 0.08);
+	static const struct {
+		double cover;
+		const char *what, *quality;
+		double tolerance;
+	} c[] = {{0.7, "nimbostratus of 70 % from below", "high", 0.06},
+		 {0.7, "nimbostratus of 70 % from below", "medium", 0.06},
+		 {0.7, "nimbostratus of 70 % from below", "low", 0.08},
+		 {0.6, "nimbostratus of 60 % from below", "high", 0.08},
+		 {0.6, "nimbostratus of 60 % from below", "medium", 0.08}};
+	for (size_t i = 0; i < sizeof c / sizeof c[0]; i++) {
+		struct cs_wx wx;
+		one_layer_wx(&wx, "2021-06-14T15:30:00Z", CS_NIMBOSTRATUS, c[i].cover, 834.0, 4034.0,
+			     20000.0);
+		CHECK_NEAR(march_over_references(c[i].what, &wx, noise32(), 2.0, 80.0, 15.0, 70.0, 16, 9,
+						 c[i].quality, 128, 2),
+			   1.0, c[i].tolerance);
+	}
 }
 
 /* Overcast under overcast: stratus of full cover (700-1100 m, as in
