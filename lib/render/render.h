@@ -951,7 +951,9 @@ void cs_frame_scene_free(struct cs_scene *sc);
 
 /* The towers' diffused light (tower_light.c): whether a frame of sc with
  * settings s reads it, and its build into sc->tower_light for each layer
- * with a towers' share (cs_tower_share), lattice cells about
+ * with a towers' share (cs_tower_share), and for each thick deck
+ * (cs_deck_lattice) where s->deck_lattice is not CS_DECK_COLUMNS, with
+ * the exchange only under CS_DECK_EXCHANGE, lattice cells about
  * s->tower_cell_m (the fluence per unit irradiance of the key light
  * facing it), the lattice's
  * extinction, the beam and the exchange's rays on nthreads of the CPU

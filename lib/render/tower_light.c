@@ -939,7 +939,8 @@ static int build_layer(const struct cs_scene *sc, int li, double cell_m, int dec
 		gT[m] = sc->ground_albedo[1] * (above * sun.z * Tg + CS_PI * sc->deck.sky_below[1] / E);
 	}
 	int iterations;
-	int exchange = cs_deck_lattice(sc, li) ? deck == CS_DECK_EXCHANGE : 1;
+	int exchange = !cs_deck_lattice(sc, li) || deck == CS_DECK_EXCHANGE; /* (0 or 1, not
+										 CS_DIFFUSE_COLUMNS) */
 	rc = cs_diffusion_solve(nu, nv, nk, du, dv, dh, st, sa, src, j_in, gT, exchange, nthreads,
 				phi, &iterations);
 	if (rc == CS_OK && cs_deck_lattice(sc, li)) /* (built for it: s->deck_lattice) */

@@ -21,6 +21,7 @@ frame_check() {
 		.camera.fov_deg == 55 and .camera.projection == "perspective" and
 		.quality.preset == "low" and .quality.steps == 17 and .quality.light_steps == 3 and
 		.quality.integrator == "march" and .quality.seed == 9 and
+		.quality.deck_lattice == "diffusion" and
 		.weather.site.name == "Bern" and .weather.site.lat_deg == 46.95 and
 		(.weather.layers | length) == 2 and
 		.weather.layers[0] == {"genus":"stratocumulus","coverage":0.7,"base_m":1300,"top_m":1900} and
