@@ -109,14 +109,11 @@ CS_HD static int water_at(const struct cs_scene *sc, double x, double y)
 	return sc->terrain_water[(size_t)j * f->w + i] >= 0.5f;
 }
 
-CS_HD void cs_ground_sky(const struct cs_scene *sc, cs_v3 p, double out[3])
+/* Plane k of field f at p (mean: the plane's), bilinear between its
+ * points and fading to the mean beyond them. */
+CS_HD static void field_at(const struct cs_ground_field *f, int k, const double mean[3], cs_v3 p,
+			   double out[3])
 {
-	const struct cs_ground_field *f = &sc->ground_field;
-	if (f->rgb == NULL) {
-		for (int k = 0; k < 3; k++)
-			out[k] = sc->deck.sky_ground[k];
-		return;
-	}
 	double u = (p.x - f->x0_m) / f->step_m, v = (p.y - f->y0_m) / f->step_m, top = f->n - 1;
 	double cu = fmin(fmax(u, 0.0), top), cv = fmin(fmax(v, 0.0), top); /* (NaN: 0) */
 	double out_m = fmax(fabs(u - cu), fabs(v - cv)) * f->step_m;
@@ -125,18 +122,45 @@ CS_HD void cs_ground_sky(const struct cs_scene *sc, cs_v3 p, double out[3])
 	i = i > f->n - 2 ? f->n - 2 : i;
 	j = j > f->n - 2 ? f->n - 2 : j;
 	double a = cu - i, b = cv - j;
-	const float *q = f->rgb + 3 * ((size_t)j * f->n + i), *r = q + 3 * (size_t)f->n;
-	for (int k = 0; k < 3; k++) {
-		double near = (1.0 - b) * ((1.0 - a) * q[k] + a * q[3 + k]) +
-			      b * ((1.0 - a) * r[k] + a * r[3 + k]);
-		out[k] = near + w * (f->mean[k] - near);
+	const float *q = f->rgb + 3 * ((size_t)k * f->n * f->n + (size_t)j * f->n + i);
+	const float *r = q + 3 * (size_t)f->n;
+	for (int c = 0; c < 3; c++) {
+		double near = (1.0 - b) * ((1.0 - a) * q[c] + a * q[3 + c]) +
+			      b * ((1.0 - a) * r[c] + a * r[3 + c]);
+		out[c] = near + w * (mean[c] - near);
 	}
+}
+
+CS_HD void cs_ground_sky(const struct cs_scene *sc, cs_v3 p, double out[3])
+{
+	const struct cs_ground_field *f = &sc->ground_field;
+	if (f->rgb == NULL) {
+		for (int k = 0; k < 3; k++)
+			out[k] = sc->deck.sky_ground[k];
+		return;
+	}
+	field_at(f, 0, f->mean, p, out);
+}
+
+CS_HD void cs_rain_top_sky(const struct cs_scene *sc, cs_v3 p, double out[3])
+{
+	const struct cs_ground_field *f = &sc->ground_field;
+	if (f->rgb == NULL) {
+		for (int k = 0; k < 3; k++)
+			out[k] = sc->deck.sky_ground[k];
+		return;
+	}
+	if (f->planes > 1)
+		field_at(f, f->planes - 1, f->top_mean, p, out);
+	else
+		field_at(f, 0, f->mean, p, out);
 }
 
 /* Under rain or snow at p, of the light under the clouds (sky) what comes
  * down through its column (cs_rain_column, the ground of albedo alb
- * under it), in place; the sun's beam's transmittance through the rain
- * toward it (1 where none falls). */
+ * under it), in place, unless the field's rays crossed it already (its
+ * two planes); the sun's beam's transmittance through the rain toward it
+ * (1 where none falls). */
 CS_HD static double rain_over(const struct cs_scene *sc, cs_v3 p, const double alb[3],
 			      double sky[3])
 {
@@ -146,10 +170,12 @@ CS_HD static double rain_over(const struct cs_scene *sc, cs_v3 p, const double a
 	double h = sc->rain_top_m - cs_scene_altitude(sc, p);
 	if (!(sigma > 0.0 && h > 0.0))
 		return 1.0;
-	double mean[3], down[3];
-	cs_rain_column(sc->precip_albedo, sigma * h, sigma * h, alb, mean, down);
-	for (int k = 0; k < 3; k++)
-		sky[k] *= down[k];
+	if (sc->ground_field.rgb == NULL || sc->ground_field.planes < 2) {
+		double mean[3], down[3];
+		cs_rain_column(sc->precip_albedo, sigma * h, sigma * h, alb, mean, down);
+		for (int k = 0; k < 3; k++)
+			sky[k] *= down[k];
+	}
 	return sc->sun_dir.z > 0.0 ? exp(-sigma * h / sc->sun_dir.z) : 1.0;
 }
 

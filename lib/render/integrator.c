@@ -296,8 +296,9 @@ CS_HD void cs_rain_column(double w, double tau_m, double tau_above, const double
  * path tracer's do) the mean radiance around them, albedo times it: the
  * light of their column (cs_rain_column, the two-stream solution of the
  * rain at the point's depth in it, over the wet ground), lit at its top
- * by the diffuse light under the clouds where they fall (cs_ground_sky:
- * under the thick cells that rain, not the area's mean with its gaps).
+ * by the diffuse light under the clouds where they fall (cs_rain_top_sky:
+ * under the thick cells that rain, not the area's mean with its gaps),
+ * and toward the ground by the ground's (the field's two planes).
  * Lit by the area's mean, and by all of the light from above, the real
  * hour of rain was 4.0 times the path tracer's picture; by single
  * scattering of the light that reaches the ground, 16 mm/h under
@@ -324,10 +325,31 @@ CS_HD CS_COLD static void march_rain(const struct ray_ctx *c, const struct inter
 		haze_to(c, P, t);
 		double sky[3] = {sc->ambient_up[0], sc->ambient_up[1], sc->ambient_up[2]};
 		if (sc->deck.on)
-			cs_ground_sky(sc, p, sky);
+			cs_rain_top_sky(sc, p, sky);
 		double tr = exp(-sigma * dt), mean[3], down[3];
+		double alt = cs_scene_altitude(sc, p);
 		cs_rain_column(sc->precip_albedo, sigma * top,
-			       sigma * (sc->rain_top_m - cs_scene_altitude(sc, p)), alb, mean, down);
+			       sigma * (sc->rain_top_m - alt), alb, mean, down);
+		/* with the field's ground plane, the light coming in at the
+		 * column's top taken from the top's light there to what gives
+		 * the ground plane's light under the column (its rays crossed
+		 * the rain, and saw the gaps around it), linear in height: the
+		 * drops take the light of the gaps from the side, which a
+		 * column lit at its top alone does not count (the study's
+		 * rain-deck-below at high -16.6 -> -8.7 %, relative MSE 0.032
+		 * -> 0.016; the capture's rain hour -0.5 -> +2.2 %, 8 mm/h
+		 * +21.6 -> +25.6 %, whose deck, not its rain, is too bright:
+		 * cloudrender(1), QUALITY) */
+		if (sc->deck.on && sc->ground_field.rgb != NULL && sc->ground_field.planes > 1) {
+			double g[3], hf = top > 0.0 ? (alt - sc->ground_alt_m) / top : 1.0;
+			hf = hf < 0.0 ? 0.0 : hf > 1.0 ? 1.0 : hf;
+			cs_ground_sky(sc, p, g);
+			for (int k = 0; k < 3; k++) {
+				double at = sky[k] * down[k];
+				double cg = at > 0.0 ? g[k] / at : 1.0;
+				sky[k] *= cg + (1.0 - cg) * hf;
+			}
+		}
 		for (int k = 0; k < 3; k++)
 			P->L[k] += P->T * P->th * (1.0 - tr) * sc->precip_albedo * mean[k] * sky[k];
 		P->T *= tr;

@@ -477,18 +477,24 @@ struct cs_light_cache {
 /* The ground's diffuse light as it varies under the clouds
  * (CS_GROUND_SKY_FIELD, cs_ground_sky_field): the cosine-weighted mean
  * radiance of the sky the renderer draws at the points of a square grid
- * 2 m above the flat ground (where it rains or snows 1 m under the
- * raining layer's base, the top of the precipitation's column, which it
- * lights: radiometry.c's sky_point), as deck.sky_ground is the dome's; the ground
- * takes it bilinear between the points, and beyond the outer ones fading
- * to their mean over fade_m. */
+ * 2 m above the flat ground, as deck.sky_ground is the dome's; where it
+ * rains or snows a second plane of the same points 1 m under the raining
+ * layer's base, the top of the precipitation's column, which it lights
+ * (radiometry.c's sky_alt_m).  The ground and the precipitation take
+ * their plane bilinear between the points, and beyond the outer ones
+ * fading to its mean over fade_m. */
 struct cs_ground_field {
-	const float *rgb;   /* n x n points of 3, rows south to north; NULL: none */
+	const float *rgb;   /* planes x n x n points of 3, rows south to north; NULL: none */
 	int n;
+	int planes;         /* 1; 2 where it rains or snows: the first the ground's
+			       light, its rays from 2 m above the flat ground
+			       through the precipitation, the second the light at
+			       the precipitation's top, which lights its column */
 	double x0_m, y0_m;  /* the first point's east and north */
 	double step_m;      /* between neighbours */
 	double fade_m;
-	double mean[3];     /* the points' mean before the blur */
+	double mean[3];     /* the first plane's points' mean before the blur */
+	double top_mean[3]; /* the last plane's */
 };
 
 struct cs_scene {
@@ -765,16 +771,19 @@ int cs_ground_sky_dome(const struct cs_scene *sc, const struct cs_render_setting
  * most, around the camera, is lit by the most rays; then each point the
  * mean of its and its 8 neighbours' rays, weighted [1 2 1] x [1 2 1] (a
  * point of many rays keeps nearly its own light).  The mean of the
- * points' own values (before the blur) is the area's (out->mean).  One
+ * points' own values (before the blur) is the area's (out->mean; under
+ * rain or snow the ground plane's, out->top_mean the top's).  One
  * row of points a task on nthreads of the CPU pool, each point's rays in
  * order: the same for any thread count.  Its rays are not in the frame's
- * statistics.  Its rays see no rain or snow: it is the light under the
- * clouds, which lights the top of the precipitation's column
- * (cs_rain_column takes it down to the ground there).  Where the scene
- * has haze under clouds, which the field lights (cs_ground_sky) and its
- * rays see, it is traced twice: a first pass of one ray a point lights it
- * for the second.  CS_OK, CS_ENOMEM or the pool's error (then *out is
- * empty). */
+ * statistics.  Where rain or snow falls it has two planes (struct
+ * cs_ground_field): the light under the clouds, its rays from 1 m under
+ * the precipitation's top seeing none of it, which lights the column's
+ * top, then the ground's, its rays from 2 m above the ground through the
+ * precipitation lit by the first, each with the rays above.  Where the
+ * scene has haze under clouds, which the field lights (cs_ground_sky) and
+ * its rays see, a first pass of one ray a point lights it for the (top)
+ * plane's, whose light the ground plane's haze takes.  CS_OK, CS_ENOMEM
+ * or the pool's error (then *out is empty). */
 #define CS_GROUND_FIELD_POINTS 64 /* 375 m apart */
 #define CS_GROUND_FIELD_RAYS 8192
 struct cs_camera;

@@ -458,6 +458,80 @@ static void field_under_heaps_follows_the_path_tracer_point_by_point(void)
 	cs_volume_free(&noise);
 }
 
+/* Rain under the black heaps of the test above (4 mm/h from their base
+ * at 1600 m, optical depth 0.9 down to the ground), the sun's beam taken
+ * away (the sky's light alone): the ground sees the sky low in the gaps
+ * around it through the rain, and the rain lit by it.  The field's ground
+ * plane, traced from the ground with the rain in its rays (the drops lit
+ * by its top plane, from under the base), follows the path tracer's
+ * diffuse irradiance (4096 paths a point) at the same 5 x 5 points:
+ * measured 0.085 rms off, 5 % too dark on average.  From under the base
+ * the rays see the black base over most of the sky, and what comes down
+ * the column from there (cs_rain_column), all the ground took before the
+ * two planes, was 0.44 rms off (-74 to +57 %).  With the sun the path
+ * tracer's drops scatter its beam too, which the march's do not: the
+ * field 0.23 rms off, 20 % too dark. */
+static void field_under_rain_is_traced_through_it_from_the_ground(void)
+{
+	static struct cs_volume noise;
+	static struct cs_scene sc;
+	heaps(&sc, &noise, 128, "2021-06-14T07:00:00Z", 0.35);
+	sc.albedo = 0.0; /* black clouds */
+	sc.rain_layer = 0, sc.rain_top_m = sc.layers[0].base_m;
+	sc.rain_extinction_per_m = cs_rain_extinction(4.0), sc.precip_albedo = 0.9;
+	sc.effects |= CS_FX_RAIN;
+	sc.effects &= ~(unsigned)CS_FX_KEY; /* (the sky's light alone) */
+	struct cs_render_settings s;
+	CHECK(cs_render_quality("high", &s) == CS_OK);
+	struct cs_camera cam;
+	CHECK(cs_camera_init(&cam, &sc, v3(0, 0, sc.ground_alt_m + 1000.0), 46.95, 0.0, -45.0, 90.0,
+			     160, 90) == CS_OK);
+	struct cs_scene *frame;
+	uint64_t ev;
+	int lit;
+	CHECK(cs_frame_scene(&sc, &cam, &s, 2, &frame, &ev, &lit) == CS_OK);
+	CHECK(frame != NULL && lit == CS_GROUND_LIT_FIELD && frame->ground_field.planes == 2);
+	struct cs_reference_settings rs = {16, 7, 0};
+	struct cs_render_stats st = {0};
+	double se_field = 0.0, se_top = 0.0, sum_field = 0.0, sum_top = 0.0;
+	for (int j = 0; j < 5; j++)
+		for (int i = 0; i < 5; i++) {
+			cs_v3 p = cs_irradiance_area_point(&sc, 0.0, 1, 0, 0);
+			p.x = -1000.0 + 500.0 * i, p.y = 1000.0 + 500.0 * j;
+			struct cs_irradiance pt;
+			cs_reference_irradiance_at(&sc, &rs, p, 4096, &pt, &st);
+			double f = field_dhi(frame, p);
+			/* the top plane's light through the column, as before */
+			double top[3], mean[3], down[3], alb[3] = {0.0, 0.0, 0.0};
+			cs_rain_top_sky(frame, p, top);
+			double sigma = sc.rain_extinction_per_m * cs_rain_shaft(&sc, p.x, p.y);
+			double h = sc.rain_top_m - cs_scene_altitude(&sc, p);
+			for (int c = 0; c < 3; c++)
+				alb[c] = sc.ground_albedo[c] * sc.ground_wet;
+			cs_rain_column(sc.precip_albedo, sigma * h, sigma * h, alb, mean, down);
+			struct cs_irradiance e;
+			cs_irradiance_from_klux(frame, p, 0.0,
+						CS_PI * cs_luminance(top[0] * down[0], top[1] * down[1],
+								     top[2] * down[2]),
+						&e);
+			double t = e.dhi_w_m2;
+			printf("  (%5.0f, %5.0f) m: path tracer %6.1f, field %6.1f (%+5.1f %%), the top's "
+			       "through the column %+5.1f %%\n", p.x, p.y, pt.dhi_w_m2, f,
+			       100.0 * (f / pt.dhi_w_m2 - 1.0), 100.0 * (t / pt.dhi_w_m2 - 1.0));
+			se_field += (f / pt.dhi_w_m2 - 1.0) * (f / pt.dhi_w_m2 - 1.0);
+			sum_field += f / pt.dhi_w_m2 - 1.0;
+			se_top += (t / pt.dhi_w_m2 - 1.0) * (t / pt.dhi_w_m2 - 1.0);
+			sum_top += t / pt.dhi_w_m2 - 1.0;
+		}
+	double rms_field = sqrt(se_field / 25.0), rms_top = sqrt(se_top / 25.0);
+	printf("  rms: field %.3f (mean %+.3f); the top's through the column %.3f (mean %+.3f)\n",
+	       rms_field, sum_field / 25.0, rms_top, sum_top / 25.0);
+	CHECK(rms_field < 0.12 && fabs(sum_field / 25.0) < 0.08);
+	CHECK(rms_top > 0.3); /* (what the ground took before) */
+	cs_frame_scene_free(frame);
+	cs_volume_free(&noise);
+}
+
 /* The field's points are summed in order: the same bits on 1 and 3
  * threads, with haze (traced twice, cs_ground_sky_field). */
 static void field_is_the_same_on_any_number_of_threads(void)
@@ -478,6 +552,18 @@ static void field_is_the_same_on_any_number_of_threads(void)
 	CHECK(a.n == CS_GROUND_FIELD_POINTS && b.n == a.n);
 	CHECK(memcmp(a.rgb, b.rgb, (size_t)a.n * a.n * 3 * sizeof *a.rgb) == 0);
 	CHECK(memcmp(a.mean, b.mean, sizeof a.mean) == 0);
+	free((void *)a.rgb);
+	free((void *)b.rgb);
+	/* and under rain, its two planes */
+	sc.rain_layer = 0, sc.rain_top_m = sc.layers[0].base_m;
+	sc.rain_extinction_per_m = cs_rain_extinction(2.0), sc.precip_albedo = 0.9;
+	sc.effects |= CS_FX_RAIN;
+	CHECK(cs_ground_sky_field(&sc, &s, &cam, 1, &a) == CS_OK);
+	CHECK(cs_ground_sky_field(&sc, &s, &cam, 3, &b) == CS_OK);
+	CHECK(a.planes == 2 && b.planes == 2);
+	CHECK(memcmp(a.rgb, b.rgb, 2 * (size_t)a.n * a.n * 3 * sizeof *a.rgb) == 0);
+	CHECK(memcmp(a.mean, b.mean, sizeof a.mean) == 0 &&
+	      memcmp(a.top_mean, b.top_mean, sizeof a.top_mean) == 0);
 	free((void *)a.rgb);
 	free((void *)b.rgb);
 	cs_volume_free(&noise);
@@ -514,10 +600,30 @@ static void field_is_bilinear_inside_and_fades_to_its_mean_outside(void)
 	CHECK_NEAR(rgb[0], 0.5 * (1.0 + 0.25 * 4 - 0.125 * 2) + 0.5 * 9.0, 1e-6);
 	cs_ground_sky(&sc, v3(-200.0, -1000.0, 0.0), rgb);
 	CHECK_NEAR(rgb[2], 9.0, 1e-12);
+	/* two planes (rain): the ground reads the first, the rain's top the
+	 * second, each fading to its own mean */
+	static float two[2 * N * N * 3];
+	for (int k = 0; k < N * N * 3; k++)
+		two[k] = v[k], two[N * N * 3 + k] = 2.0f * v[k];
+	sc.ground_field.rgb = two, sc.ground_field.planes = 2;
+	for (int c = 0; c < 3; c++)
+		sc.ground_field.top_mean[c] = 20.0;
+	cs_ground_sky(&sc, v3(-137.5, 341.0, 0.0), rgb);
+	CHECK_NEAR(rgb[1], 2.0 + 0.25 * 0.625 - 0.125 * 2.41, 1e-6);
+	cs_rain_top_sky(&sc, v3(-137.5, 341.0, 0.0), rgb);
+	CHECK_NEAR(rgb[1], 2.0 * (2.0 + 0.25 * 0.625 - 0.125 * 2.41), 1e-5);
+	cs_rain_top_sky(&sc, v3(350.0, 300.0, 0.0), rgb);
+	CHECK_NEAR(rgb[0], 0.5 * 2.0 * (1.0 + 0.25 * 4 - 0.125 * 2) + 0.5 * 20.0, 1e-5);
+	/* one plane: the rain's top reads it too */
+	sc.ground_field.rgb = v, sc.ground_field.planes = 1;
+	cs_rain_top_sky(&sc, v3(-137.5, 341.0, 0.0), rgb);
+	CHECK_NEAR(rgb[1], 2.0 + 0.25 * 0.625 - 0.125 * 2.41, 1e-6);
 	/* without a field, the frame's one value */
 	sc.ground_field.rgb = NULL;
 	sc.deck.sky_ground[1] = 4.5;
 	cs_ground_sky(&sc, v3(0.0, 200.0, 0.0), rgb);
+	CHECK(rgb[1] == 4.5);
+	cs_rain_top_sky(&sc, v3(0.0, 200.0, 0.0), rgb);
 	CHECK(rgb[1] == 4.5);
 }
 
@@ -578,6 +684,7 @@ static const struct t_case t_cases[] = {
 	CASE(terrain_in_view_is_ground_for_the_field),
 	CASE(haze_under_a_thick_deck_is_lit_by_the_light_there),
 	CASE(field_under_heaps_follows_the_path_tracer_point_by_point),
+	CASE(field_under_rain_is_traced_through_it_from_the_ground),
 	CASE(field_is_the_same_on_any_number_of_threads),
 	CASE(field_is_bilinear_inside_and_fades_to_its_mean_outside),
 	CASE(ground_shadows_follow_the_path_tracers_beam),

@@ -651,7 +651,9 @@ static int scene_struct(struct cs_cuda_scene *c, const struct cs_scene *sc)
 	/* and the ground's light field, built with them */
 	struct cs_ground_field *gf = &h->sc.ground_field;
 	if (rc == CS_OK && gf->rgb != NULL) {
-		rc = reupload(&c->field, &c->field_n, gf->rgb, (size_t)gf->n * gf->n * 3 * sizeof(float),
+		rc = reupload(&c->field, &c->field_n, gf->rgb,
+			      (size_t)(gf->planes > 1 ? gf->planes : 1) * gf->n * gf->n * 3 *
+				      sizeof(float),
 			      "the ground's light");
 		gf->rgb = c->field;
 	}
