@@ -131,7 +131,9 @@ CS_HD static void field_at(const struct cs_ground_field *f, int k, const double 
 	}
 }
 
-CS_HD void cs_ground_sky(const struct cs_scene *sc, cs_v3 p, double out[3])
+/* The field's first plane at p (top: its last), or without a field the
+ * frame's one value. */
+CS_HD static void field_plane(const struct cs_scene *sc, cs_v3 p, int top, double out[3])
 {
 	const struct cs_ground_field *f = &sc->ground_field;
 	if (f->rgb == NULL) {
@@ -139,21 +141,18 @@ CS_HD void cs_ground_sky(const struct cs_scene *sc, cs_v3 p, double out[3])
 			out[k] = sc->deck.sky_ground[k];
 		return;
 	}
-	field_at(f, 0, f->mean, p, out);
+	int k = top && f->planes > 1 ? f->planes - 1 : 0;
+	field_at(f, k, k > 0 ? f->top_mean : f->mean, p, out);
+}
+
+CS_HD void cs_ground_sky(const struct cs_scene *sc, cs_v3 p, double out[3])
+{
+	field_plane(sc, p, 0, out);
 }
 
 CS_HD void cs_rain_top_sky(const struct cs_scene *sc, cs_v3 p, double out[3])
 {
-	const struct cs_ground_field *f = &sc->ground_field;
-	if (f->rgb == NULL) {
-		for (int k = 0; k < 3; k++)
-			out[k] = sc->deck.sky_ground[k];
-		return;
-	}
-	if (f->planes > 1)
-		field_at(f, f->planes - 1, f->top_mean, p, out);
-	else
-		field_at(f, 0, f->mean, p, out);
+	field_plane(sc, p, 1, out);
 }
 
 /* Under rain or snow at p, of the light under the clouds (sky) what comes

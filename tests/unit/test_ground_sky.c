@@ -406,6 +406,37 @@ static double field_dhi(const struct cs_scene *sc, cs_v3 p)
 	return e.dhi_w_m2;
 }
 
+/* The frame at high of a camera 1 km above the ground looking north 45
+ * deg down, its ground lit by the field (cs_frame_scene). */
+static struct cs_scene *frame_from_1km(const struct cs_scene *sc)
+{
+	struct cs_render_settings s;
+	CHECK(cs_render_quality("high", &s) == CS_OK);
+	struct cs_camera cam;
+	CHECK(cs_camera_init(&cam, sc, v3(0, 0, sc->ground_alt_m + 1000.0), 46.95, 0.0, -45.0, 90.0,
+			     160, 90) == CS_OK);
+	struct cs_scene *frame;
+	uint64_t ev;
+	int lit;
+	CHECK(cs_frame_scene(sc, &cam, &s, 2, &frame, &ev, &lit) == CS_OK);
+	CHECK(frame != NULL && lit == CS_GROUND_LIT_FIELD);
+	return frame;
+}
+
+/* The path tracer's diffuse irradiance (4096 paths) at point (i, j) of
+ * the 5 x 5 points 500 m apart, 1 to 3 km north and 1 km either side,
+ * into *p. */
+static double reference_dhi(const struct cs_scene *sc, int i, int j, cs_v3 *p)
+{
+	static const struct cs_reference_settings rs = {16, 7, 0};
+	struct cs_render_stats st = {0};
+	*p = cs_irradiance_area_point(sc, 0.0, 1, 0, 0);
+	p->x = -1000.0 + 500.0 * i, p->y = 1000.0 + 500.0 * j;
+	struct cs_irradiance pt;
+	cs_reference_irradiance_at(sc, &rs, *p, 4096, &pt, &st);
+	return pt.dhi_w_m2;
+}
+
 /* Under the heaps of cumulus of the dome's test (the sun 32 deg up), made
  * black (albedo 0: what reaches the ground is the sky through them, which
  * the path tracer follows with little noise; with white clouds two seeds
@@ -421,33 +452,20 @@ static void field_under_heaps_follows_the_path_tracer_point_by_point(void)
 	static struct cs_scene sc;
 	heaps(&sc, &noise, 128, "2021-06-14T07:00:00Z", 0.35);
 	sc.albedo = 0.0; /* black clouds */
-	struct cs_render_settings s;
-	CHECK(cs_render_quality("high", &s) == CS_OK);
-	struct cs_camera cam;
-	CHECK(cs_camera_init(&cam, &sc, v3(0, 0, sc.ground_alt_m + 1000.0), 46.95, 0.0, -45.0, 90.0,
-			     160, 90) == CS_OK);
-	struct cs_scene *frame;
-	uint64_t ev;
-	int lit;
-	CHECK(cs_frame_scene(&sc, &cam, &s, 2, &frame, &ev, &lit) == CS_OK);
-	CHECK(frame != NULL && lit == CS_GROUND_LIT_FIELD);
-	struct cs_reference_settings rs = {16, 7, 0};
-	struct cs_render_stats st = {0};
+	struct cs_scene *frame = frame_from_1km(&sc);
 	double se_field = 0.0, se_mean = 0.0, lo = HUGE_VAL, hi = 0.0;
 	for (int j = 0; j < 5; j++)
 		for (int i = 0; i < 5; i++) {
-			cs_v3 p = cs_irradiance_area_point(&sc, 0.0, 1, 0, 0);
-			p.x = -1000.0 + 500.0 * i, p.y = 1000.0 + 500.0 * j;
-			struct cs_irradiance pt;
-			cs_reference_irradiance_at(&sc, &rs, p, 4096, &pt, &st);
+			cs_v3 p;
+			double ref = reference_dhi(&sc, i, j, &p);
 			double f = field_dhi(frame, p), m = field_dhi(frame, v3(1e7, 0.0, p.z));
 			printf("  (%5.0f, %5.0f) m: path tracer %6.1f, field %6.1f (%+5.1f %%), the "
-			       "mean %+5.1f %%\n", p.x, p.y, pt.dhi_w_m2, f,
-			       100.0 * (f / pt.dhi_w_m2 - 1.0), 100.0 * (m / pt.dhi_w_m2 - 1.0));
-			se_field += (f / pt.dhi_w_m2 - 1.0) * (f / pt.dhi_w_m2 - 1.0);
-			se_mean += (m / pt.dhi_w_m2 - 1.0) * (m / pt.dhi_w_m2 - 1.0);
-			lo = pt.dhi_w_m2 < lo ? pt.dhi_w_m2 : lo;
-			hi = pt.dhi_w_m2 > hi ? pt.dhi_w_m2 : hi;
+			       "mean %+5.1f %%\n", p.x, p.y, ref, f,
+			       100.0 * (f / ref - 1.0), 100.0 * (m / ref - 1.0));
+			se_field += (f / ref - 1.0) * (f / ref - 1.0);
+			se_mean += (m / ref - 1.0) * (m / ref - 1.0);
+			lo = ref < lo ? ref : lo;
+			hi = ref > hi ? ref : hi;
 		}
 	double rms_field = sqrt(se_field / 25.0), rms_mean = sqrt(se_mean / 25.0);
 	printf("  rms: field %.3f, the area's mean %.3f; the path tracer %.1f to %.1f W/m^2\n",
@@ -481,25 +499,13 @@ static void field_under_rain_is_traced_through_it_from_the_ground(void)
 	sc.rain_extinction_per_m = cs_rain_extinction(4.0), sc.precip_albedo = 0.9;
 	sc.effects |= CS_FX_RAIN;
 	sc.effects &= ~(unsigned)CS_FX_KEY; /* (the sky's light alone) */
-	struct cs_render_settings s;
-	CHECK(cs_render_quality("high", &s) == CS_OK);
-	struct cs_camera cam;
-	CHECK(cs_camera_init(&cam, &sc, v3(0, 0, sc.ground_alt_m + 1000.0), 46.95, 0.0, -45.0, 90.0,
-			     160, 90) == CS_OK);
-	struct cs_scene *frame;
-	uint64_t ev;
-	int lit;
-	CHECK(cs_frame_scene(&sc, &cam, &s, 2, &frame, &ev, &lit) == CS_OK);
-	CHECK(frame != NULL && lit == CS_GROUND_LIT_FIELD && frame->ground_field.planes == 2);
-	struct cs_reference_settings rs = {16, 7, 0};
-	struct cs_render_stats st = {0};
+	struct cs_scene *frame = frame_from_1km(&sc);
+	CHECK(frame->ground_field.planes == 2);
 	double se_field = 0.0, se_top = 0.0, sum_field = 0.0, sum_top = 0.0;
 	for (int j = 0; j < 5; j++)
 		for (int i = 0; i < 5; i++) {
-			cs_v3 p = cs_irradiance_area_point(&sc, 0.0, 1, 0, 0);
-			p.x = -1000.0 + 500.0 * i, p.y = 1000.0 + 500.0 * j;
-			struct cs_irradiance pt;
-			cs_reference_irradiance_at(&sc, &rs, p, 4096, &pt, &st);
+			cs_v3 p;
+			double ref = reference_dhi(&sc, i, j, &p);
 			double f = field_dhi(frame, p);
 			/* the top plane's light through the column, as before */
 			double top[3], mean[3], down[3], alb[3] = {0.0, 0.0, 0.0};
@@ -516,12 +522,12 @@ static void field_under_rain_is_traced_through_it_from_the_ground(void)
 						&e);
 			double t = e.dhi_w_m2;
 			printf("  (%5.0f, %5.0f) m: path tracer %6.1f, field %6.1f (%+5.1f %%), the top's "
-			       "through the column %+5.1f %%\n", p.x, p.y, pt.dhi_w_m2, f,
-			       100.0 * (f / pt.dhi_w_m2 - 1.0), 100.0 * (t / pt.dhi_w_m2 - 1.0));
-			se_field += (f / pt.dhi_w_m2 - 1.0) * (f / pt.dhi_w_m2 - 1.0);
-			sum_field += f / pt.dhi_w_m2 - 1.0;
-			se_top += (t / pt.dhi_w_m2 - 1.0) * (t / pt.dhi_w_m2 - 1.0);
-			sum_top += t / pt.dhi_w_m2 - 1.0;
+			       "through the column %+5.1f %%\n", p.x, p.y, ref, f,
+			       100.0 * (f / ref - 1.0), 100.0 * (t / ref - 1.0));
+			se_field += (f / ref - 1.0) * (f / ref - 1.0);
+			sum_field += f / ref - 1.0;
+			se_top += (t / ref - 1.0) * (t / ref - 1.0);
+			sum_top += t / ref - 1.0;
 		}
 	double rms_field = sqrt(se_field / 25.0), rms_top = sqrt(se_top / 25.0);
 	printf("  rms: field %.3f (mean %+.3f); the top's through the column %.3f (mean %+.3f)\n",
