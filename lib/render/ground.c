@@ -131,8 +131,8 @@ CS_HD static void field_at(const struct cs_ground_field *f, int k, const double 
 	}
 }
 
-/* The field's first plane at p (top: its last), or without a field the
- * frame's one value. */
+/* The field's ground plane at p (top: its top plane), or without a field
+ * the frame's one value. */
 CS_HD static void field_plane(const struct cs_scene *sc, cs_v3 p, int top, double out[3])
 {
 	const struct cs_ground_field *f = &sc->ground_field;
@@ -145,9 +145,25 @@ CS_HD static void field_plane(const struct cs_scene *sc, cs_v3 p, int top, doubl
 	field_at(f, k, k > 0 ? f->top_mean : f->mean, p, out);
 }
 
+/* p's height in the rain's column, 0 on the flat ground to 1 at its top. */
+CS_HD static double column_height(const struct cs_scene *sc, cs_v3 p)
+{
+	double top = sc->rain_top_m - sc->ground_alt_m;
+	double h = top > 0.0 ? (cs_scene_altitude(sc, p) - sc->ground_alt_m) / top : 0.0;
+	return h > 0.0 ? (h < 1.0 ? h : 1.0) : 0.0; /* (NaN: 0) */
+}
+
 CS_HD void cs_ground_sky(const struct cs_scene *sc, cs_v3 p, double out[3])
 {
 	field_plane(sc, p, 0, out);
+	if (sc->ground_field.rgb != NULL && sc->ground_field.planes > 1) {
+		double h = column_height(sc, p), top[3];
+		if (h > 0.0) {
+			field_plane(sc, p, 1, top);
+			for (int k = 0; k < 3; k++)
+				out[k] += h * (top[k] - out[k]);
+		}
+	}
 }
 
 CS_HD void cs_rain_top_sky(const struct cs_scene *sc, cs_v3 p, double out[3])
@@ -155,11 +171,19 @@ CS_HD void cs_rain_top_sky(const struct cs_scene *sc, cs_v3 p, double out[3])
 	field_plane(sc, p, 1, out);
 }
 
+CS_HD int cs_rain_ground_sky(const struct cs_scene *sc, cs_v3 p, double out[3])
+{
+	if (sc->ground_field.rgb == NULL || sc->ground_field.planes < 2)
+		return 0;
+	field_plane(sc, p, 0, out);
+	return 1;
+}
+
 /* Under rain or snow at p, of the light under the clouds (sky) what comes
  * down through its column (cs_rain_column, the ground of albedo alb
- * under it), in place, unless the field's rays crossed it already (its
- * two planes); the sun's beam's transmittance through the rain toward it
- * (1 where none falls). */
+ * under it), in place, unless the field has its two planes (the ground
+ * plane's rays crossed the rain: cs_ground_sky); the sun's beam's
+ * transmittance through the rain toward it (1 where none falls). */
 CS_HD static double rain_over(const struct cs_scene *sc, cs_v3 p, const double alb[3],
 			      double sky[3])
 {

@@ -309,7 +309,8 @@ int cs_frame_scene(const struct cs_scene *sc, const struct cs_camera *cam,
 	*evaluations = 0;
 	*ground = ground_lit(sc, s);
 	/* no dome or field for a frame that sees no ground, unless the
-	 * field lights its haze or rain under the clouds (cs_ground_sky):
+	 * field lights its haze or rain under the clouds (cs_ground_sky,
+	 * cs_rain_top_sky):
 	 * nothing else takes their light */
 	struct cs_render_settings fs = *s;
 	if ((*ground == CS_GROUND_LIT_DOME || *ground == CS_GROUND_LIT_FIELD) &&

@@ -151,14 +151,19 @@ CS_HD void cs_rain_column(double w, double tau_m, double tau_above, const double
 /* The diffuse light on the ground at p under clouds (deck.on; ground.c),
  * the radiance of a cosine-weighted mean, kcd/m^2, which lights the haze
  * over p too (integrator.c): the frame's field where it has one
- * (sc->ground_field's first plane: bilinear between its points, fading to
- * their mean beyond them; under rain or snow its rays crossed it), else
- * the one value of the frame (deck.sky_ground; under rain the ground
- * takes what comes down through the column, cs_rain_column). */
+ * (sc->ground_field: bilinear between its points, fading to their mean
+ * beyond them; where it rains or snows its ground plane, whose rays
+ * crossed the precipitation, taken linearly in p's height toward its top
+ * plane at the precipitation's top), else the one value of the frame
+ * (deck.sky_ground; under rain the ground then takes what comes down
+ * through the column, cs_rain_column). */
 CS_HD void cs_ground_sky(const struct cs_scene *sc, cs_v3 p, double rgb[3]);
 /* The same at the top of the rain's or snow's column over p, which lights
- * it (march_rain): the field's last plane, else deck.sky_ground. */
+ * it (march_rain): the field's top plane, else deck.sky_ground. */
 CS_HD void cs_rain_top_sky(const struct cs_scene *sc, cs_v3 p, double rgb[3]);
+/* The field's ground plane under p where it has one (rain or snow): 1,
+ * else 0 (rgb untouched). */
+CS_HD int cs_rain_ground_sky(const struct cs_scene *sc, cs_v3 p, double rgb[3]);
 
 /* The ground's surface at p (ground.c): its unit normal and its albedo
  * (land cover, terrain colour, wetness). */

@@ -258,8 +258,8 @@ static void dome_row(void *user, int j, int worker)
  * the terrain's own horizon being its ambient occlusion's
  * (cs_ground_light), no star's disc, and no rain or snow: the light
  * under the clouds, which lights the top of the precipitation's column
- * (cs_rain_column takes it down to the ground).  NULL: out of
- * memory. */
+ * (the field's top plane; the dome's, which cs_rain_column takes down to
+ * the ground).  NULL: out of memory. */
 static struct cs_scene *open_sky(const struct cs_scene *sc)
 {
 	struct cs_scene *flat = malloc(sizeof *flat);
@@ -418,10 +418,10 @@ int cs_ground_sky_field(const struct cs_scene *sc, const struct cs_render_settin
 		.y0_m = (floor(cam->pos.y / step + 0.5) - n / 2) * step,
 		.fade_m = side / 8.0,
 	};
-	/* under rain or snow two planes: the light at the precipitation's
-	 * top first (its rays see none of it), then the ground's, its rays
-	 * from 2 m above the ground through the precipitation, lit by the
-	 * first.  The ground under a broken deck sees the bright gaps low
+	/* under rain or snow two planes, traced in turn: the top plane, the
+	 * light at the precipitation's top (its rays see none of it), then
+	 * the ground plane, its rays from 2 m above the ground through the
+	 * precipitation, lit by the top plane.  The ground under a broken deck sees the bright gaps low
 	 * around its sky through the rain, which from under the base it does
 	 * not, and what came down the column from there was all it took: the
 	 * study's rain-deck-below at high, its ground -40 -> -25 % against
@@ -439,9 +439,9 @@ int cs_ground_sky_field(const struct cs_scene *sc, const struct cs_render_settin
 	struct cs_scene *flat = open_sky(sc), *rain = NULL;
 	/* the haze under the clouds is lit by the field (cs_ground_sky), and
 	 * the field's rays see it: a first pass of one ray a point lights it
-	 * for the second (traced with the area's mean alone, the haze over
-	 * the camera under a thick part of a broken deck added half of the
-	 * light) */
+	 * for the (top) plane's pass (traced with the area's mean alone, the
+	 * haze over the camera under a thick part of a broken deck added half
+	 * of the light); the ground plane's haze takes the top plane's */
 	int again = flat != NULL && cs_scene_air_lit(flat);
 	if (again)
 		first = malloc(points * 3 * sizeof *first);

@@ -486,15 +486,16 @@ struct cs_light_cache {
 struct cs_ground_field {
 	const float *rgb;   /* planes x n x n points of 3, rows south to north; NULL: none */
 	int n;
-	int planes;         /* 1; 2 where it rains or snows: the first the ground's
-			       light, its rays from 2 m above the flat ground
-			       through the precipitation, the second the light at
-			       the precipitation's top, which lights its column */
+	int planes;         /* 1; 2 where it rains or snows: in memory first the
+			       ground plane, its rays from 2 m above the flat
+			       ground through the precipitation, then the top
+			       plane, the light at the precipitation's top, which
+			       lights its column (0 is taken for 1) */
 	double x0_m, y0_m;  /* the first point's east and north */
 	double step_m;      /* between neighbours */
 	double fade_m;
-	double mean[3];     /* the first plane's points' mean before the blur */
-	double top_mean[3]; /* the last plane's */
+	double mean[3];     /* the (ground) plane's points' mean before the blur */
+	double top_mean[3]; /* the top plane's */
 };
 
 struct cs_scene {
@@ -776,10 +777,11 @@ int cs_ground_sky_dome(const struct cs_scene *sc, const struct cs_render_setting
  * row of points a task on nthreads of the CPU pool, each point's rays in
  * order: the same for any thread count.  Its rays are not in the frame's
  * statistics.  Where rain or snow falls it has two planes (struct
- * cs_ground_field): the light under the clouds, its rays from 1 m under
- * the precipitation's top seeing none of it, which lights the column's
- * top, then the ground's, its rays from 2 m above the ground through the
- * precipitation lit by the first, each with the rays above.  Where the
+ * cs_ground_field), traced in turn: the top plane, the light under the
+ * clouds, its rays from 1 m under the precipitation's top seeing none of
+ * it, which lights the column's top; then the ground plane, its rays from
+ * 2 m above the ground through the precipitation lit by the top plane;
+ * each with the rays above.  Where the
  * scene has haze under clouds, which the field lights (cs_ground_sky) and
  * its rays see, a first pass of one ray a point lights it for the (top)
  * plane's, whose light the ground plane's haze takes.  CS_OK, CS_ENOMEM

@@ -513,7 +513,7 @@ static void field_under_rain_is_traced_through_it_from_the_ground(void)
 			double sigma = sc.rain_extinction_per_m * cs_rain_shaft(&sc, p.x, p.y);
 			double h = sc.rain_top_m - cs_scene_altitude(&sc, p);
 			for (int c = 0; c < 3; c++)
-				alb[c] = sc.ground_albedo[c] * sc.ground_wet;
+				alb[c] = sc.ground_albedo[c] * (sc.ground_wet > 0.0 ? sc.ground_wet : 1.0);
 			cs_rain_column(sc.precip_albedo, sigma * h, sigma * h, alb, mean, down);
 			struct cs_irradiance e;
 			cs_irradiance_from_klux(frame, p, 0.0,

@@ -787,7 +787,7 @@ static void a_layer_under_a_broken_deck_takes_the_beam_of_its_slant_path(void)
  * columns alone (--deck-lattice off, as earlier releases) -29.8, -33.6
  * and -20.0 %.  The 70 % raining 2 mm/h, seen 5 deg up (the rain in
  * front of the deck and over the ground): high and medium within 13 %,
- * low within 10 % (measured -10.5, -11.1 and -7.1 %); with the ground lit
+ * low within 10 % (measured -10.7, -11.3 and -7.2 %); with the ground lit
  * by what comes down the rain's column from under the base, and the
  * drops by their column alone (cs_ground_sky_field's one plane, an
  * earlier release), -15.9, -16.0 and -11.6 %.  What is left is mostly
@@ -911,7 +911,7 @@ static void a_deck_under_a_veil_takes_its_forward_peak_as_the_beam(void)
 /* Rain under nimbostratus of full cover (834-4034 m), 16 mm/h (optical
  * depth 1.7 from the ground to the base), seen from the ground 5 deg up
  * away from an afternoon sun at medium, against the mean of two
- * references of 2048 paths a pixel: within 10 % (measured +9.6 %; +8.2 %
+ * references of 2048 paths a pixel: within 10 % (measured +9.4 %; +8.2 %
  * before the drops near the ground took the field's ground plane's light,
  * whose rays through the rain bring 2 % more than the two-stream column
  * gives under a uniform deck; +6.2 % before medium's deck took the

@@ -1422,6 +1422,73 @@ static void rain_scatters_the_light_around_it(void)
 	}
 }
 
+/* Under rain with the ground's field of two planes (cs_ground_sky_field:
+ * the light at the rain's top, T, and the ground's, G, whose rays crossed
+ * the rain), here made by hand, uniform: the drops next to the ground
+ * take the ground's light, of mean radiance (1 + a) / 2 G over a ground
+ * of albedo a (the two-stream column's mean at the ground, (1 + a) / 2 of
+ * the light coming down), whatever the column says comes down from T:
+ * with G twice T times the column's transmittance, a ray along the
+ * ground through 2 /km of rain (saturated in 2 km; it rises 0.3 m) sees
+ * 0.9 (1 + a) / 2 G within 3 % (the column alone, half that).  The
+ * ground takes G itself (not T through the column), and the light over
+ * a point halfway up the column is halfway from G to T. */
+static void rain_near_the_ground_takes_the_ground_planes_light(void)
+{
+	static struct cs_scene sc;
+	slab_scene(&sc, 64.0 / 3200.0, 0.0, 800.0, 4000.0);
+	sc.layers[0].extinction_per_m = 64.0 / 3200.0; /* cs_rain_shaft: 1 */
+	double e = 30.0 * CS_PI / 180.0;
+	sc.sun_dir = v3(0.0, cos(e), sin(e));
+	double sun[3] = {80.0, 65.0, 42.0}, sky[3] = {7.0, 9.5, 14.5};
+	memcpy(sc.sun_illuminance, sun, sizeof sun);
+	memcpy(sc.ambient_up, sky, sizeof sky);
+	for (int c = 0; c < 3; c++)
+		sc.ground_albedo[c] = 0.2;
+	sc.ground_wet = 0.7;
+	sc.rain_layer = 0, sc.rain_top_m = 800.0, sc.rain_extinction_per_m = 2e-3;
+	sc.precip_albedo = 0.9;
+	sc.effects |= CS_FX_SKY | CS_FX_GROUND | CS_FX_RAIN; /* (no sun's beam) */
+	cs_scene_deck_light(&sc, 1);
+	CHECK(sc.deck.on);
+	/* the field: T, and G twice what the column lets down from it */
+	const double a = 0.2 * 0.7, T[3] = {2.0, 2.5, 3.5};
+	double mean[3], down[3], G[3];
+	const double alb[3] = {a, a, a};
+	cs_rain_column(0.9, 2e-3 * 800.0, 2e-3 * 800.0, alb, mean, down);
+	static float v[2 * 2 * 2 * 3];
+	for (int k = 0; k < 4; k++)
+		for (int c = 0; c < 3; c++) {
+			G[c] = 2.0 * down[c] * T[c];
+			v[3 * k + c] = (float)G[c];
+			v[12 + 3 * k + c] = (float)T[c];
+		}
+	sc.ground_field = (struct cs_ground_field){
+		.rgb = v, .n = 2, .planes = 2, .x0_m = -1e6, .y0_m = -1e6, .step_m = 2e6,
+		.fade_m = 1e6, .mean = {G[0], G[1], G[2]}, .top_mean = {T[0], T[1], T[2]}};
+	struct cs_render_settings s = plain(64, 16);
+	struct cs_ray_result r;
+	trace(&sc, &s, v3(0.0, 0.0, 2.0), v3(1.0, 0.0, 0.0), &r);
+	for (int c = 0; c < 3; c++) {
+		double want = 0.9 * 0.5 * (1.0 + a) * G[c];
+		printf("  channel %d: the rain's radiance %.4f, the ground plane's %.4f (%+.1f %%)\n",
+		       c, r.rgb[c], want, 100.0 * (r.rgb[c] / want - 1.0));
+		CHECK_NEAR(r.rgb[c], want, 0.03 * want);
+	}
+	/* the ground takes G (its albedo times it), not T through the
+	 * column; halfway up the column the light is halfway to T */
+	struct cs_render_stats st = {0};
+	cs_v3 p = v3(0.0, 0.0, 0.0), n;
+	double rgb[3], ground_alb[3], half[3];
+	cs_ground_surface(&sc, p, 0, &n, ground_alb);
+	cs_ground_light(&sc, &s, p, v3(1.0, 0.0, -0.1), 0, &st, rgb);
+	cs_ground_sky(&sc, v3(0.0, 0.0, 400.0), half);
+	for (int c = 0; c < 3; c++) {
+		CHECK_NEAR(rgb[c], ground_alb[c] * G[c], 1e-6 * G[c]);
+		CHECK_NEAR(half[c], 0.5 * (G[c] + T[c]), 1e-6 * T[c]);
+	}
+}
+
 /* Koschmieder: in fog of visibility V a black object at distance V keeps
  * about 2 % of its contrast against the fog's own light along the same
  * line of sight (exp(-3.912)): its radiance is 98 % of that light.  The
@@ -1923,6 +1990,7 @@ static const struct t_case t_cases[] = {
 	CASE(fields_change_hands_without_a_step),
 	CASE(rain_column_matches_adding_doubling),
 	CASE(rain_scatters_the_light_around_it),
+	CASE(rain_near_the_ground_takes_the_ground_planes_light),
 	CASE(a_cloud_reaching_into_a_deck_is_lit_through_it),
 	CASE(light_march_toward_any_sun_is_beer_lambert),
 	CASE(a_far_tower_shadows_the_ground_under_a_low_sun),
