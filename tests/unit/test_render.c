@@ -1373,6 +1373,28 @@ static void rain_column_matches_adding_doubling(void)
 			}
 }
 
+/* A deck of optical depth 64 from 800 to 4000 m (cs_rain_shaft 1
+ * everywhere) over a ground of albedo 0.2, wet (0.7), raining 2 /km from
+ * its base, the sun el_rad up in the north, its beam's illuminance sun
+ * and the sky's radiance sky (klux, kcd/m^2), with the sky's light, the
+ * ground and the rain, and the effects more; its deck's light built. */
+static void rain_slab(struct cs_scene *sc, double el_rad, const double sun[3], const double sky[3],
+		      unsigned more)
+{
+	slab_scene(sc, 64.0 / 3200.0, 0.0, 800.0, 4000.0);
+	sc->layers[0].extinction_per_m = 64.0 / 3200.0; /* cs_rain_shaft: 1 */
+	sc->sun_dir = v3(0.0, cos(el_rad), sin(el_rad));
+	memcpy(sc->sun_illuminance, sun, 3 * sizeof sun[0]);
+	memcpy(sc->ambient_up, sky, 3 * sizeof sky[0]);
+	for (int c = 0; c < 3; c++)
+		sc->ground_albedo[c] = 0.2;
+	sc->ground_wet = 0.7;
+	sc->rain_layer = 0, sc->rain_top_m = 800.0, sc->rain_extinction_per_m = 2e-3;
+	sc->precip_albedo = 0.9;
+	sc->effects |= CS_FX_SKY | CS_FX_GROUND | CS_FX_RAIN | more;
+	cs_scene_deck_light(sc, 1);
+}
+
 /* Rain under a uniform overcast (optical depth 64, the sun 30 deg up, the
  * sky's light too, over ground of albedo 0.2 made 0.7 times darker by the
  * wet), 2e-3 /m from the ground to the base at 800 m (depth 1.6): the
@@ -1392,20 +1414,9 @@ static void rain_column_matches_adding_doubling(void)
 static void rain_scatters_the_light_around_it(void)
 {
 	static struct cs_scene sc;
-	slab_scene(&sc, 64.0 / 3200.0, 0.0, 800.0, 4000.0);
-	sc.layers[0].extinction_per_m = 64.0 / 3200.0; /* cs_rain_shaft: 1 */
 	double e = 30.0 * CS_PI / 180.0;
-	sc.sun_dir = v3(0.0, cos(e), sin(e));
 	double sun[3] = {80.0, 65.0, 42.0}, sky[3] = {7.0, 9.5, 14.5}; /* klux, kcd/m^2 */
-	memcpy(sc.sun_illuminance, sun, sizeof sun);
-	memcpy(sc.ambient_up, sky, sizeof sky);
-	for (int c = 0; c < 3; c++)
-		sc.ground_albedo[c] = 0.2;
-	sc.ground_wet = 0.7;
-	sc.rain_layer = 0, sc.rain_top_m = 800.0, sc.rain_extinction_per_m = 2e-3;
-	sc.precip_albedo = 0.9;
-	sc.effects |= CS_FX_SUN | CS_FX_SKY | CS_FX_GROUND | CS_FX_RAIN;
-	cs_scene_deck_light(&sc, 1);
+	rain_slab(&sc, e, sun, sky, CS_FX_SUN);
 	CHECK(cs_rain_shaft(&sc, 3000.0, -2000.0) == 1.0);
 	struct cs_render_settings s = plain(64, 16);
 	struct cs_ray_result r;
@@ -1436,20 +1447,8 @@ static void rain_scatters_the_light_around_it(void)
 static void rain_near_the_ground_takes_the_ground_planes_light(void)
 {
 	static struct cs_scene sc;
-	slab_scene(&sc, 64.0 / 3200.0, 0.0, 800.0, 4000.0);
-	sc.layers[0].extinction_per_m = 64.0 / 3200.0; /* cs_rain_shaft: 1 */
-	double e = 30.0 * CS_PI / 180.0;
-	sc.sun_dir = v3(0.0, cos(e), sin(e));
-	double sun[3] = {80.0, 65.0, 42.0}, sky[3] = {7.0, 9.5, 14.5};
-	memcpy(sc.sun_illuminance, sun, sizeof sun);
-	memcpy(sc.ambient_up, sky, sizeof sky);
-	for (int c = 0; c < 3; c++)
-		sc.ground_albedo[c] = 0.2;
-	sc.ground_wet = 0.7;
-	sc.rain_layer = 0, sc.rain_top_m = 800.0, sc.rain_extinction_per_m = 2e-3;
-	sc.precip_albedo = 0.9;
-	sc.effects |= CS_FX_SKY | CS_FX_GROUND | CS_FX_RAIN; /* (no sun's beam) */
-	cs_scene_deck_light(&sc, 1);
+	const double sun[3] = {80.0, 65.0, 42.0}, sky[3] = {7.0, 9.5, 14.5};
+	rain_slab(&sc, 30.0 * CS_PI / 180.0, sun, sky, 0u); /* (no sun's beam) */
 	CHECK(sc.deck.on);
 	/* the field: T, and G twice what the column lets down from it */
 	const double a = 0.2 * 0.7, T[3] = {2.0, 2.5, 3.5};
