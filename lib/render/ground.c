@@ -131,6 +131,12 @@ CS_HD static void field_at(const struct cs_ground_field *f, int k, const double 
 	}
 }
 
+/* Whether the frame's field has its two planes (rain or snow). */
+CS_HD static int two_planes(const struct cs_scene *sc)
+{
+	return sc->ground_field.rgb != NULL && sc->ground_field.planes > 1;
+}
+
 /* The field's ground plane at p (top: its top plane), or without a field
  * the frame's one value. */
 CS_HD static void field_plane(const struct cs_scene *sc, cs_v3 p, int top, double out[3])
@@ -145,19 +151,18 @@ CS_HD static void field_plane(const struct cs_scene *sc, cs_v3 p, int top, doubl
 	field_at(f, k, k > 0 ? f->top_mean : f->mean, p, out);
 }
 
-/* p's height in the rain's column, 0 on the flat ground to 1 at its top. */
-CS_HD static double column_height(const struct cs_scene *sc, cs_v3 p)
+CS_HD double cs_rain_height(const struct cs_scene *sc, double alt_m)
 {
 	double top = sc->rain_top_m - sc->ground_alt_m;
-	double h = top > 0.0 ? (cs_scene_altitude(sc, p) - sc->ground_alt_m) / top : 0.0;
+	double h = top > 0.0 ? (alt_m - sc->ground_alt_m) / top : 0.0;
 	return h > 0.0 ? (h < 1.0 ? h : 1.0) : 0.0; /* (NaN: 0) */
 }
 
 CS_HD void cs_ground_sky(const struct cs_scene *sc, cs_v3 p, double out[3])
 {
 	field_plane(sc, p, 0, out);
-	if (sc->ground_field.rgb != NULL && sc->ground_field.planes > 1) {
-		double h = column_height(sc, p), top[3];
+	if (two_planes(sc)) {
+		double h = cs_rain_height(sc, cs_scene_altitude(sc, p)), top[3];
 		if (h > 0.0) {
 			field_plane(sc, p, 1, top);
 			for (int k = 0; k < 3; k++)
@@ -173,7 +178,7 @@ CS_HD void cs_rain_top_sky(const struct cs_scene *sc, cs_v3 p, double out[3])
 
 CS_HD int cs_rain_ground_sky(const struct cs_scene *sc, cs_v3 p, double out[3])
 {
-	if (sc->ground_field.rgb == NULL || sc->ground_field.planes < 2)
+	if (!two_planes(sc))
 		return 0;
 	field_plane(sc, p, 0, out);
 	return 1;
@@ -193,7 +198,7 @@ CS_HD static double rain_over(const struct cs_scene *sc, cs_v3 p, const double a
 	double h = sc->rain_top_m - cs_scene_altitude(sc, p);
 	if (!(sigma > 0.0 && h > 0.0))
 		return 1.0;
-	if (sc->ground_field.rgb == NULL || sc->ground_field.planes < 2) {
+	if (!two_planes(sc)) {
 		double mean[3], down[3];
 		cs_rain_column(sc->precip_albedo, sigma * h, sigma * h, alb, mean, down);
 		for (int k = 0; k < 3; k++)

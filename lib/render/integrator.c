@@ -312,9 +312,13 @@ CS_HD CS_COLD static void march_rain(const struct ray_ctx *c, const struct inter
 	ns = ns < 1 ? 1 : ns > 48 ? 48 : ns;
 	double dt = len / ns;
 	/* the column's height and the wet ground under it, the ray's own */
-	double top = sc->rain_top_m - sc->ground_alt_m, alb[3];
-	for (int k = 0; k < 3; k++)
+	double top = sc->rain_top_m - sc->ground_alt_m, alb[3], floor_mean[3];
+	for (int k = 0; k < 3; k++) {
 		alb[k] = sc->ground_albedo[k] * (sc->ground_wet > 0.0 ? sc->ground_wet : 1.0);
+		/* the column's mean radiance at the ground per unit of light
+		 * coming down there, (1 + a) / 2 (cs_rain_column's albedo) */
+		floor_mean[k] = 0.5 * (1.0 + (alb[k] > 0.0 ? (alb[k] < 1.0 ? alb[k] : 1.0) : 0.0));
+	}
 	for (int j = 0; j < ns && !P->terminated; j++) {
 		double t = iv->t0 + (j + c->jitter_u) * dt;
 		cs_v3 p = v3_mad(c->o, c->d, t);
@@ -347,12 +351,9 @@ CS_HD CS_COLD static void march_rain(const struct ray_ctx *c, const struct inter
 		 * transmittance does */
 		double g[3], add[3] = {0.0, 0.0, 0.0};
 		if (sc->deck.on && cs_rain_ground_sky(sc, p, g)) {
-			double hf = top > 0.0 ? (alt - sc->ground_alt_m) / top : 1.0;
-			hf = hf > 0.0 ? (hf < 1.0 ? hf : 1.0) : 0.0;
-			for (int k = 0; k < 3; k++) {
-				double a = alb[k] > 0.0 ? (alb[k] < 1.0 ? alb[k] : 1.0) : 0.0;
-				add[k] = (1.0 - hf) * 0.5 * (1.0 + a) * (g[k] - down[k] * sky[k]);
-			}
+			double below = 1.0 - cs_rain_height(sc, alt);
+			for (int k = 0; k < 3; k++)
+				add[k] = below * floor_mean[k] * (g[k] - down[k] * sky[k]);
 		}
 		for (int k = 0; k < 3; k++) {
 			double J = mean[k] * sky[k] + add[k];

@@ -164,6 +164,10 @@ CS_HD void cs_rain_top_sky(const struct cs_scene *sc, cs_v3 p, double rgb[3]);
 /* The field's ground plane under p where it has one (rain or snow): 1,
  * else 0 (rgb untouched). */
 CS_HD int cs_rain_ground_sky(const struct cs_scene *sc, cs_v3 p, double rgb[3]);
+/* The height of altitude alt_m in the rain's or snow's column: 0 on the
+ * flat ground (or under it) to 1 at the precipitation's top (or over it;
+ * 0 where the column has no height). */
+CS_HD double cs_rain_height(const struct cs_scene *sc, double alt_m);
 
 /* The ground's surface at p (ground.c): its unit normal and its albedo
  * (land cover, terrain colour, wetness). */

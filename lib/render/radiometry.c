@@ -372,14 +372,17 @@ static void ground_seen(const struct cs_scene *sc, const struct cs_camera *cam,
 		}
 }
 
-/* The field's points, at altitude alt_m, traced with acc[4 k + 3] rays
- * each (a square), their area mean into f->mean, and each point's blurred
- * mean into rgb; acc and tmp are overwritten. */
+/* The field's points, at altitude alt_m, traced with rays[k] rays each (a
+ * square; NULL: FIELD_RAYS_MIN), their area mean into f->mean, and each
+ * point's blurred mean into rgb; acc and tmp are scratch, 4 doubles a
+ * point. */
 static int field_pass(const struct cs_scene *flat, const struct cs_render_settings *s,
-		      struct cs_ground_field *f, double alt_m, int nthreads, double *acc, double *tmp,
-		      float *rgb)
+		      struct cs_ground_field *f, double alt_m, const double *rays, int nthreads,
+		      double *acc, double *tmp, float *rgb)
 {
 	size_t points = (size_t)f->n * f->n;
+	for (size_t k = 0; k < points; k++)
+		acc[4 * k + 3] = rays != NULL ? rays[k] : FIELD_RAYS_MIN;
 	struct field_job job = {flat, s, f, acc, alt_m};
 	int rc = cs_pool_run(f->n, nthreads, field_row, &job, NULL, NULL, NULL);
 	if (rc != CS_OK)
@@ -464,9 +467,7 @@ int cs_ground_sky_field(const struct cs_scene *sc, const struct cs_render_settin
 	int rc = CS_OK;
 	flat->ground_field = (struct cs_ground_field){0};
 	if (again) {
-		for (size_t k = 0; k < points; k++)
-			acc[4 * k + 3] = FIELD_RAYS_MIN;
-		rc = field_pass(flat, s, &f, sky_alt_m(sc), nthreads, acc, tmp, first);
+		rc = field_pass(flat, s, &f, sky_alt_m(sc), NULL, nthreads, acc, tmp, first);
 		flat->ground_field = f;
 		flat->ground_field.rgb = first;
 	}
@@ -499,18 +500,14 @@ int cs_ground_sky_field(const struct cs_scene *sc, const struct cs_render_settin
 		int m = (int)sqrt(want < FIELD_RAYS_MAX ? want : FIELD_RAYS_MAX);
 		count[k] = m * m;
 	}
-	for (size_t k = 0; k < points; k++)
-		acc[4 * k + 3] = count[k];
 	if (rc == CS_OK)
-		rc = field_pass(flat, s, &f, sky_alt_m(sc), nthreads, acc, tmp, top);
+		rc = field_pass(flat, s, &f, sky_alt_m(sc), count, nthreads, acc, tmp, top);
 	if (rc == CS_OK && wet) {
 		/* the ground's plane, its rays' rain lit by the top's */
 		struct cs_ground_field g = f;
 		rain->ground_field = f;
 		rain->ground_field.rgb = top;
-		for (size_t k = 0; k < points; k++)
-			acc[4 * k + 3] = count[k];
-		rc = field_pass(rain, s, &g, sc->ground_alt_m + 2.0, nthreads, acc, tmp, rgb);
+		rc = field_pass(rain, s, &g, sc->ground_alt_m + 2.0, count, nthreads, acc, tmp, rgb);
 		for (int c = 0; c < 3; c++) {
 			f.top_mean[c] = f.mean[c];
 			f.mean[c] = g.mean[c];
