@@ -773,14 +773,53 @@ CS_HD static void sample_source(const struct ray_ctx *c, cs_v3 p, double alt,
 	 * share ts (cs_tower_share), from the octaves and cloud_ambient for
 	 * the rest */
 	double ts = CS_BUILT(CS_BUILT_TOWERS) && c->s->ambient ? cs_tower_share(sc, c->s, li) : 0.0;
+	/* the optical depth of the layer's column above the point (the
+	 * fields' depth, the octaves' share beside them and the model's
+	 * shade): its volume (--light-march cache), or n samples */
+	const struct cs_cloud_layer *l = &sc->layers[li];
+	double tau_above = 0.0;
+	int n = c->s->light_steps / 2 > 2 ? c->s->light_steps / 2 : 2;
+	const struct cs_light_cache *vc = !CS_BUILT(CS_BUILT_LIGHT_MARCH) ||
+							  (CS_LIGHT_CACHED(c->s->light_march) &&
+							   sc->column_cache[li].depth != NULL)
+						  ? &sc->column_cache[li]
+						  : NULL;
+	if (sc->deck.on && (c->s->ambient || wf > 0.0)) {
+		if (vc != NULL) {
+			tau_above = cs_cached_depth(l, vc, p.x, p.y, alt);
+		} else {
+			tau_above = cs_cloud_column(l, sc->noise, p.x, p.y, alt, l->top_m, n);
+			c->st->light_samples += alt < l->top_m ? (uint64_t)n : 0u;
+		}
+	}
 	if (CS_FX_IS(sc, CS_FX_KEY)) {
 		/* (and its part through the layers over li's top) */
 		unsigned over = sc->deck.on ? sc->deck.over_mask[li] : 0u;
 		double tau = cs_light_depth_over(sc, c->s, p, mask, over, &tau_key, c->st);
 		tau_sun = tau;
+		/* The octaves: the sun's light scattered a few times near where
+		 * it came in.  Beside light fields (the share wf) only what
+		 * they lack: the fields' columns take the beam in at their
+		 * tops, through the column above the point, tau_above / mu0
+		 * (and the layers over li's, tau_key); where the beam comes in
+		 * through a nearer side (a cell's wall by a gap: tau less than
+		 * that), the octaves add what the shorter way brings more,
+		 * e^(-b tau) - e^(-b tau_col), and where it does not, nothing
+		 * (a deck's tops, a uniform deck).  The glow of forward
+		 * scattered light around the sun seen from under a broken
+		 * deck: without it the study's rain-deck-below was -9.1 % at
+		 * high against the path tracer, relative MSE 0.0170; with it
+		 * -4.1 %, 0.0129 (cloudrender(1), QUALITY) */
+		double tau_col = sc->deck.mu0 > 1e-3 ? tau_above / sc->deck.mu0 + tau_key : INFINITY;
 		double w = 0.0, a = 1.0, b = 1.0;
-		for (int k = 0; k < (wf < 1.0 && ts < 1.0 ? c->s->ms_octaves : 1); k++) {
-			w += a * exp(-b * tau) * c->phase[k] * (k > 0 ? (1.0 - wf) * (1.0 - ts) : 1.0);
+		for (int k = 0; k < (ts < 1.0 ? c->s->ms_octaves : 1); k++) {
+			double e = exp(-b * tau), share = 1.0;
+			if (k > 0) {
+				double more = e - exp(-b * tau_col);
+				share = (1.0 - ts) * ((1.0 - wf) * e + wf * (more > 0.0 ? more : 0.0));
+			} else
+				share = e;
+			w += a * share * c->phase[k];
 			a *= 0.5;
 			b *= 0.5;
 		}
@@ -796,25 +835,10 @@ CS_HD static void sample_source(const struct ray_ctx *c, cs_v3 p, double alt,
 		}
 	}
 	if (c->s->ambient) {
-		const struct cs_cloud_layer *l = &sc->layers[li];
 		double hb = (alt - l->base_m) / (l->top_m - l->base_m), A[3];
 		hb = hb < 0.0 ? 0.0 : hb > 1.0 ? 1.0 : hb;
-		/* the local column above the point shades the light from above,
-		 * so a base is darker under thick parts */
-		double tau_above = 0.0;
-		int n = c->s->light_steps / 2 > 2 ? c->s->light_steps / 2 : 2;
-		/* the column's volume (--light-march cache), or n samples */
-		const struct cs_light_cache *vc = !CS_BUILT(CS_BUILT_LIGHT_MARCH) ||
-								  (CS_LIGHT_CACHED(c->s->light_march) &&
-								   sc->column_cache[li].depth != NULL)
-							  ? &sc->column_cache[li]
-							  : NULL;
-		if (sc->deck.on && vc != NULL) {
-			tau_above = cs_cached_depth(l, vc, p.x, p.y, alt);
-		} else if (sc->deck.on) {
-			tau_above = cs_cloud_column(l, sc->noise, p.x, p.y, alt, l->top_m, n);
-			c->st->light_samples += alt < l->top_m ? (uint64_t)n : 0u;
-		}
+		/* (the local column above the point, tau_above, shades the
+		 * light from above, so a base is darker under thick parts) */
 		A[0] = A[1] = A[2] = 0.0;
 		/* (a tau_sun not finite: a light march lost; no tower's light) */
 		ts = isfinite(tau_sun) ? ts : 0.0;
