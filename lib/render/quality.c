@@ -13,7 +13,9 @@
  * and an H200 as fast (cloudrender(1), QUALITY).  High
  * takes three multiple-scattering octaves, as medium does: since layers
  * of more than half cover take their multiple scattering from light
- * fields, not the octaves, a third octave brings the long view through
+ * fields, not the octaves (which now add beside them only the light a
+ * cell takes in through a nearer side than its column's top:
+ * integrator.c, sample_source), a third octave brings the long view through
  * altocumulus from -5.7 to -2.1 % against the path tracer and the silver
  * lining from -4.7 to -1.1 %, the fair cumulus from +2.6 to +5.0 %, and
  * the geometric mean relative MSE of the study's nine scenes from 0.0125
