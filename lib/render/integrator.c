@@ -765,7 +765,9 @@ CS_HD static void sample_source(const struct ray_ctx *c, cs_v3 p, double alt,
 	 * the beam): its diffuse light, the sun's multiply scattered light
 	 * with it, from its light fields, for the
 	 * share wf (deck.field_weight), the rest from the octaves and
-	 * cloud_ambient (all of it in layers without fields) */
+	 * cloud_ambient (all of it in layers without fields); beside the
+	 * fields' share the octaves add the light the beam brings in
+	 * through a cell's nearer side (below) */
 	int field = sc->deck.on ? sc->deck.field_of[li] : -1;
 	double wf = field >= 0 ? sc->deck.field_weight[li] : 0.0;
 	/* a cumulonimbus's towers (or a cumulus's heaps, heap_towers): the
@@ -775,7 +777,8 @@ CS_HD static void sample_source(const struct ray_ctx *c, cs_v3 p, double alt,
 	double ts = CS_BUILT(CS_BUILT_TOWERS) && c->s->ambient ? cs_tower_share(sc, c->s, li) : 0.0;
 	/* the optical depth of the layer's column above the point (the
 	 * fields' depth, the octaves' share beside them and the model's
-	 * shade): its volume (--light-march cache), or n samples */
+	 * shade), with the sky's light (the column cache is built for it):
+	 * its volume (--light-march cache), or n samples */
 	const struct cs_cloud_layer *l = &sc->layers[li];
 	double tau_above = 0.0;
 	int n = c->s->light_steps / 2 > 2 ? c->s->light_steps / 2 : 2;
@@ -784,7 +787,7 @@ CS_HD static void sample_source(const struct ray_ctx *c, cs_v3 p, double alt,
 							   sc->column_cache[li].depth != NULL)
 						  ? &sc->column_cache[li]
 						  : NULL;
-	if (sc->deck.on && (c->s->ambient || wf > 0.0)) {
+	if (sc->deck.on && c->s->ambient) {
 		if (vc != NULL) {
 			tau_above = cs_cached_depth(l, vc, p.x, p.y, alt);
 		} else {
@@ -809,16 +812,18 @@ CS_HD static void sample_source(const struct ray_ctx *c, cs_v3 p, double alt,
 		 * scattered light around the sun seen from under a broken
 		 * deck: without it the study's rain-deck-below was -9.1 % at
 		 * high against the path tracer, relative MSE 0.0170; with it
-		 * -4.1 %, 0.0129 (cloudrender(1), QUALITY) */
+		 * -4.1 %, 0.0130 (cloudrender(1), QUALITY).  Without the
+		 * sky's light (--no-ambient) the fields are not added, and
+		 * tau_above is 0: tau_col is tau_key, under tau, and nothing
+		 * is added */
 		double tau_col = sc->deck.mu0 > 1e-3 ? tau_above / sc->deck.mu0 + tau_key : INFINITY;
 		double w = 0.0, a = 1.0, b = 1.0;
 		for (int k = 0; k < (ts < 1.0 ? c->s->ms_octaves : 1); k++) {
-			double e = exp(-b * tau), share = 1.0;
+			double e = exp(-b * tau), share = e;
 			if (k > 0) {
-				double more = e - exp(-b * tau_col);
+				double more = wf > 0.0 ? e - exp(-b * tau_col) : 0.0;
 				share = (1.0 - ts) * ((1.0 - wf) * e + wf * (more > 0.0 ? more : 0.0));
-			} else
-				share = e;
+			}
 			w += a * share * c->phase[k];
 			a *= 0.5;
 			b *= 0.5;
