@@ -93,6 +93,21 @@ static inline int t_under_tsan(void)
 	return 0;
 }
 
+/* Whether this binary was built with AddressSanitizer or ThreadSanitizer
+ * (make check SAN=1 or SAN=thread: GCC defines __SANITIZE_ADDRESS__,
+ * clang has the feature). */
+static inline int t_under_sanitizer(void)
+{
+#if defined(__SANITIZE_ADDRESS__)
+	return 1;
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)
+	return 1;
+#endif
+#endif
+	return t_under_tsan();
+}
+
 /* One case of a binary's table (see the top of this file). */
 struct t_case {
 	const char *name;
