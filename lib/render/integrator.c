@@ -311,13 +311,15 @@ CS_HD CS_COLD static void march_rain(const struct ray_ctx *c, const struct inter
 	int ns = (int)ceil(len / 250.0);
 	ns = ns < 1 ? 1 : ns > 48 ? 48 : ns;
 	double dt = len / ns;
-	/* the column's height and the wet ground under it, the ray's own */
+	/* the column's height and the wet ground under it, the ray's own
+	 * (its albedo in [0, 1], as cs_rain_column takes it) */
 	double top = sc->rain_top_m - sc->ground_alt_m, alb[3], floor_mean[3];
 	for (int k = 0; k < 3; k++) {
 		alb[k] = sc->ground_albedo[k] * (sc->ground_wet > 0.0 ? sc->ground_wet : 1.0);
+		alb[k] = fmin(fmax(alb[k], 0.0), 1.0); /* (NaN: 0) */
 		/* the column's mean radiance at the ground per unit of light
-		 * coming down there, (1 + a) / 2 (cs_rain_column's albedo) */
-		floor_mean[k] = 0.5 * (1.0 + (alb[k] > 0.0 ? (alb[k] < 1.0 ? alb[k] : 1.0) : 0.0));
+		 * coming down there, (1 + a) / 2 */
+		floor_mean[k] = 0.5 * (1.0 + alb[k]);
 	}
 	for (int j = 0; j < ns && !P->terminated; j++) {
 		double t = iv->t0 + (j + c->jitter_u) * dt;

@@ -79,33 +79,33 @@ static char t_skip_why[256];
 
 #define TEST_EXIT() return t_failed_cases ? 1 : 0
 
+/* clang's __has_feature, 0 where the compiler has none (GCC before 14) */
+#ifdef __has_feature
+#define T_HAS_FEATURE(f) __has_feature(f)
+#else
+#define T_HAS_FEATURE(f) 0
+#endif
+
 /* Whether this binary was built with ThreadSanitizer (GCC defines
  * __SANITIZE_THREAD__, clang has the feature). */
 static inline int t_under_tsan(void)
 {
-#if defined(__SANITIZE_THREAD__)
+#if defined(__SANITIZE_THREAD__) || T_HAS_FEATURE(thread_sanitizer)
 	return 1;
-#elif defined(__has_feature)
-#if __has_feature(thread_sanitizer)
-	return 1;
-#endif
-#endif
+#else
 	return 0;
+#endif
 }
 
 /* Whether this binary was built with AddressSanitizer or ThreadSanitizer
- * (make check SAN=1 or SAN=thread: GCC defines __SANITIZE_ADDRESS__,
- * clang has the feature). */
+ * (make check SAN=1 or SAN=thread). */
 static inline int t_under_sanitizer(void)
 {
-#if defined(__SANITIZE_ADDRESS__)
+#if defined(__SANITIZE_ADDRESS__) || T_HAS_FEATURE(address_sanitizer)
 	return 1;
-#elif defined(__has_feature)
-#if __has_feature(address_sanitizer)
-	return 1;
-#endif
-#endif
+#else
 	return t_under_tsan();
+#endif
 }
 
 /* One case of a binary's table (see the top of this file). */
